@@ -1,0 +1,17 @@
+"""planar: planar mechanism kinematics with one generic constraint solver.
+
+Describe a mechanism as bodies joined by revolute, prismatic, slot, gear, rack-and-pinion and
+rolling joints; drive it; sweep the inputs. Positions come from a batched Newton solver,
+velocities and accelerations from linear solves with the same Jacobian.
+"""
+
+from planar.errors import (AssemblyError, ConnectivityError, InputError, MobilityError,
+                           ModelError, PlanarError, RedundancyError)
+from planar.model import Body, Mechanism, Model
+from planar.results import Status, Sweep
+
+__all__ = [
+    "Mechanism", "Model", "Body", "Sweep", "Status",
+    "PlanarError", "ModelError", "ConnectivityError", "MobilityError", "RedundancyError",
+    "AssemblyError", "InputError",
+]

@@ -1,0 +1,37 @@
+"""The one exception hierarchy of planar.
+
+Every error the library raises on purpose derives from :class:`PlanarError`, and its
+message names the body, joint, driver or input at fault and what would fix it.
+
+>>> import planar
+>>> issubclass(planar.ConnectivityError, planar.PlanarError)
+True
+"""
+
+
+class PlanarError(Exception):
+    """Base of every error planar raises on purpose."""
+
+
+class ModelError(PlanarError, ValueError):
+    """The mechanism description is wrong: a bad name, number, or joint argument."""
+
+
+class ConnectivityError(ModelError):
+    """A body is not connected to the ground through joints."""
+
+
+class MobilityError(ModelError):
+    """The drivers do not match the degrees of freedom, or depend on each other."""
+
+
+class RedundancyError(ModelError):
+    """A redundant joint contradicts the others (for example a pivot declared twice, apart)."""
+
+
+class AssemblyError(PlanarError):
+    """The sketch cannot be assembled: the joints cannot all hold at once near it."""
+
+
+class InputError(PlanarError, ValueError):
+    """Sweep values, rates or options of the wrong shape or kind."""

@@ -1,0 +1,72 @@
+"""Batched planar vector helpers: the "markers" every joint is built from.
+
+Arrays carry any leading batch axes and a last axis of length 2 for vectors.
+``perp(v)`` is the rotation by +90 degrees, so ``d(A(phi) s)/dphi = perp(A(phi) s)``.
+"""
+
+import numpy as np
+
+
+def perp(v):
+    """Rotate vectors by +90 degrees: (x, y) -> (-y, x)."""
+    return np.stack((-v[..., 1], v[..., 0]), axis=-1)
+
+
+def dot(a, b):
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
+
+
+def cross(a, b):
+    """Scalar cross product a_x b_y - a_y b_x."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def rotate(c, s, v):
+    """A(phi) v for cos ``c`` and sin ``s`` (broadcast against v[..., 0])."""
+    return np.stack((c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]), axis=-1)
+
+
+class Frames:
+    """Poses (and optionally rates) of the body slots of one joint group.
+
+    ``r`` is (..., K, nb, 2), ``phi``, ``c``, ``s`` are (..., K, nb); ``rd`` and ``phid`` the
+    same shapes for the rates. Slot ``k`` of a joint is its k-th body.
+    """
+
+    __slots__ = ("r", "phi", "c", "s", "rd", "phid")
+
+    def __init__(self, r, phi, c, s, rd=None, phid=None):
+        self.r, self.phi, self.c, self.s, self.rd, self.phid = r, phi, c, s, rd, phid
+
+    def vec(self, k, s_local):
+        """World vector A_k s' of a body-fixed vector ``s_local`` (K, 2) on slot k."""
+        return rotate(self.c[..., k], self.s[..., k], s_local)
+
+    def point(self, k, s_local):
+        """World position r_k + A_k s' and the vector S = A_k s'."""
+        S = self.vec(k, s_local)
+        return self.r[..., k, :] + S, S
+
+    def point_rate(self, k, S):
+        """Velocity of the body point whose world vector is S."""
+        return self.rd[..., k, :] + perp(S) * self.phid[..., k, None]
+
+
+def point_block(S, sign=1.0):
+    """Jacobian block (..., 2, 3) of sign * (r + S) with respect to (x, y, phi) of its body."""
+    P = perp(S)
+    shape = S.shape[:-1]
+    one = np.full(shape, sign)
+    zero = np.zeros(shape)
+    return np.stack(
+        (
+            np.stack((one, zero, sign * P[..., 0]), axis=-1),
+            np.stack((zero, one, sign * P[..., 1]), axis=-1),
+        ),
+        axis=-2,
+    )
+
+
+def row_block(n, n_dot_perp_S_extra):
+    """Jacobian row (..., 3) of a scalar whose gradient is ``n`` in r and the given value in phi."""
+    return np.stack((n[..., 0], n[..., 1], n_dot_perp_S_extra), axis=-1)

@@ -1,0 +1,160 @@
+"""Gear pairs (pitch circles rolling without slip), external (s = +1) or internal (s = -1).
+
+All rows are linear in the unwrapped body angles, so angles are never reduced modulo 2 pi.
+"""
+
+import numpy as np
+
+from planar.geometry import cross, dot, perp
+from planar.joints.base import Joint, pair_rates, point_pair, wrap
+
+
+class CarrierGear(Joint):
+    """Gears i and j whose centres are fixed on one carrier body a (or both on the ground).
+
+    Row ``R_i (phi_i - phi_a) + s R_j (phi_j - phi_a) - c`` (a length), gamma = 0; ``c`` is
+    taken at the assembled sketch, so the gears mesh as drawn.
+    """
+
+    n_rows = 1
+    n_bodies = 3
+    length_rows = (True,)
+    sketch_rows = (0,)
+
+    def local_params(self, sketch):
+        d = self.data
+        return {"R": np.array([d["radius_a"], d["sign"] * d["radius_b"]])}
+
+    @staticmethod
+    def Phi(P, F):
+        Ri, Rj = P["R"][..., 0], P["R"][..., 1]
+        pa = F.phi[..., 2]
+        return (Ri * (F.phi[..., 0] - pa) + Rj * (F.phi[..., 1] - pa))[..., None] - P["c"]
+
+    @staticmethod
+    def Phi_q(P, F):
+        g = np.zeros(F.phi.shape[:-1] + (1, 9))
+        Ri, Rj = P["R"][..., 0], P["R"][..., 1]
+        g[..., 0, 2] = Ri
+        g[..., 0, 5] = Rj
+        g[..., 0, 8] = -(Ri + Rj)
+        return g
+
+    @staticmethod
+    def gamma(P, F):
+        return np.zeros(F.phi.shape[:-1] + (1,))
+
+    def touch_points(self):
+        return [(self.bodies[0], self.data["centre_a"]), (self.bodies[1], self.data["centre_b"])]
+
+    def anchor(self):
+        return self.bodies[1], self.data["centre_b"]
+
+
+def _rolling(P, F, rates=False):
+    """Rolling row pieces for centres s_i on slot 0 and s_j on slot 1."""
+    d, Si, Sj = point_pair(F, P["s"][..., 0, :], P["s"][..., 1, :])
+    Ri, Rj = P["R"][..., 0], P["R"][..., 1]
+    K = Ri + Rj
+    L2 = dot(d, d)
+    theta = np.arctan2(d[..., 1], d[..., 0])
+    # the line-of-centres angle is taken on the 2 pi branch nearest the one the row predicts
+    # from the (unwrapped) gear angles, so no state is needed to unwrap it
+    theta_est = (Ri * F.phi[..., 0] + Rj * F.phi[..., 1] - P["c"][..., -1]) / K
+    phi = -K * wrap(theta - theta_est)
+    g = perp(d) / L2[..., None]
+    grad = np.concatenate(
+        (
+            K[..., None] * g,
+            (Ri + K * dot(g, perp(Si)))[..., None],
+            -K[..., None] * g,
+            (Rj - K * dot(g, perp(Sj)))[..., None],
+        ),
+        axis=-1,
+    )
+    out = {"d": d, "Si": Si, "Sj": Sj, "K": K, "L2": L2, "Phi": phi, "grad": grad}
+    if rates:
+        dd, ddq = pair_rates(F, Si, Sj)
+        theta_dot = cross(d, dd) / L2
+        out["dd"], out["ddq"] = dd, ddq
+        out["gamma"] = K * (cross(d, ddq) / L2 - 2 * theta_dot * dot(d, dd) / L2)
+    return out
+
+
+def _gear_params(joint, sketch):
+    a, b = joint.bodies
+    d = joint.data
+    return {
+        "s": np.stack((sketch.local_point(a, d["centre_a"]), sketch.local_point(b, d["centre_b"]))),
+        "R": np.array([d["radius_a"], d["sign"] * d["radius_b"]]),
+    }
+
+
+class Gear(Joint):
+    """Gears on two different moving bodies whose centre distance other joints hold.
+
+    Row ``R_i phi_i + s R_j phi_j - (R_i + s R_j) theta - c``, theta the angle of the line of
+    centres (no-slip at the pitch point). Reduces to :class:`CarrierGear` when the centres
+    sit on one arm.
+    """
+
+    n_rows = 1
+    n_bodies = 2
+    length_rows = (True,)
+    sketch_rows = (0,)
+    local_params = _gear_params
+
+    @staticmethod
+    def Phi(P, F):
+        return _rolling(P, F)["Phi"][..., None]
+
+    @staticmethod
+    def Phi_q(P, F):
+        return _rolling(P, F)["grad"][..., None, :]
+
+    @staticmethod
+    def gamma(P, F):
+        return _rolling(P, F, rates=True)["gamma"][..., None]
+
+    def touch_points(self):
+        return [(self.bodies[0], self.data["centre_a"]), (self.bodies[1], self.data["centre_b"])]
+
+    def anchor(self):
+        return self.bodies[1], self.data["centre_b"]
+
+
+class RollingContact(Gear):
+    """A circle rolling on (or inside) another with no arm: the :class:`Gear` row plus the
+    contact row ``(d.d - D^2) / (2 D) = 0`` that holds the centre distance D = |R_i + s R_j|."""
+
+    n_rows = 2
+    length_rows = (True, True)
+    sketch_rows = (1,)
+
+    @staticmethod
+    def _D(P):
+        return np.abs(P["R"][..., 0] + P["R"][..., 1])
+
+    @staticmethod
+    def Phi(P, F):
+        r = _rolling(P, F)
+        D = RollingContact._D(P)
+        return np.stack(((r["L2"] - D**2) / (2 * D) - P["c"][..., 0], r["Phi"]), axis=-1)
+
+    @staticmethod
+    def Phi_q(P, F):
+        r = _rolling(P, F)
+        D = RollingContact._D(P)[..., None]
+        d, Si, Sj = r["d"], r["Si"], r["Sj"]
+        dist = np.concatenate(
+            (-d / D, (-dot(d, perp(Si)))[..., None] / D, d / D, dot(d, perp(Sj))[..., None] / D),
+            axis=-1,
+        )
+        return np.stack((dist, r["grad"]), axis=-2)
+
+    @staticmethod
+    def gamma(P, F):
+        r = _rolling(P, F, rates=True)
+        D = RollingContact._D(P)
+        dist = -(dot(r["dd"], r["dd"]) + dot(r["d"], r["ddq"])) / D
+        return np.stack((dist, r["gamma"]), axis=-1)

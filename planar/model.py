@@ -1,0 +1,576 @@
+"""The mutable builder :class:`Mechanism` and the immutable compiled :class:`Model`.
+
+A mechanism is sketched in world coordinates: every point and joint is placed where it is in
+one assembled pose (the sketch). The sketch fixes the link lengths, is the first guess of
+every solve and picks the assembly mode. Angles are radians.
+
+>>> import numpy as np, planar
+>>> m = planar.Mechanism()
+>>> crank, coupler, rocker = m.add_body("crank"), m.add_body("coupler"), m.add_body("rocker")
+>>> m.add_revolute("O2", m.ground, crank, at=(0, 0))
+>>> m.add_revolute("A", crank, coupler, at=(1, 1.7320508075688772))
+>>> m.add_revolute("B", coupler, rocker, at=(3.0809504341380123, 3.8929870145543637))
+>>> m.add_revolute("O4", rocker, m.ground, at=(4, 0))
+>>> m.drive("O2")
+>>> res = m.sweep(np.radians([60.0, 90.0]))
+>>> res.ok.tolist()
+[True, True]
+"""
+
+import math
+from dataclasses import dataclass
+
+import networkx as nx
+import numpy as np
+import scipy.linalg
+
+from planar.errors import (AssemblyError, ConnectivityError, InputError, MobilityError,
+                           ModelError, RedundancyError)
+from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic,
+                           RackPinion, Revolute, RollingContact, Slot)
+from planar.joints.base import SketchFrames
+from planar.system import build_system
+
+GROUND = "ground"
+
+
+@dataclass(frozen=True)
+class Body:
+    """Handle of a body in a :class:`Mechanism` (anywhere a body is asked for, its name works too)."""
+
+    name: str
+
+    def __str__(self):
+        return self.name
+
+
+def _finite(value, what, shape=None):
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what} must be numeric, got {value!r}") from None
+    if shape is not None and a.shape != shape:
+        raise ModelError(f"{what} must have shape {shape}, got {value!r}")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{what} must be finite, got {value!r}")
+    return a
+
+
+def _point(value, what):
+    return _finite(value, what, (2,))
+
+
+def _positive(value, what):
+    v = float(_finite(value, what, ()))
+    if v <= 0:
+        raise ModelError(f"{what} must be positive, got {value!r}")
+    return v
+
+
+def _direction(value, what):
+    v = _point(value, what)
+    if np.hypot(*v) == 0:
+        raise ModelError(f"{what} must be a non-zero vector, got {value!r}")
+    return v / np.hypot(*v)
+
+
+class Mechanism:
+    """Mutable, named description of a planar mechanism; compiles to a :class:`Model`.
+
+    Bodies, points and joints share one namespace; drivers have their own.
+    """
+
+    def __init__(self, name="mechanism"):
+        self.name = name
+        self._bodies = {GROUND: 0.0}  # name -> sketch angle
+        self._points = {}  # name -> (body, world point)
+        self._joints = []
+        self._drivers = []
+        self._names = {GROUND}
+        self._model = None
+
+    # ---- building ------------------------------------------------------------------------
+
+    @property
+    def ground(self):
+        """The fixed body (frame), at the origin with angle 0."""
+        return Body(GROUND)
+
+    def _new_name(self, name, what):
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"{what} name must be a non-empty string, got {name!r}")
+        if name in self._names:
+            raise ModelError(f"the name {name!r} is already used: give the {what} another name")
+        self._names.add(name)
+        self._model = None
+        return name
+
+    def _body(self, body, what="body"):
+        name = body.name if isinstance(body, Body) else body
+        if name not in self._bodies:
+            known = ", ".join(repr(b) for b in self._bodies)
+            raise ModelError(f"unknown {what} {name!r}: the bodies are {known}; add it with add_body first")
+        return name
+
+    def _pair(self, a, b, joint):
+        a, b = self._body(a), self._body(b)
+        if a == b:
+            raise ModelError(f"joint {joint!r} joins body {a!r} to itself: a joint needs two different bodies")
+        return a, b
+
+    def add_body(self, name, angle=0.0):
+        """Add a moving body. ``angle`` is its angle in the sketch (radians): results report
+        it plus the body's rotation since, so giving the direction of a link makes
+        ``angle(body)`` that link's absolute angle."""
+        self._bodies[self._new_name(name, "body")] = float(_finite(angle, f"angle of body {name!r}", ()))
+        return Body(name)
+
+    def add_point(self, name, body, at):
+        """Name the point of ``body`` that is at ``at`` in the sketch."""
+        body = self._body(body)
+        self._points[self._new_name(name, "point")] = (body, _point(at, f"point {name!r} at"))
+
+    def _add(self, joint):
+        self._joints.append(joint)
+        anchor = joint.anchor()
+        if anchor is not None:
+            self._points[joint.name] = anchor
+
+    def add_revolute(self, name, body_a, body_b, at):
+        """Pin joint between two bodies at sketch point ``at``. Its coordinate is the angle of
+        b relative to a."""
+        a, b = self._pair(body_a, body_b, name)
+        self._new_name(name, "joint")
+        self._add(Revolute(name, (a, b), at=_point(at, f"joint {name!r} at")))
+
+    def _line_data(self, name, at, direction, origin):
+        at = _point(at, f"joint {name!r} at")
+        return dict(at=at, direction=_direction(direction, f"joint {name!r} direction"),
+                    origin=at if origin is None else _point(origin, f"joint {name!r} origin"))
+
+    def add_prismatic(self, name, body_a, body_b, at, direction, origin=None):
+        """Slider: the point ``at`` of ``body_b`` moves along the line of ``body_a`` through
+        ``origin`` (default ``at``) with ``direction``; no relative rotation. Its coordinate is
+        the travel along the line from ``origin``."""
+        a, b = self._pair(body_a, body_b, name)
+        data = self._line_data(name, at, direction, origin)
+        self._check_on_line(name, data)
+        self._new_name(name, "joint")
+        self._add(Prismatic(name, (a, b), **data))
+
+    def add_slot(self, name, body_a, body_b, at, direction, origin=None):
+        """Pin in slot: as :meth:`add_prismatic` but the bodies turn freely."""
+        a, b = self._pair(body_a, body_b, name)
+        data = self._line_data(name, at, direction, origin)
+        self._check_on_line(name, data)
+        self._new_name(name, "joint")
+        self._add(Slot(name, (a, b), **data))
+
+    @staticmethod
+    def _check_on_line(name, data):
+        d = data["at"] - data["origin"]
+        off = abs(d[0] * data["direction"][1] - d[1] * data["direction"][0])
+        if off > 1e-9 * max(1.0, np.hypot(*d)):
+            raise ModelError(f"joint {name!r}: the origin {data['origin'].tolist()} is not on the line "
+                             f"through {data['at'].tolist()} along {data['direction'].tolist()}: "
+                             f"give an origin on that line")
+
+    def add_gear(self, name, gear_a, gear_b, radius_a, radius_b, *, internal=False, carrier=None,
+                 centre_a=None, centre_b=None, hold_distance=False):
+        """Two pitch circles in mesh (external, or ``internal`` with one inside the other).
+
+        With ``carrier`` (a body, or the ground) both centres are fixed on it: the row is linear
+        in the angles. Without, the centres (on the gears, sketch points ``centre_a``,
+        ``centre_b``) may sit on different moving bodies; their distance must then be held by
+        other joints, or by the gear itself with ``hold_distance=True`` (a wheel rolling on or
+        inside a circle with no arm). The gears mesh as drawn in the sketch.
+        """
+        a, b = self._pair(gear_a, gear_b, name)
+        data = dict(radius_a=_positive(radius_a, f"gear {name!r} radius_a"),
+                    radius_b=_positive(radius_b, f"gear {name!r} radius_b"),
+                    sign=-1.0 if internal else 1.0)
+        if internal and data["radius_a"] == data["radius_b"]:
+            raise ModelError(f"gear {name!r}: an internal mesh needs different radii")
+        for key, value in (("centre_a", centre_a), ("centre_b", centre_b)):
+            data[key] = None if value is None else _point(value, f"gear {name!r} {key}")
+        if carrier is not None:
+            c = self._body(carrier, "carrier")
+            if c in (a, b):
+                raise ModelError(f"gear {name!r}: the carrier {c!r} must differ from both gears")
+            for key, g in (("centre_a", a), ("centre_b", b)):
+                if data[key] is None:
+                    data[key] = self._pin_between(g, c, name)
+            cls, bodies = CarrierGear, (a, b, c)
+        else:
+            for key, g in (("centre_a", a), ("centre_b", b)):
+                if data[key] is None:
+                    raise ModelError(f"gear {name!r}: give {key} (the sketch centre of {g!r}) or a carrier")
+            cls, bodies = (RollingContact if hold_distance else Gear), (a, b)
+        need = data["radius_a"] + data["sign"] * data["radius_b"]
+        dist = np.hypot(*(data["centre_b"] - data["centre_a"]))
+        if not math.isclose(dist, abs(need), rel_tol=1e-6, abs_tol=1e-9):
+            raise ModelError(f"gear {name!r}: centres are {dist:.12g} apart in the sketch but the radii "
+                             f"need {abs(need):.12g}: move a centre or change a radius")
+        self._new_name(name, "joint")
+        self._add(cls(name, bodies, **data))
+
+    def _pin_between(self, gear, carrier, name):
+        for j in self._joints:
+            if isinstance(j, Revolute) and set(j.bodies) == {gear, carrier}:
+                return j.data["at"]
+        raise ModelError(f"gear {name!r}: no revolute joins {gear!r} to the carrier {carrier!r}; "
+                         f"add it first or give the centre")
+
+    def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left"):
+        """Pinion (pitch ``radius``, centre ``centre`` on the pinion) rolling without slip on the
+        rack's pitch line through ``through`` along ``direction`` (fixed in ``rack``, any body).
+        ``side`` says where the pinion centre is: left or right of the directed line."""
+        p, r = self._pair(pinion, rack, name)
+        if side not in ("left", "right"):
+            raise ModelError(f"joint {name!r}: side must be 'left' or 'right', got {side!r}")
+        data = dict(radius=_positive(radius, f"joint {name!r} radius"), centre=_point(centre, f"joint {name!r} centre"),
+                    through=_point(through, f"joint {name!r} through"),
+                    direction=_direction(direction, f"joint {name!r} direction"),
+                    side=1.0 if side == "left" else -1.0)
+        d = data["centre"] - data["through"]
+        h = data["direction"][0] * d[1] - data["direction"][1] * d[0]
+        if not math.isclose(h, data["side"] * data["radius"], rel_tol=1e-6, abs_tol=1e-9):
+            raise ModelError(f"joint {name!r}: the centre is {h:.12g} left of the line in the sketch but "
+                             f"radius {data['radius']:.12g} on the {side} needs {data['side'] * data['radius']:.12g}: "
+                             f"move the centre or the line, or change the side")
+        self._new_name(name, "joint")
+        self._add(RackPinion(name, (r, p), **data))
+
+    def add_rolling(self, name, wheel, body, radius, *, centre, through, direction, side="left"):
+        """A wheel rolling without slip on a straight line fixed in ``body`` (the ground or a
+        moving body): the same contact as :meth:`add_rack_pinion`."""
+        self.add_rack_pinion(name, wheel, body, radius, centre=centre, through=through,
+                             direction=direction, side=side)
+
+    def drive(self, joint=None, *, body=None, point=None, axis=None, name=None):
+        """Make one input. Exactly one of: ``joint`` (a revolute's relative angle, a slider's or
+        slot's travel), ``body`` (its absolute angle), ``point`` with ``axis`` "x" or "y" (a
+        world coordinate of a named point). Inputs are in the order they are added."""
+        given = [k for k, v in (("joint", joint), ("body", body), ("point", point)) if v is not None]
+        if len(given) != 1:
+            raise ModelError("drive needs exactly one of joint=, body= or point=")
+        if joint is not None:
+            target = next((j for j in self._joints if j.name == joint), None)
+            if target is None:
+                raise ModelError(f"unknown joint {joint!r}: the joints are {[j.name for j in self._joints]}")
+            drv = target.coordinate()
+            if drv is None:
+                raise ModelError(f"joint {joint!r} ({type(target).__name__}) has no coordinate to drive: "
+                                 f"drive one of the bodies it joins instead")
+        elif body is not None:
+            drv = AngleDriver(str(body), (GROUND, self._body(body)))
+        else:
+            if point not in self._points:
+                raise ModelError(f"unknown point {point!r}: the points are {sorted(self._points)}")
+            if axis not in ("x", "y"):
+                raise ModelError(f"driving point {point!r} needs axis='x' or axis='y', got {axis!r}")
+            b, at = self._points[point]
+            drv = CoordinateDriver(f"{point}.{axis}", (b,), at=at, axis=(1.0, 0.0) if axis == "x" else (0.0, 1.0))
+        drv.name = name or drv.name
+        if any(d.name == drv.name for d in self._drivers):
+            raise ModelError(f"a driver named {drv.name!r} exists already: pass name= to tell them apart")
+        self._drivers.append(drv)
+        self._model = None
+
+    # ---- compiling -----------------------------------------------------------------------
+
+    def compile(self):
+        """Check and freeze the mechanism into a :class:`Model` (cached until the next change)."""
+        if self._model is None:
+            self._model = _compile(self)
+        return self._model
+
+    def sweep(self, values, velocity=1.0, acceleration=0.0, **options):
+        """Solve positions, velocities and accelerations over input ``values``; see
+        :meth:`Model.sweep`."""
+        return self.compile().sweep(values, velocity, acceleration, **options)
+
+
+# ---- the compiled model ---------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """Immutable compiled mechanism: index arrays, joint tables and the assembled sketch.
+
+    Attributes give the mobility report: ``n`` coordinates, ``m`` rows, ``rank`` of the joint
+    Jacobian at the sketch, ``dof = n - rank``, ``grubler = n - (rows of the joints)`` and the
+    names of ``redundant_joints`` (rows kept out of Newton but checked after every solve).
+    """
+
+    name: str
+    body_names: tuple
+    body_angles0: np.ndarray  # sketch angle per body
+    points: dict  # name -> (body id, local vector)
+    joints: tuple
+    drivers: tuple
+    system: object
+    row_adr: np.ndarray
+    q0: np.ndarray  # assembled sketch (n,)
+    u0: np.ndarray  # input values at the sketch (f,)
+    L: float  # characteristic length
+    row_scale: np.ndarray  # (m,)
+    col_scale: np.ndarray  # (n,)
+    active_rows: np.ndarray  # rows of the Newton system (independent joint rows, then drivers)
+    driver_rows_active: np.ndarray  # positions of the driver rows inside active_rows
+    redundant_rows: np.ndarray
+    input_lengths: np.ndarray  # (f,) True where the input is a length
+    rank: int
+    grubler: int
+    redundant_joints: tuple
+    coordinates: dict  # joint name -> (system of its coordinate rows, row)
+
+    @property
+    def n(self):
+        return self.system.n
+
+    @property
+    def m(self):
+        return self.system.m
+
+    @property
+    def dof(self):
+        return self.n - self.rank
+
+    @property
+    def input_names(self):
+        return tuple(d.name for d in self.drivers)
+
+    def body_id(self, body):
+        name = body.name if isinstance(body, Body) else body
+        try:
+            return self.body_names.index(name)
+        except ValueError:
+            raise ModelError(f"unknown body {name!r}: the bodies are {list(self.body_names)}") from None
+
+    def point(self, name):
+        try:
+            return self.points[name]
+        except (KeyError, TypeError):
+            raise ModelError(f"unknown point or joint {name!r}: known are {sorted(self.points)}") from None
+
+    def joint(self, name):
+        for j in self.joints:
+            if j.name == name:
+                return j
+        raise ModelError(f"unknown joint {name!r}: the joints are {[j.name for j in self.joints]}")
+
+    def sweep(self, values, velocity=1.0, acceleration=0.0, **options):
+        """Positions, velocities and accelerations for each row of input ``values``.
+
+        ``values`` is (N,) for one input or (N, f); ``velocity`` and ``acceleration`` are the
+        input rates (scalars, (f,), (N,) or (N, f)); the default unit velocity makes the rates
+        kinematic coefficients. The solve starts at the assembled sketch and follows the
+        branch through the values in order. Returns a frozen :class:`planar.results.Sweep`.
+        Options: ``tol`` (scaled residual, 1e-12), ``max_step`` (largest input step between
+        continuation anchors: radians, or lengths / L; 0.05).
+        """
+        from planar.sweep import run_sweep
+
+        if not self.drivers:
+            raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
+        U = self._inputs(values, "values")
+        N = U.shape[0]
+        Ud = np.broadcast_to(self._inputs(velocity, "velocity", N), U.shape)
+        Udd = np.broadcast_to(self._inputs(acceleration, "acceleration", N), U.shape)
+        return run_sweep(self, U, Ud, Udd, **options)
+
+    def _inputs(self, values, what, N=None):
+        f = len(self.drivers)
+        try:
+            a = np.asarray(values, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
+        if a.ndim == 0:
+            if N is None:
+                raise InputError(f"sweep {what} must be a sequence of input values, got a scalar")
+            a = np.full((N, f), float(a))
+        elif a.ndim == 1 and f == 1 and (N is None or a.shape[0] == N):
+            a = a[:, None]
+        elif a.ndim == 1 and a.shape[0] == f and N is not None:
+            a = np.broadcast_to(a, (N, f))
+        if a.ndim != 2 or a.shape[1] != f or (N is not None and a.shape[0] != N):
+            want = f"({N}, {f})" if N is not None else f"(N,) or (N, {f})"
+            raise InputError(f"sweep {what} have shape {np.shape(values)} but {f} input(s) "
+                             f"{list(self.input_names)} need {want}")
+        if not np.all(np.isfinite(a)):
+            raise InputError(f"sweep {what} must be finite; found NaN or infinity")
+        return a
+
+
+def _compile(mech):
+    joints = list(mech._joints)
+    drivers = list(mech._drivers)
+    bodies = list(mech._bodies)
+    _check_connected(bodies, joints)
+
+    # body frames: origin at the body's first joint or point, angle as sketched
+    origins = {GROUND: np.zeros(2)}
+    for j in joints:
+        for b, p in j.touch_points():
+            origins.setdefault(b, p)
+    for b, p in mech._points.values():
+        origins.setdefault(b, p)
+    sketch = SketchFrames(origins, dict(mech._bodies))
+
+    constraints = joints + drivers
+    params = [c.params(sketch) for c in constraints]
+    body_index = {b: i for i, b in enumerate(bodies)}
+    inputs = [-1] * len(joints) + list(range(len(drivers)))
+    system, row_adr = build_system(constraints, params, body_index, len(bodies), inputs)
+    n, m = system.n, system.m
+    q0 = np.concatenate([np.r_[origins[b], mech._bodies[b]] for b in bodies[1:]]) if n else np.zeros(0)
+
+    L = _char_length(mech)
+    lengths = np.concatenate([np.array(c.length_rows, bool) for c in constraints]) if m else np.zeros(0, bool)
+    row_scale = np.where(lengths, 1.0 / L, 1.0)
+    col_scale = np.tile([L, L, 1.0], len(bodies) - 1)
+    joint_rows = np.arange(row_adr[len(joints)] if drivers else m)
+    driver_rows = np.arange(joint_rows.size, m)
+    sketch_rows = np.array([row_adr[i] + r for i, c in enumerate(joints) for r in c.sketch_rows], int)
+    geometric = np.setdiff1d(joint_rows, sketch_rows)
+
+    # assemble the sketch without the rolling rows, then take their constants there
+    q0 = _assemble(system, q0, geometric, row_scale, col_scale, joints, row_adr)
+    Phi, _ = system.evaluate(q0[None], np.zeros((1, len(drivers))), jacobian=False)
+    for g in system.groups:
+        for k, i in enumerate(g.members):
+            for r in constraints[i].sketch_rows:
+                g.P["c"][k, r] = Phi[0, row_adr[i] + r]
+    u0 = Phi[0, driver_rows].copy()
+
+    rank, independent = _joint_rank(system, q0, joint_rows, row_scale, col_scale)
+    redundant = np.setdiff1d(joint_rows, independent)
+    Phi, _ = system.evaluate(q0[None], u0[None], jacobian=False)
+    r = np.abs(Phi[0] * row_scale)
+    if redundant.size and r[joint_rows].max() > 1e-9:
+        worst = _owner(int(joint_rows[np.argmax(r[joint_rows])]), row_adr, constraints)
+        red = sorted({_owner(int(i), row_adr, constraints).name for i in redundant})
+        raise RedundancyError(f"{worst.describe()} contradicts the other joints (off by {r.max():.3g} x L): "
+                              f"redundant joints {red} must agree with the rest; remove or correct one")
+    redundant_joints = tuple(sorted({_owner(int(i), row_adr, constraints).name for i in redundant},
+                                    key=[j.name for j in joints].index))
+
+    dof = n - rank
+    if drivers and len(drivers) != dof:
+        raise MobilityError(f"mechanism {mech.name!r} has {dof} degree(s) of freedom but {len(drivers)} "
+                            f"driver(s) {[d.name for d in drivers]}: "
+                            + (f"add {dof - len(drivers)} driver(s)" if len(drivers) < dof
+                               else f"remove {len(drivers) - dof} driver(s)"))
+    active = np.concatenate([independent, driver_rows])
+    if drivers:
+        _check_drivers(system, q0, u0, active, joint_rows.size - redundant.size, drivers, row_scale, col_scale)
+    coord = [(j.name, j.coordinate()) for j in joints if j.coordinate() is not None]
+    csys, _ = build_system([d for _, d in coord], [d.params(sketch) for _, d in coord], body_index,
+                           len(bodies), [-1] * len(coord))
+    return Model(
+        coordinates={name: (csys, k) for k, (name, _) in enumerate(coord)},
+        name=mech.name, body_names=tuple(bodies), body_angles0=np.array([mech._bodies[b] for b in bodies]),
+        points={k: (body_index[b], sketch.local_point(b, p)) for k, (b, p) in mech._points.items()},
+        joints=tuple(joints), drivers=tuple(drivers), system=system, row_adr=row_adr, q0=q0, u0=u0, L=L,
+        row_scale=row_scale, col_scale=col_scale, active_rows=active,
+        driver_rows_active=np.arange(len(independent), len(active)), redundant_rows=redundant,
+        input_lengths=np.array([d.length_rows[0] for d in drivers], bool), rank=rank,
+        grubler=n - joint_rows.size, redundant_joints=redundant_joints)
+
+
+def _char_length(mech):
+    pts = [p for _, p in mech._points.values()] + [np.zeros(2)]
+    for j in mech._joints:
+        pts += [p for _, p in j.touch_points()]
+        for key in ("radius", "radius_a", "radius_b"):
+            if key in j.data:
+                pts.append(np.array([j.data[key], 0.0]))
+    P = np.array(pts)
+    L = float(np.max(np.ptp(P, axis=0))) if len(P) > 1 else 0.0
+    return L if L > 0 else 1.0
+
+
+def _check_connected(bodies, joints):
+    G = nx.Graph()
+    G.add_nodes_from(bodies)
+    for j in joints:
+        for a in j.bodies:
+            for b in j.bodies:
+                if a != b:
+                    G.add_edge(a, b)
+    loose = sorted(set(bodies) - nx.node_connected_component(G, GROUND))
+    if loose:
+        raise ConnectivityError(f"bod{'ies' if len(loose) > 1 else 'y'} {loose} not connected to the ground: "
+                                f"add a joint between {loose[0]!r} and the ground or a body connected to it")
+
+
+def _owner(row, row_adr, constraints):
+    return constraints[int(np.searchsorted(row_adr, row, side="right") - 1)]
+
+
+def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50):
+    """Minimum-norm Gauss-Newton on ``rows`` from q: the assembled pose nearest the sketch."""
+    q = q.copy()
+    if rows.size == 0:
+        return q
+    for _ in range(iterations):
+        Phi, J = system.evaluate(q[None])
+        r = Phi[0, rows] * rs[rows]
+        if np.max(np.abs(r)) <= 1e-14:
+            return q
+        Js = J[0][rows] * rs[rows, None] * cs[None, :]
+        dx = np.linalg.lstsq(Js, r, rcond=None)[0]
+        dx *= min(1.0, 0.3 / max(np.max(np.abs(dx)), 1e-300))
+        q -= dx * cs
+    Phi, _ = system.evaluate(q[None], jacobian=False)
+    r = np.abs(Phi[0, rows] * rs[rows])
+    if r.max() > 1e-9:
+        worst = _owner(int(rows[np.argmax(r)]), row_adr, joints)
+        raise AssemblyError(f"the sketch does not assemble: {worst.describe()} stays off by {r.max():.3g} x L; "
+                            f"check its points and dimensions")
+    return q
+
+
+def _joint_rank(system, q0, rows, rs, cs):
+    """Rank of the joint rows and the independent ones, at the sketch or, if the sketch is
+    a singular pose, at a nearby assembled pose where the rank is higher."""
+    best = None
+    rng = np.random.default_rng(0)
+    q = q0
+    for trial in range(3):
+        _, J = system.evaluate(q[None])
+        Js = J[0][rows] * rs[rows, None] * cs[None, :]
+        if Js.size == 0:
+            return 0, rows
+        _, R, piv = scipy.linalg.qr(Js.T, pivoting=True, mode="economic")
+        diag = np.abs(np.diag(R))
+        rank = int(np.sum(diag > 1e-9 * max(diag[0], 1e-300))) if diag.size else 0
+        if best is None or rank > best[0]:
+            best = (rank, np.sort(rows[piv[:rank]]))
+        if rank == system.n or trial == 2:
+            break
+        # move along the free motion and reassemble, to leave a possibly singular sketch
+        _, s, Vt = np.linalg.svd(Js)
+        null = Vt[rank:]
+        q = q + (null.T @ rng.normal(size=null.shape[0])) * 0.05 * cs
+        try:
+            q = _assemble(system, q, best[1], rs, cs, [], np.zeros(0))
+        except (AssemblyError, IndexError):
+            break
+    return best
+
+
+def _check_drivers(system, q0, u0, active, n_joint_rows, drivers, rs, cs):
+    _, J = system.evaluate(q0[None], u0[None])
+    Js = J[0][active] * rs[active, None] * cs[None, :]
+    base = Js[:n_joint_rows]
+    rank = np.linalg.matrix_rank(base, tol=1e-9 * max(1.0, np.abs(Js).max())) if base.size else 0
+    for k, d in enumerate(drivers):
+        Ak = Js[: n_joint_rows + k + 1]
+        rk = np.linalg.matrix_rank(Ak, tol=1e-9 * max(1.0, np.abs(Js).max()))
+        if rk <= rank:
+            raise MobilityError(f"driver {d.name!r} depends on the joints or on the drivers before it "
+                                f"(for example both gears of one mesh driven): drive a coordinate that moves "
+                                f"independently, or remove it")
+        rank = rk

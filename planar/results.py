@@ -1,0 +1,142 @@
+"""Frozen sweep results with named access, and the per-point :class:`Status`."""
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+
+from planar.errors import ModelError
+from planar.geometry import perp
+
+
+class Status(IntEnum):
+    """What happened at one input value.
+
+    SOLVED, NEAR_SINGULAR and BRANCH_EVENT points carry valid positions, velocities and
+    accelerations. A SINGULAR point has valid positions; its rates are NaN (the Jacobian is
+    singular there). The others are NaN in every output.
+    """
+
+    SOLVED = 0
+    NEAR_SINGULAR = 1  # valid, but the Jacobian is close to singular: expect larger errors
+    BRANCH_EVENT = 2  # valid, at a point where branches meet
+    SINGULAR = 3  # positions valid, rates undefined
+    NOT_ASSEMBLABLE = 4  # the input is outside the motion range: see the assembly gap
+    NOT_CONVERGED = 5  # assemblable, but not reached on the tracked branch
+    INCONSISTENT = 6  # a redundant joint does not hold at the solved pose
+
+    @property
+    def valid(self):
+        return self <= Status.BRANCH_EVENT
+
+
+VALID = np.array([s.valid for s in Status])
+
+
+@dataclass(frozen=True, eq=False)
+class Sweep:
+    """Results of :meth:`planar.Model.sweep`: one row per input value, all arrays read-only.
+
+    ``status`` (N,) holds :class:`Status` codes, ``residual`` the scaled constraint residual,
+    ``iterations`` the Newton iterations, ``singularity`` the normalised |det| of the scaled
+    Jacobian (0 at a singular position), ``branch`` its sign (the assembly mode), ``gap`` the
+    scaled assembly gap of points that did not assemble (NaN elsewhere).
+    """
+
+    model: object
+    inputs: np.ndarray  # (N, f)
+    input_rates: np.ndarray
+    input_accelerations: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    status: np.ndarray
+    residual: np.ndarray
+    iterations: np.ndarray
+    singularity: np.ndarray
+    branch: np.ndarray
+    gap: np.ndarray
+
+    def __post_init__(self):
+        for k, v in vars(self).items():
+            if isinstance(v, np.ndarray):
+                v.flags.writeable = False
+
+    def __len__(self):
+        return self.status.shape[0]
+
+    def __repr__(self):
+        counts = {Status(s).name: int(c) for s, c in zip(*np.unique(self.status, return_counts=True))}
+        return f"Sweep({self.model.name!r}, N={len(self)}, inputs={list(self.model.input_names)}, {counts})"
+
+    @property
+    def ok(self):
+        """(N,) True where positions, velocities and accelerations are all valid."""
+        return VALID[self.status]
+
+    # ---- bodies and points -----------------------------------------------------------------
+
+    def _body(self, body, arr):
+        b = self.model.body_id(body)
+        if b == 0:
+            return np.zeros(len(self)), np.zeros(len(self)), np.zeros(len(self))
+        return arr[:, 3 * b - 3], arr[:, 3 * b - 2], arr[:, 3 * b - 1]
+
+    def angle(self, body):
+        """Absolute angle of ``body`` (radians, unwrapped: its sketch angle plus its rotation)."""
+        return self._body(body, self.q)[2]
+
+    def omega(self, body):
+        """Angular velocity of ``body``."""
+        return self._body(body, self.qd)[2]
+
+    def alpha(self, body):
+        """Angular acceleration of ``body``."""
+        return self._body(body, self.qdd)[2]
+
+    def _point(self, name):
+        b, s = self.model.point(name)
+        x, y, phi = self._body(self.model.body_names[b], self.q)
+        c, sn = np.cos(phi), np.sin(phi)
+        S = np.stack((c * s[0] - sn * s[1], sn * s[0] + c * s[1]), axis=-1)
+        return b, S
+
+    def position(self, name):
+        """(N, 2) world position of a named point or joint."""
+        b, S = self._point(name)
+        x, y, _ = self._body(self.model.body_names[b], self.q)
+        return np.stack((x, y), axis=-1) + S
+
+    def velocity(self, name):
+        """(N, 2) velocity of a named point or joint."""
+        b, S = self._point(name)
+        xd, yd, w = self._body(self.model.body_names[b], self.qd)
+        return np.stack((xd, yd), axis=-1) + perp(S) * w[:, None]
+
+    def acceleration(self, name):
+        """(N, 2) acceleration of a named point or joint."""
+        b, S = self._point(name)
+        _, _, w = self._body(self.model.body_names[b], self.qd)
+        xdd, ydd, a = self._body(self.model.body_names[b], self.qdd)
+        return np.stack((xdd, ydd), axis=-1) + perp(S) * a[:, None] - S * (w**2)[:, None]
+
+    def coordinate(self, joint, derivative=0):
+        """(N,) a joint's own coordinate (a revolute's relative angle, a slider's or slot's
+        travel from its origin), or its first or second time derivative."""
+        coords = self.model.coordinates
+        if joint not in coords:
+            raise ModelError(f"joint {joint!r} has no coordinate: the joints with one are {sorted(coords)}")
+        sys_, row = coords[joint]
+        q = np.nan_to_num(self.q)
+        Phi, J = sys_.evaluate(q, jacobian=derivative > 0)
+        if derivative == 0:
+            out = Phi[:, row]
+        elif derivative == 1:
+            out = np.einsum("nj,nj->n", J[:, row], np.nan_to_num(self.qd))
+        elif derivative == 2:
+            g = sys_.gamma(q, np.nan_to_num(self.qd))
+            out = np.einsum("nj,nj->n", J[:, row], np.nan_to_num(self.qdd)) - g[:, row]
+        else:
+            raise ModelError(f"derivative must be 0, 1 or 2, got {derivative!r}")
+        bad = np.isnan(self.q[:, 0]) if derivative == 0 else np.isnan(self.qd[:, 0] if derivative == 1 else self.qdd[:, 0])
+        return np.where(bad, np.nan, out)
