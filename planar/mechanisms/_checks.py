@@ -1,0 +1,48 @@
+"""Argument checks shared by the builders: each failure names the argument and the fix."""
+
+import math
+
+from planar.errors import ModelError
+
+
+def lengths(**named):
+    """Check that every named length is a finite positive number; return them as floats."""
+    out = []
+    for key, value in named.items():
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            raise ModelError(f"{key} must be a number, got {value!r}") from None
+        if not math.isfinite(v) or v <= 0:
+            raise ModelError(f"{key} must be a positive length, got {value!r}")
+        out.append(v)
+    return out
+
+
+def number(value, what):
+    """A finite float (an angle, an offset, a travel)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what} must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ModelError(f"{what} must be finite, got {value!r}")
+    return v
+
+
+def choice(value, choices, what):
+    """``value`` if it is one of ``choices``."""
+    if value not in choices:
+        raise ModelError(f"{what} must be one of {list(choices)}, got {value!r}")
+    return value
+
+
+def point_pair(value, what):
+    """A (p, q) pair of numbers (a point given along a link and to its left), or None."""
+    if value is None:
+        return None
+    try:
+        p, q = value
+    except (TypeError, ValueError):
+        raise ModelError(f"{what} must be a pair (p, q): p along the link, q to its left; got {value!r}") from None
+    return number(p, f"{what}[0]"), number(q, f"{what}[1]")

@@ -1,0 +1,101 @@
+"""The four-bar linkage: ground, crank, coupler and rocker joined by four revolutes.
+
+>>> import numpy as np
+>>> from planar.mechanisms import four_bar
+>>> m = four_bar(4, 2, 3, 4, start=np.radians(60))
+>>> res = m.sweep(np.radians([60.0]), velocity=10.0)
+>>> np.degrees(res.angle("coupler")).round(6).tolist(), res.omega("rocker").round(6).tolist()
+([46.080251], [1.43091])
+"""
+
+import numpy as np
+
+from planar.errors import AssemblyError
+from planar.mechanisms import _checks
+from planar.mechanisms.sketch import along, angle_of, circle_circle, left_of, polar
+from planar.model import Mechanism
+
+DRIVERS = ("crank", "coupler", "rocker")
+
+
+def loop_pose(O2, O4, crank, coupler, rocker, driver, start, crossed):
+    """Sketch points A, B of the loop O2-A-B-O4 with the ``driver`` link ("crank": O2->A,
+    "coupler": A->B, "rocker": O4->B) at absolute angle ``start``, B left of the directed line
+    A -> O4 (right when ``crossed``). For the coupler and rocker drivers, when both poses at
+    ``start`` have B on that side, the first circle intersection is taken."""
+    O2, O4 = np.asarray(O2, dtype=float), np.asarray(O4, dtype=float)
+    what = f"the four-bar at {driver} angle {start:.12g} rad"
+    if driver == "crank":
+        A = polar(O2, crank, start)
+        B = circle_circle(A, coupler, O4, rocker, what)[1 if crossed else 0]
+        return A, B
+    if driver == "coupler":
+        c = polar((0, 0), coupler, start)
+        poses = [(A, A + c) for A in circle_circle(O2, crank, O4 - c, rocker, what)]
+    else:
+        B = polar(O4, rocker, start)
+        poses = [(A, B) for A in circle_circle(O2, crank, B, coupler, what)]
+    for A, B in poses:
+        if left_of(A, O4, B) != crossed:
+            return A, B
+    side = "right" if crossed else "left"
+    raise AssemblyError(f"{what} has no pose with B {side} of the directed line A -> O4: "
+                        f"use crossed={not crossed} or another start")
+
+
+def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0, coupler_point=None,
+             crossed=False, driver="crank", start=0.0, name="four_bar"):
+    """A four-bar sketched at input ``start`` and driven.
+
+    Parameters
+    ----------
+    ground, crank, coupler, rocker : float
+        Link lengths r1 (O2 to O4), r2 (O2 to A), r3 (A to B), r4 (O4 to B).
+    frame_angle : float
+        Angle th1 of O2 -> O4 (radians); O2 is at the origin.
+    coupler_point : (p, q), optional
+        Adds point ``C`` on the coupler, p along A -> B and q to its left.
+    crossed : bool
+        The other assembly mode: B right of the directed line A -> O4 (default left).
+    driver : {"crank", "coupler", "rocker"}
+        The input: the absolute angle of O2 -> A, A -> B or O4 -> B.
+    start : float
+        Input value of the sketch (radians): sweeps continue from there.
+
+    Returns
+    -------
+    planar.Mechanism
+        Bodies ``crank``, ``coupler``, ``rocker`` whose angles are th2, th3, th4; points
+        ``O2``, ``A``, ``B``, ``O4`` (the revolutes) and ``C``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> res = four_bar(coupler_point=(2.0, 0.5)).sweep(np.linspace(0, 2 * np.pi, 5))
+    >>> res.ok.all(), res.position("C").shape
+    (True, (5, 2))
+    """
+    r1, r2, r3, r4 = _checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)
+    th1 = _checks.number(frame_angle, "frame_angle")
+    start = _checks.number(start, "start")
+    _checks.choice(driver, DRIVERS, "driver")
+    pq = _checks.point_pair(coupler_point, "coupler_point")
+
+    O2 = np.zeros(2)
+    O4 = polar(O2, r1, th1)
+    A, B = loop_pose(O2, O4, r2, r3, r4, driver, start, bool(crossed))
+    # the driven link gets the exact start angle, so the input is not wrapped to (-pi, pi]
+    angles = {"crank": angle_of(O2, A), "coupler": angle_of(A, B), "rocker": angle_of(O4, B)}
+    angles[driver] = start
+
+    m = Mechanism(name)
+    for body in DRIVERS:
+        m.add_body(body, angle=angles[body])
+    m.add_revolute("O2", m.ground, "crank", at=O2)
+    m.add_revolute("A", "crank", "coupler", at=A)
+    m.add_revolute("B", "coupler", "rocker", at=B)
+    m.add_revolute("O4", "rocker", m.ground, at=O4)
+    if pq is not None:
+        m.add_point("C", "coupler", at=along(A, B, *pq))
+    m.drive(body=driver)
+    return m
