@@ -215,10 +215,17 @@ class Mechanism:
         self._add(cls(name, bodies, **data))
 
     def _pin_between(self, gear, carrier, name):
-        for j in self._joints:
-            if isinstance(j, Revolute) and set(j.bodies) == {gear, carrier}:
+        """The gear's centre: its pin on the carrier, or a pin of the gear at the same point as
+        a pin of the carrier (both pivoting on a third body there)."""
+        pins = [j for j in self._joints if isinstance(j, Revolute)]
+        for j in pins:
+            if set(j.bodies) == {gear, carrier}:
                 return j.data["at"]
-        raise ModelError(f"gear {name!r}: no revolute joins {gear!r} to the carrier {carrier!r}; "
+        for j in pins:
+            for k in pins:
+                if gear in j.bodies and carrier in k.bodies and np.allclose(j.data["at"], k.data["at"]):
+                    return j.data["at"]
+        raise ModelError(f"gear {name!r}: no revolute puts the centre of {gear!r} on the carrier {carrier!r}; "
                          f"add it first or give the centre")
 
     def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left"):
@@ -435,33 +442,34 @@ def _compile(mech):
     sketch_rows = np.array([row_adr[i] + r for i, c in enumerate(joints) for r in c.sketch_rows], int)
     geometric = np.setdiff1d(joint_rows, sketch_rows)
 
-    # assemble the sketch without the rolling rows, then take their constants there
-    q0 = _assemble(system, q0, geometric, row_scale, col_scale, joints, row_adr)
+    # independent rows first (the rank does not depend on the constants), then assemble the
+    # sketch on the independent geometric rows and take the rolling constants there
+    rank, independent = _joint_rank(system, q0, joint_rows, geometric, row_scale, col_scale)
+    redundant = np.setdiff1d(joint_rows, independent)
+    names = lambda rows: sorted({_owner(int(i), row_adr, constraints).name for i in rows})  # noqa: E731
+    q0 = _assemble(system, q0, np.intersect1d(geometric, independent), row_scale, col_scale, joints, row_adr)
     Phi, _ = system.evaluate(q0[None], np.zeros((1, len(drivers))), jacobian=False)
     for g in system.groups:
         for k, i in enumerate(g.members):
             for r in constraints[i].sketch_rows:
                 g.P["c"][k, r] = Phi[0, row_adr[i] + r]
     u0 = Phi[0, driver_rows].copy()
-
-    rank, independent = _joint_rank(system, q0, joint_rows, row_scale, col_scale)
-    redundant = np.setdiff1d(joint_rows, independent)
     Phi, _ = system.evaluate(q0[None], u0[None], jacobian=False)
-    r = np.abs(Phi[0] * row_scale)
-    if redundant.size and r[joint_rows].max() > 1e-9:
-        worst = _owner(int(joint_rows[np.argmax(r[joint_rows])]), row_adr, constraints)
-        red = sorted({_owner(int(i), row_adr, constraints).name for i in redundant})
-        raise RedundancyError(f"{worst.describe()} contradicts the other joints (off by {r.max():.3g} x L): "
-                              f"redundant joints {red} must agree with the rest; remove or correct one")
-    redundant_joints = tuple(sorted({_owner(int(i), row_adr, constraints).name for i in redundant},
-                                    key=[j.name for j in joints].index))
+    r = np.abs(Phi[0, redundant] * row_scale[redundant])
+    if redundant.size and r.max() > 1e-9:
+        worst = _owner(int(redundant[np.argmax(r)]), row_adr, constraints)
+        raise RedundancyError(f"{worst.describe()} contradicts the other joints (off by {r.max():.3g} x L) "
+                              f"where it repeats what they already hold: make its dimensions agree with "
+                              f"theirs, or remove it (redundant: {names(redundant)})")
+    redundant_joints = tuple(sorted(names(redundant), key=[j.name for j in joints].index))
 
     dof = n - rank
     if drivers and len(drivers) != dof:
         raise MobilityError(f"mechanism {mech.name!r} has {dof} degree(s) of freedom but {len(drivers)} "
                             f"driver(s) {[d.name for d in drivers]}: "
                             + (f"add {dof - len(drivers)} driver(s)" if len(drivers) < dof
-                               else f"remove {len(drivers) - dof} driver(s)"))
+                               else f"remove {len(drivers) - dof} driver(s), or a joint that locks the "
+                                    f"mechanism (a pivot declared twice, an extra link)"))
     active = np.concatenate([independent, driver_rows])
     if drivers:
         _check_drivers(system, q0, u0, active, joint_rows.size - redundant.size, drivers, row_scale, col_scale)
@@ -532,7 +540,7 @@ def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50):
     return q
 
 
-def _joint_rank(system, q0, rows, rs, cs):
+def _joint_rank(system, q0, rows, geometric, rs, cs):
     """Rank of the joint rows and the independent ones, at the sketch or, if the sketch is
     a singular pose, at a nearby assembled pose where the rank is higher."""
     best = None
@@ -555,7 +563,7 @@ def _joint_rank(system, q0, rows, rs, cs):
         null = Vt[rank:]
         q = q + (null.T @ rng.normal(size=null.shape[0])) * 0.05 * cs
         try:
-            q = _assemble(system, q, best[1], rs, cs, [], np.zeros(0))
+            q = _assemble(system, q, np.intersect1d(best[1], geometric), rs, cs, [], np.zeros(0))
         except (AssemblyError, IndexError):
             break
     return best

@@ -1,0 +1,92 @@
+"""Every joint type against finite differences: Phi_q and gamma, at random configurations.
+
+gamma is checked against -d2/dt2 Phi(q + qd t) at t = 0 (Phi_q qdd = gamma along any motion).
+"""
+
+import numpy as np
+import pytest
+
+from planar.geometry import Frames
+from planar.joints import JOINT_TYPES
+from planar.joints.base import SketchFrames
+
+N = 5  # configurations
+K = 3  # joints per group
+
+
+def random_data(cls, rng):
+    """World sketch data for one joint of class ``cls`` (any values: the kernels do not care)."""
+    p = lambda: rng.uniform(-2, 2, 2)  # noqa: E731
+    line = dict(at=p(), origin=p(), direction=p())
+    data = {
+        "Revolute": dict(at=p()),
+        "Prismatic": line,
+        "Slot": line,
+        "TravelDriver": line,
+        "CarrierGear": dict(radius_a=rng.uniform(0.5, 2), radius_b=rng.uniform(0.5, 2), sign=rng.choice([-1.0, 1.0]),
+                            centre_a=p(), centre_b=p()),
+        "Gear": dict(radius_a=rng.uniform(0.5, 2), radius_b=rng.uniform(2.5, 3), sign=rng.choice([-1.0, 1.0]),
+                     centre_a=p(), centre_b=p()),
+        "RackPinion": dict(radius=rng.uniform(0.5, 2), centre=p(), through=p(), direction=p(),
+                           side=rng.choice([-1.0, 1.0])),
+        "AngleDriver": {},
+        "CoordinateDriver": dict(at=p(), axis=(1.0, 0.0) if rng.random() < 0.5 else (0.0, 1.0)),
+    }
+    data["RollingContact"] = data["Gear"]
+    return data[cls.__name__]
+
+
+def group(cls, rng):
+    names = [f"b{k}" for k in range(cls.n_bodies)]
+    sketch = SketchFrames({b: rng.uniform(-1, 1, 2) for b in names}, {b: rng.uniform(-3, 3) for b in names})
+    joints = [cls(f"j{k}", names, **random_data(cls, rng)) for k in range(K)]
+    params = [j.params(sketch) for j in joints]
+    return {key: np.stack([P[key] for P in params]) for key in params[0]}
+
+
+def frames(q, qd=None):
+    """q (N, K, nb, 3) -> Frames."""
+    F = Frames(q[..., :2], q[..., 2], np.cos(q[..., 2]), np.sin(q[..., 2]))
+    if qd is not None:
+        F.rd, F.phid = qd[..., :2], qd[..., 2]
+    return F
+
+
+@pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
+def test_jacobian_and_gamma_match_finite_differences(cls):
+    rng = np.random.default_rng(7)
+    P = group(cls, rng)
+    nb = cls.n_bodies
+    q = rng.uniform(-2, 2, (N, K, nb, 3))
+    qd = rng.uniform(-2, 2, (N, K, nb, 3))
+    # constants taken at q, so every row holds there (the wrapped gear row is smooth near 0)
+    P["c"] = cls.Phi(dict(P, c=np.zeros_like(P["c"])), frames(q))
+
+    J = cls.Phi_q(P, frames(q))
+    assert J.shape == (N, K, cls.n_rows, 3 * nb)
+    h = 1e-6
+    flat = q.reshape(N, K, 3 * nb)
+    for col in range(3 * nb):
+        e = np.zeros(3 * nb)
+        e[col] = h
+        up = cls.Phi(P, frames((flat + e).reshape(q.shape)))
+        dn = cls.Phi(P, frames((flat - e).reshape(q.shape)))
+        np.testing.assert_allclose(J[..., col], (up - dn) / (2 * h), atol=1e-7, rtol=1e-6)
+
+    t = 1e-4
+    phi = [cls.Phi(P, frames(q + k * t * qd)) for k in (-1, 0, 1)]
+    fd = -(phi[2] - 2 * phi[1] + phi[0]) / t**2
+    gamma = cls.gamma(P, frames(q, qd))
+    assert gamma.shape == (N, K, cls.n_rows)
+    np.testing.assert_allclose(gamma, fd, atol=2e-5 * (1 + np.abs(gamma).max()))
+
+
+@pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
+def test_kernels_broadcast_over_design_axis(cls):
+    """Parameters with a leading batch axis (one design per configuration) give the same rows."""
+    rng = np.random.default_rng(3)
+    P = group(cls, rng)
+    q = rng.uniform(-2, 2, (N, K, cls.n_bodies, 3))
+    one = cls.Phi(P, frames(q))
+    many = cls.Phi({k: np.broadcast_to(v, (N,) + v.shape) for k, v in P.items()}, frames(q))
+    np.testing.assert_allclose(many, one, rtol=0, atol=1e-15)
