@@ -46,3 +46,15 @@ def point_pair(value, what):
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be a pair (p, q): p along the link, q to its left; got {value!r}") from None
     return number(p, f"{what}[0]"), number(q, f"{what}[1]")
+
+
+def length_list(values, what, count=None, at_least=1):
+    """A list of positive lengths: exactly ``count`` of them, or at least ``at_least``."""
+    try:
+        values = list(values)
+    except TypeError:
+        raise ModelError(f"{what} must be a sequence of lengths, got {values!r}") from None
+    if (count is not None and len(values) != count) or len(values) < at_least:
+        need = f"exactly {count}" if count is not None else f"at least {at_least}"
+        raise ModelError(f"{what} must hold {need} lengths, got {len(values)}: {values!r}")
+    return lengths(**{f"{what}[{k}]": v for k, v in enumerate(values)})

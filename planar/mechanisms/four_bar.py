@@ -72,7 +72,7 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     --------
     >>> import numpy as np
     >>> res = four_bar(coupler_point=(2.0, 0.5)).sweep(np.linspace(0, 2 * np.pi, 5))
-    >>> res.ok.all(), res.position("C").shape
+    >>> bool(res.ok.all()), res.position("C").shape
     (True, (5, 2))
     """
     r1, r2, r3, r4 = _checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)

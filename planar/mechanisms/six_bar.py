@@ -1,0 +1,156 @@
+"""Six-bar linkages: a crank-driven four-bar O2-A-B-O4 with a second loop closed by a dyad.
+
+- :func:`watt_six_bar`: Watt chain, binary ground: the dyad C-E-D joins a point C of the
+  coupler to a point D of the rocker (the two ternary links, adjacent at B).
+- :func:`stephenson_six_bar`: Stephenson chain, ternary ground: the dyad C-D-O6 joins a
+  coupler point C to a third ground pivot O6.
+- :func:`two_loop_six_bar`: the student report's six-bar, two four-bars in series
+  (R1 - R2 - R3 + R4 = 0, R5 - R6 - R7 + R8 = 0): the rocker, extended to D, is the crank
+  of the second four-bar O4-D-E-O6 (the Watt chain with a ternary ground).
+
+Every one is driven by the crank's absolute angle and sketched at ``start``; ``crossed``
+picks the first loop's assembly mode (B right of the directed line A -> O4) and ``crossed_2``
+the second's (the dyad's middle joint right of the line through its two end joints).
+
+>>> import numpy as np
+>>> from planar.mechanisms import stephenson_six_bar
+>>> res = stephenson_six_bar().sweep(np.linspace(0, 2 * np.pi, 13))
+>>> bool(res.ok.all())
+True
+"""
+
+import numpy as np
+
+from planar.mechanisms import _checks
+from planar.mechanisms.four_bar import four_bar, loop_pose
+from planar.mechanisms.sketch import along, angle_of, circle_circle, polar
+
+
+def _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start):
+    """The driven four-bar and its sketch points O4, A, B."""
+    m = four_bar(ground, crank, coupler, rocker, frame_angle=frame_angle, crossed=crossed, start=start, name=name)
+    O4 = polar((0, 0), ground, frame_angle)
+    A, B = loop_pose((0, 0), O4, crank, coupler, rocker, "crank", start, bool(crossed))
+    return m, O4, A, B
+
+
+def _dyad(m, names, bodies, P, Q, r_p, r_q, crossed, what):
+    """Close a loop with two links: ``bodies[0]`` from P (on ``bodies[2]``) and ``bodies[1]``
+    from Q (on ``bodies[3]``), pinned together at the intersection left of P -> Q (right if
+    ``crossed``). ``names`` are the three revolutes at P, the middle joint and Q."""
+    M = circle_circle(P, r_p, Q, r_q, what)[int(bool(crossed))]
+    m.add_body(bodies[0], angle=angle_of(P, M))
+    m.add_body(bodies[1], angle=angle_of(Q, M))
+    m.add_revolute(names[0], bodies[2], bodies[0], at=P)
+    m.add_revolute(names[1], bodies[0], bodies[1], at=M)
+    m.add_revolute(names[2], bodies[1], bodies[3], at=Q)
+    return m
+
+
+def watt_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_point=(2.0, 1.5),
+                 rocker_point=(1.5, -1.5), link_5=3.0, link_6=3.0, frame_angle=0.0, crossed=False,
+                 crossed_2=False, start=0.0, name="watt_six_bar"):
+    """Watt six-bar with a binary ground: a four-bar whose coupler point C and rocker point D
+    are joined by link 5 (C to E) and link 6 (E to D).
+
+    Parameters
+    ----------
+    ground, crank, coupler, rocker, frame_angle, crossed, start
+        The four-bar, as in :func:`planar.mechanisms.four_bar` (crank driven).
+    coupler_point : (p, q)
+        C on the coupler, p along A -> B and q to its left.
+    rocker_point : (p, q)
+        D on the rocker, p along O4 -> B and q to its left.
+    link_5, link_6 : float
+        Lengths C to E and D to E.
+    crossed_2 : bool
+        E right of the directed line C -> D (default left).
+
+    Returns
+    -------
+    planar.Mechanism
+        Bodies ``crank``, ``coupler``, ``rocker``, ``link5`` (C -> E), ``link6`` (D -> E);
+        points ``O2``, ``A``, ``B``, ``O4``, ``C``, ``E``, ``D``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> bool(watt_six_bar().sweep(np.linspace(0, 2 * np.pi, 13)).ok.all())
+    True
+    """
+    r5, r6 = _checks.lengths(link_5=link_5, link_6=link_6)
+    pq_c = _checks.point_pair(coupler_point, "coupler_point")
+    pq_d = _checks.point_pair(rocker_point, "rocker_point")
+    m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
+    return _dyad(m, ("C", "E", "D"), ("link5", "link6", "coupler", "rocker"), along(A, B, *pq_c),
+                 along(O4, B, *pq_d), r5, r6, crossed_2, "the Watt six-bar's dyad C-E-D")
+
+
+def stephenson_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_point=(2.0, 1.5),
+                       link_5=4.0, link_6=3.0, pivot_6=(2.0, 6.0), frame_angle=0.0, crossed=False,
+                       crossed_2=False, start=0.0, name="stephenson_six_bar"):
+    """Stephenson six-bar with a ternary ground: a four-bar whose coupler point C drives link 6
+    (pivoted on the ground at O6) through link 5 (C to D).
+
+    Parameters
+    ----------
+    ground, crank, coupler, rocker, frame_angle, crossed, start
+        The four-bar, as in :func:`planar.mechanisms.four_bar` (crank driven).
+    coupler_point : (p, q)
+        C on the coupler, p along A -> B and q to its left.
+    link_5, link_6 : float
+        Lengths C to D and O6 to D.
+    pivot_6 : (x, y)
+        The ground pivot O6 of link 6.
+    crossed_2 : bool
+        D right of the directed line C -> O6 (default left).
+
+    Returns
+    -------
+    planar.Mechanism
+        Bodies ``crank``, ``coupler``, ``rocker``, ``link5`` (C -> D), ``link6`` (O6 -> D);
+        points ``O2``, ``A``, ``B``, ``O4``, ``C``, ``D``, ``O6``.
+    """
+    r5, r6 = _checks.lengths(link_5=link_5, link_6=link_6)
+    pq = _checks.point_pair(coupler_point, "coupler_point")
+    O6 = np.array([_checks.number(v, f"pivot_6[{k}]") for k, v in enumerate(_checks.point_pair(pivot_6, "pivot_6"))])
+    m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
+    return _dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), along(A, B, *pq), O6, r5, r6,
+                 crossed_2, "the Stephenson six-bar's dyad C-D-O6")
+
+
+def two_loop_six_bar(lengths=(4.0, 1.5, 4.0, 3.5, 5.0, 2.0, 5.0, 3.5), *, frame_angle=0.0, frame_angle_2=0.0,
+                     phase=np.pi, crossed=False, crossed_2=False, start=0.0, name="two_loop_six_bar"):
+    """The student report's six-bar: two four-bars in series sharing the pivot O4.
+
+    Loop 1: R2 + R3 = R1 + R4 (O2-A-B-O4, as :func:`planar.mechanisms.four_bar`). Loop 2:
+    R6 + R7 = R5 + R8 with R5 = O4 -> O6 on the ground, R6 = O4 -> D on the rocker (at angle
+    ``phase`` from O4 -> B), R7 = D -> E, R8 = O6 -> E.
+
+    Parameters
+    ----------
+    lengths : 8 floats
+        r1 ... r8 as above.
+    frame_angle, frame_angle_2 : float
+        Angles of O2 -> O4 and of O4 -> O6 (radians).
+    phase : float
+        Angle of O4 -> D from O4 -> B, fixed in the rocker (default pi: a straight lever
+        through O4).
+    crossed, crossed_2 : bool
+        B right of A -> O4; E right of D -> O6 (defaults left).
+    start : float
+        The crank's absolute angle in the sketch.
+
+    Returns
+    -------
+    planar.Mechanism
+        Bodies ``crank``, ``coupler``, ``rocker`` (angle of O4 -> B), ``coupler2`` (D -> E),
+        ``rocker2`` (O6 -> E); points ``O2``, ``A``, ``B``, ``O4``, ``D``, ``E``, ``O6``.
+    """
+    r = _checks.length_list(lengths, "lengths", count=8)
+    th5 = _checks.number(frame_angle_2, "frame_angle_2")
+    phase = _checks.number(phase, "phase")
+    m, O4, A, B = _first_loop(name, *r[:4], frame_angle, crossed, start)
+    D = polar(O4, r[5], angle_of(O4, B) + phase)
+    return _dyad(m, ("D", "E", "O6"), ("coupler2", "rocker2", "rocker", m.ground), D, polar(O4, r[4], th5),
+                 r[6], r[7], crossed_2, "the second loop D-E-O6")
