@@ -8,6 +8,7 @@ Tolerances (spec README): positions and angles to 1e-9 relative to the largest l
 import numpy as np
 import pytest
 
+from planar.analysis import instant_centres, stroke
 from planar.mechanisms import four_bar, geared_five_bar, inverted_slider_crank, open_chain, slider_crank
 from tests.oracles import load_reference
 
@@ -74,6 +75,21 @@ def test_four_bar(case):
         check_rate(res.acceleration("C")[0], e["C_acc"], np.max(np.abs(e["C_acc"])), "C_acc")
 
 
+FOUR_BAR_BODIES = {"1": "ground", "2": "crank", "3": "coupler", "4": "rocker"}
+
+
+@cases("four_bar", "I13")
+def test_four_bar_instant_centres(case):
+    i, e = case["inputs"], case["expected"]
+    m = four_bar(i["r1"], i["r2"], i["r3"], i["r4"], frame_angle=rad(i["th1_deg"]),
+                 crossed=i["assembly"].startswith("B right"))
+    found = instant_centres(m.sweep([rad(i["th2_deg"])]))
+    L = max(i["r1"], i["r2"], i["r3"], i["r4"])
+    for key, expected in e.items():
+        pair = (FOUR_BAR_BODIES[key[1]], FOUR_BAR_BODIES[key[2]])
+        check_length(found[pair][0], expected, L, key)
+
+
 # ----------------------------------------------------------------------------- slider-cranks
 
 SLIDER_INPUT = {"crank": ("th2_deg", "w2", "a2"), "coupler": ("th3_deg", "w3", "a3"),
@@ -108,6 +124,16 @@ def test_slider_crank(case):
                 check_length(got[k], v, L, k)
             else:
                 check_rate(got[k], v, rate_scale(e, rates if k in rates else accs), k)
+
+
+@cases("slider_crank", "stroke")
+def test_slider_crank_stroke_and_time_ratio(case):
+    i, e = case["inputs"], case["expected"]
+    m = slider_crank(i["crank"], i["coupler"], offset=i["offset"])
+    for out in ("B.x", "slide"):
+        s = stroke(m, out)
+        check_length(s.stroke, e["stroke"], max(i["crank"], i["coupler"]), "stroke")
+        check_rate(s.time_ratio, e["time_ratio"], e["time_ratio"], "time ratio")
 
 
 @cases("slider_crank", "stroke")
@@ -180,3 +206,8 @@ def test_open_chain(case):
     for j, got in enumerate(tip):
         check_rate(np.hypot(*got), e["magnitudes"][j], e["magnitudes"][j], "magnitude")
         check_angle(np.arctan2(got[1], got[0]), rad(e["angles_deg"][j]), "angle")
+
+
+def test_every_reference_case_is_checked():
+    missing = {k for k in REF if not k.startswith("slider_limits_")} - COVERED
+    assert not missing, f"reference cases with no test: {sorted(missing)}"
