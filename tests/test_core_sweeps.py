@@ -6,14 +6,13 @@ the closed forms of tests/oracles.py.
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 import planar
 from planar import Status
 from tests import oracles
 
-SETTINGS = settings(max_examples=200, deadline=None)
 
 
 def four_bar(r1, r2, r3, r4, th1, th2, sigma, coupler=(0.6, 0.3)):
@@ -87,7 +86,6 @@ def four_bars(draw):
     return (r1, r2, r3, r4), float(np.angle(O4)), th2, sigma
 
 
-@SETTINGS
 @given(fb=four_bars(), w=st.floats(-10, 10), a=st.floats(-50, 50))
 def test_four_bar_matches_closed_form_and_finite_differences(fb, w, a):
     r, th1, th2, sigma = fb
@@ -112,7 +110,6 @@ def test_four_bar_matches_closed_form_and_finite_differences(fb, w, a):
     fd_check(m, ["B", "C"], th2 + 0.15, w, a)
 
 
-@SETTINGS
 @given(r2=lengths, r3=lengths, offset=st.floats(-3, 3), th1=st.floats(-np.pi, np.pi),
        th2=st.floats(-np.pi, np.pi), sigma=st.sampled_from([-1, 1]), w=st.floats(-10, 10), a=st.floats(-50, 50))
 def test_slider_crank_matches_closed_form_and_finite_differences(r2, r3, offset, th1, th2, sigma, w, a):
@@ -134,7 +131,6 @@ def test_slider_crank_matches_closed_form_and_finite_differences(r2, r3, offset,
     fd_check(m, ["A", "B"], th2 + 0.15, w, a)
 
 
-@SETTINGS
 @given(fb=four_bars())
 def test_non_assemblable_inputs_are_reported_not_answered(fb):
     r, th1, th2, sigma = fb
