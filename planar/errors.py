@@ -35,3 +35,7 @@ class AssemblyError(PlanarError):
 
 class InputError(PlanarError, ValueError):
     """Sweep values, rates or options of the wrong shape or kind."""
+
+
+class FileFormatError(ModelError):
+    """A mechanism file is malformed: its message names the file, the field and what is wrong."""

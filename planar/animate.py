@@ -1,0 +1,141 @@
+"""Animations of a sweep: GIF through pillow (always there with matplotlib), MP4 when ffmpeg is
+installed; the paths of chosen points are traced as the mechanism moves.
+
+>>> import numpy as np, tempfile, pathlib
+>>> from planar.mechanisms import four_bar
+>>> from planar.animate import animate
+>>> res = four_bar(coupler_point=(2.0, 0.5)).sweep(np.linspace(0, 2 * np.pi, 13))
+>>> out = animate(res, pathlib.Path(tempfile.mkdtemp()) / "four_bar.gif", fps=10)
+>>> out.stat().st_size > 0
+True
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from planar.draw import PATH_COLOURS, Scene, _finish, _path_points, _pose_title
+from planar.errors import InputError
+from planar.units import Units
+
+
+def ffmpeg_available():
+    """True when matplotlib finds an ffmpeg to write MP4 files with."""
+    from matplotlib import animation
+
+    return animation.writers.is_available("ffmpeg")
+
+
+def frame_indices(res, max_frames=120, rocking=False):
+    """Indices of the poses to show: the poses with valid positions, thinned to at most
+    ``max_frames``; with ``rocking``, forwards then back (an input that swings to and fro)."""
+    drawable = np.flatnonzero(np.all(np.isfinite(np.asarray(res.q)), axis=1))
+    if drawable.size == 0:
+        raise InputError("no pose of this sweep solved: nothing to animate (check the input range)")
+    if drawable.size > max_frames:
+        drawable = drawable[np.unique(np.linspace(0, drawable.size - 1, max_frames).round().astype(int))]
+    if rocking and drawable.size > 2:
+        drawable = np.r_[drawable, drawable[-2:0:-1]]
+    return drawable
+
+
+def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, trace=True, dpi=80,
+            size=(7.0, 5.0), units=None, progress=None):
+    """Write an animation of sweep ``res`` to ``path`` (.gif, or .mp4 when ffmpeg exists).
+
+    Parameters
+    ----------
+    points : list of str, optional
+        Points whose paths are traced (default: the user-named points, or every moving point).
+    fps, max_frames, dpi, size :
+        Frames per second, at most this many frames (the sweep is thinned evenly), resolution
+        and figure size in inches.
+    rocking : bool
+        Play the poses forwards and then back, for inputs that swing rather than turn.
+    trace : bool
+        Draw each path up to the current pose over a faint full path.
+    units : planar.units.Units, optional
+        Axis and title units.
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each frame.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+
+    path = Path(path)
+    kind = path.suffix.lower()
+    if kind not in (".gif", ".mp4"):
+        raise InputError(f"cannot write an animation to {path.name!r}: use a .gif or .mp4 file name")
+    if kind == ".mp4" and not ffmpeg_available():
+        raise InputError("writing .mp4 needs ffmpeg, which was not found: install it, or write a .gif")
+    units = units or Units()
+    frames = frame_indices(res, max_frames, rocking)
+    scene = Scene(res)
+    names = _path_points(res, points) if trace else []
+    paths = [res.position(n) for n in names]
+
+    fig, ax = plt.subplots(figsize=size, layout="constrained")
+    for k, (n, p) in enumerate(zip(names, paths)):
+        ax.plot(p[:, 0], p[:, 1], color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=0.8, alpha=0.35, zorder=1.7)
+    _fix_limits(ax, scene, frames)
+    _finish(ax, units)
+    _fit_figure(fig, ax, size)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_autoscale_on(False)
+    ax.set_axis_off()  # as the seeds' animations: the mechanism alone, and faster frames
+    traces = [ax.plot([], [], color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.8, zorder=1.8,
+                      label=f"path of {n}")[0] for k, n in enumerate(names)]
+    if 0 < len(names) <= 8:
+        ax.legend(loc="upper right", fontsize=8, frameon=False)
+    shown = []
+
+    def update(f):
+        for a in shown:
+            a.remove()
+        shown.clear()
+        i = frames[f]
+        shown.extend(scene.draw(ax, i))
+        ax.set_title(_pose_title(scene, i, units))
+        # the trace: every pose of the sweep up to the furthest one shown so far
+        upto = frames[: f + 1].max() + 1
+        for line, p in zip(traces, paths):
+            line.set_data(p[:upto, 0], p[:upto, 1])
+
+    writer = animation.PillowWriter(fps=fps) if kind == ".gif" else animation.FFMpegWriter(fps=fps)
+    try:
+        with writer.saving(fig, path, dpi):
+            for f in range(len(frames)):
+                update(f)
+                writer.grab_frame()
+                if f == 0:  # the layout is settled: keep it rather than redo it every frame
+                    fig.set_layout_engine("none")
+                if progress:
+                    progress(f + 1, len(frames))
+    finally:
+        plt.close(fig)
+    return path
+
+
+def _fit_figure(fig, ax, size):
+    """Keep the width, and make the height fit the drawing's proportions (no wide margins)."""
+    box = ax.dataLim
+    pad = 0.06 * max(box.width, box.height)
+    ax.set_xlim(box.x0 - pad, box.x1 + pad)
+    ax.set_ylim(box.y0 - pad, box.y1 + pad)
+    ratio = (box.height + 2 * pad) / max(box.width + 2 * pad, 1e-300)
+    fig.set_size_inches(size[0], float(np.clip(size[0] * ratio + 0.5, 0.4 * size[0], 1.2 * size[0])))
+
+
+def _fix_limits(ax, scene, frames):
+    """Axis limits that hold every frame: draw a few poses spread over the sweep, keep the
+    data limits, remove them."""
+    picks = frames[np.unique(np.linspace(0, len(frames) - 1, min(len(frames), 9)).round().astype(int))]
+    for i in picks:
+        for a in scene.draw(ax, i):
+            a.remove()
+    # removing artists does not shrink the data limits: they now hold every pose drawn

@@ -1,0 +1,454 @@
+"""The ``planar`` command line: run mechanism files, inspect them, write catalogue examples.
+
+    planar demo [--out DIR]            a four-bar with a coupler point: summary, plots, animation, CSV
+    planar run FILE [options]          sweep a mechanism file; write tables, plots and an animation
+    planar info FILE                   mobility, redundancy, Grashof class, motion ranges, events
+    planar example NAME [-o FILE]      write a catalogue mechanism to a file (no NAME: list them)
+
+Exit codes: 0 done; 1 the mechanism, file or sweep is wrong (the message says which field or
+joint and what to do); 2 the command line is wrong; 3 an output could not be written.
+"""
+
+import argparse
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from planar.errors import InputError, PlanarError
+from planar.results import Status
+from planar.units import RATE_UNITS, Units, parse_rate
+
+EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
+
+
+class _Progress:
+    """A one-line counter on a terminal; silent when stdout is a file or a pipe."""
+
+    def __init__(self, what, stream=None):
+        self.what, self.stream = what, stream or sys.stdout
+        self.on = self.stream.isatty()
+
+    def __call__(self, done, total):
+        if self.on:
+            end = "\n" if done == total else ""
+            self.stream.write(f"\r{self.what} {done}/{total}{end}")
+            self.stream.flush()
+
+
+# ---- tables ----------------------------------------------------------------------------------
+
+
+def table(res, units):
+    """Columns of a sweep as [(name, unit, values (N,))]: inputs, status, every body's angle,
+    rate and acceleration, every slider's or slot's travel and rates, every named point's
+    position, velocity and acceleration."""
+    from planar.draw import OUTPUTS, output_values
+
+    model = res.model
+    cols = []
+    for k, (name, is_len) in enumerate(zip(model.input_names, model.input_lengths)):
+        x = units.input_from_internal(np.asarray(res.inputs[:, k]), bool(is_len))
+        cols.append((f"input:{name}", units.input_label(bool(is_len)), np.asarray(x, float)))
+    cols.append(("status", "", np.array([Status(s).name for s in res.status])))
+    specs = [f"{kind}:{b}" for b in model.body_names[1:] for kind in ("angle", "omega", "alpha")]
+    specs += [f"{kind}:{j}" for j in model.coordinates for kind in ("travel", "travel_rate", "travel_accel")
+              if model.joint(j).__class__.__name__ in ("Prismatic", "Slot")]
+    specs += [f"{kind}:{p}" for p, (b, _) in model.points.items() if b != 0
+              for kind in ("x", "y", "vx", "vy", "ax", "ay")]
+    for spec in specs:
+        cols.append((spec, units.label(OUTPUTS[spec.partition(":")[0]][1]), output_values(res, spec, units)))
+    return cols
+
+
+def _header(name, unit):
+    return f"{name} [{unit}]" if unit else name
+
+
+def write_csv(cols, path):
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow([_header(n, u) for n, u, _ in cols])
+        for row in zip(*(v for _, _, v in cols)):
+            w.writerow([v if isinstance(v, str) else ("" if not math.isfinite(v) else repr(float(v))) for v in row])
+
+
+def write_json(cols, path, name):
+    def clean(v):
+        return v if isinstance(v, str) else (float(v) if math.isfinite(v) else None)
+
+    data = {"mechanism": name, "units": {n: u for n, u, _ in cols if u},
+            "columns": {n: [clean(x) for x in v] for n, _, v in cols}}
+    Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+
+
+# ---- sweeps ----------------------------------------------------------------------------------
+
+
+def default_sweep(model, units):
+    """Sweep settings when a file has none: from the sketch, one turn of an angle input
+    (73 values, every 5 deg) or half the mechanism's size either way for a length input."""
+    from planar.io import SweepSettings
+
+    start, stop = [], []
+    for u0, is_len in zip(model.u0, model.input_lengths):
+        if is_len:
+            start.append(float(u0 - 0.25 * model.L))
+            stop.append(float(u0 + 0.25 * model.L))
+        else:
+            a = float(units.angle_from_internal(u0))
+            start.append(a)
+            stop.append(a + float(units.angle_from_internal(2 * math.pi)))
+    return SweepSettings(start=tuple(start), stop=tuple(stop), num=73)
+
+
+def _settings(doc, args):
+    """Units and sweep settings of a file with the command line's overrides."""
+    from dataclasses import replace
+
+    units = doc.units
+    if getattr(args, "angle_unit", None):
+        units = replace(units, angle=args.angle_unit)
+    model = doc.mechanism.compile()
+    sweep = doc.sweep or default_sweep(model, doc.units)
+    if units.angle != doc.units.angle:  # the file's numbers are in its own units: restate them
+        sweep = _restate(sweep, model, doc.units, units)
+    changes = {}
+    for key in ("start", "stop", "acceleration"):
+        v = getattr(args, key, None)
+        if v is not None:
+            changes[key] = tuple(v)
+    if getattr(args, "num", None) is not None:
+        if args.num < 2:
+            raise InputError(f"--num must be at least 2, got {args.num}")
+        changes["num"] = args.num
+    if getattr(args, "speed", None) is not None:
+        value, unit = parse_rate(args.speed)
+        if unit is not None:
+            units = replace(units, rate=unit)
+        changes["speed"] = (value,)
+    elif getattr(args, "rate_unit", None) and args.rate_unit != units.rate:
+        speed = [float(Units(rate=units.rate).rate_to_internal(s)) for s in sweep.speed]
+        units = replace(units, rate=args.rate_unit)
+        changes["speed"] = tuple(float(units.rate_from_internal(s)) for s in speed)
+    if getattr(args, "rocking", False):
+        changes["rocking"] = True
+    return model, units, replace(sweep, **changes)
+
+
+def _restate(sweep, model, old, new):
+    from dataclasses import replace
+
+    def conv(values, d):
+        out = []
+        for k, v in enumerate(values):
+            is_len = bool(model.input_lengths[min(k, len(model.input_lengths) - 1)])
+            out.append(float(new.input_from_internal(old.input_to_internal(v, is_len, d), is_len, d)))
+        return tuple(out)
+
+    return replace(sweep, start=conv(sweep.start, 0), stop=conv(sweep.stop, 0))
+
+
+def run_sweep(model, units, settings):
+    U, Ud, Udd = settings.values(model, units)
+    return model.sweep(U, velocity=Ud, acceleration=Udd)
+
+
+# ---- reports ---------------------------------------------------------------------------------
+
+
+def _fmt(v):
+    return f"{float(v):.6g}"
+
+
+def _intervals(x, mask):
+    """[lo, hi] of x over each run of True in mask."""
+    from planar.draw import _runs
+
+    return [(x[a], x[b]) for a, b in _runs(mask)]
+
+
+def summary(res, units, settings):
+    """Lines describing a sweep: statuses, motion ranges met, output ranges, events."""
+    from planar.draw import find_events, input_axis
+
+    model = res.model
+    x, xlabel = input_axis(res, units)
+    counts = {Status(s).name.lower().replace("_", " "): int(c) for s, c in zip(*np.unique(res.status, return_counts=True))}
+    lines = [f"sweep: {xlabel} from {_fmt(settings.start[0])} to {_fmt(settings.stop[0])}, {len(res)} values"
+             + (", there and back" if settings.rocking else "") + ": "
+             + ", ".join(f"{c} {n}" for n, c in counts.items())]
+    posed = np.all(np.isfinite(np.asarray(res.q)), axis=1)
+    if not posed.all():
+        spans = "; ".join(f"{_fmt(a)} to {_fmt(b)}" for a, b in _intervals(x, posed))
+        lines.append(f"assembles over {spans} ({xlabel}) on the sketched branch")
+    for b in model.body_names[1:]:
+        a = units.angle_from_internal(res.angle(b))
+        w = units.rate_from_internal(res.omega(b))
+        if np.any(np.isfinite(a)):
+            lines.append(f"  {b}: angle {_fmt(np.nanmin(a))} to {_fmt(np.nanmax(a))} {units.angle}, "
+                         f"largest |rate| {_fmt(np.nanmax(np.abs(w)) if np.any(np.isfinite(w)) else math.nan)} {units.rate}")
+    for j in model.coordinates:
+        if model.joint(j).__class__.__name__ in ("Prismatic", "Slot"):
+            t = res.coordinate(j)
+            if np.any(np.isfinite(t)):
+                lines.append(f"  {j}: travel {_fmt(np.nanmin(t))} to {_fmt(np.nanmax(t))} {units.length}, "
+                             f"stroke {_fmt(np.nanmax(t) - np.nanmin(t))} {units.length}".rstrip())
+    events = find_events(res)
+    if events:
+        lines.append("events: " + ", ".join(f"{kind} at {xlabel.split(' [')[0]} = {_fmt(x[i])}" for i, kind in events))
+    else:
+        lines.append("events: no limit or singular position met")
+    return lines
+
+
+def _grashof_line(model):
+    try:
+        from planar import analysis  # noqa: F401  (written by a colleague; may not exist yet)
+    except ImportError:
+        return "Grashof class: not available in this version (planar.analysis is missing)"
+    return "Grashof class: not available in this version (planar.analysis has no Grashof check yet)"
+
+
+def info_lines(doc, path):
+    model = doc.mechanism.compile()
+    kinds = {}
+    for j in model.joints:
+        kind = type(j).__name__.lower()
+        kinds[kind] = kinds.get(kind, 0) + 1
+    inputs = ", ".join(f"{n} ({'length' if ln else 'angle'})" for n, ln in zip(model.input_names, model.input_lengths))
+    lines = [f"file: {path}",
+             f"mechanism: {model.name}: {len(model.body_names) - 1} moving bodies, {len(model.joints)} joints ("
+             + ", ".join(f"{c} {k}" for k, c in kinds.items()) + f"), {len(model.drivers)} input(s): {inputs or 'none'}",
+             f"mobility: {model.dof} degree(s) of freedom (Gruebler count {model.grubler}, Jacobian rank "
+             f"{model.rank} of {model.n} coordinates)",
+             "redundant joints: " + (", ".join(model.redundant_joints) if model.redundant_joints else "none"),
+             _grashof_line(model)]
+    return model, lines
+
+
+# ---- commands --------------------------------------------------------------------------------
+
+
+def _write(what, fn, *args, **kwargs):
+    try:
+        return fn(*args, **kwargs)
+    except OSError as e:
+        raise _OutputError(f"cannot write {what}: {e.strerror or e}") from None
+
+
+class _OutputError(Exception):
+    pass
+
+
+def _run(doc, source, args, out):
+    """Sweep a loaded file and write its outputs into ``out``; prints what it did."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from planar import animate, draw
+
+    model, units, settings = _settings(doc, args)
+    res = run_sweep(model, units, settings)
+    _, lines = info_lines(doc, source)
+    for line in lines[1:]:
+        print(line)
+    for line in summary(res, units, settings):
+        print(line)
+    _write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
+    stem = _stem(model.name)
+    written = []
+    cols = table(res, units)
+    formats = [f.strip() for f in (args.tables or "csv").split(",") if f.strip()]
+    for fmt in formats:
+        if fmt not in ("csv", "json"):
+            raise InputError(f"unknown table format {fmt!r}: use csv, json or csv,json")
+        p = out / f"{stem}.{fmt}"
+        _write(p, write_csv if fmt == "csv" else (lambda c, q: write_json(c, q, model.name)), cols, p)
+        written.append(p)
+    posed = np.flatnonzero(np.all(np.isfinite(np.asarray(res.q)), axis=1))
+    if not args.no_plot and posed.size:
+        ax = draw.figure(res, int(posed[len(posed) // 6]), args.points, units=units)
+        p = out / f"{stem}.png"
+        _write(p, ax.figure.savefig, p, dpi=args.dpi)
+        plt.close(ax.figure)
+        written.append(p)
+        axes = draw.plot_outputs(res, units=units)
+        p = out / f"{stem}_outputs.png"
+        _write(p, axes[0].figure.savefig, p, dpi=args.dpi)
+        plt.close(axes[0].figure)
+        written.append(p)
+    if not args.no_animation and posed.size:
+        kind = args.animation
+        if kind == "mp4" and not animate.ffmpeg_available():
+            print("note: ffmpeg not found, writing a GIF instead of MP4")
+            kind = "gif"
+        p = out / f"{stem}.{kind}"
+        _write(p, lambda: animate.animate(res, p, points=args.points, fps=args.fps, max_frames=args.frames,
+                                          rocking=settings.rocking, dpi=args.dpi * 3 // 4, units=units,
+                                          progress=_Progress("animation frame")))
+        written.append(p)
+    print("wrote " + ", ".join(str(p) for p in written))
+    return res
+
+
+def _stem(name):
+    keep = "".join(c if c.isalnum() or c in "-_" else "_" for c in name).strip("_")
+    return keep or "mechanism"
+
+
+def cmd_run(args):
+    from planar import io
+
+    doc = io.load(args.file)
+    out = Path(args.out) if args.out else Path(f"{Path(args.file).stem}-out")
+    _run(doc, args.file, args, out)
+    return EXIT_OK
+
+
+def cmd_info(args):
+    from planar import io
+
+    doc = io.load(args.file)
+    model, lines = info_lines(doc, args.file)
+    units = doc.units
+    settings = doc.sweep or default_sweep(model, units)
+    res = run_sweep(model, units, settings)
+    for line in lines + summary(res, units, settings):
+        print(line)
+    return EXIT_OK
+
+
+def _example_doc(name):
+    """A catalogue mechanism with its default demonstration dimensions, in degrees, and a sweep
+    of one turn (or half its size either way) from its sketch."""
+    from planar.mechanisms import CATALOGUE
+
+    mech = CATALOGUE[name]()
+    units = Units()
+    return mech, units, default_sweep(mech.compile(), units)
+
+
+def cmd_example(args):
+    from planar import io
+    from planar.mechanisms import CATALOGUE
+
+    if args.name is None:
+        print("catalogue mechanisms (write one with: planar example NAME):")
+        for name, fn in CATALOGUE.items():
+            doc = (fn.__doc__ or "").strip().splitlines()
+            print(f"  {name:24s} {doc[0] if doc else ''}")
+        return EXIT_OK
+    if args.name not in CATALOGUE:
+        print(f"planar: error: no catalogue mechanism {args.name!r}: the names are {', '.join(CATALOGUE)}",
+              file=sys.stderr)
+        return EXIT_USAGE
+    mech, units, sweep = _example_doc(args.name)
+    path = Path(args.output or f"{args.name}.json")
+    _write(path, io.save, mech, path, units, sweep)
+    print(f"wrote {path}: run it with: planar run {path}")
+    return EXIT_OK
+
+
+DEMO_COUPLER_POINT = (2 * math.cos(math.radians(30)), 2 * math.sin(math.radians(30)))
+
+
+def cmd_demo(args):
+    """The seeds' four-bar (4, 2, 3, 4) with a coupler point 2 from A at 30 deg off A->B, its crank
+    turned once at 10 rad/s."""
+    from planar import io
+    from planar.io import SweepSettings
+    from planar.mechanisms import four_bar
+
+    out = Path(args.out)
+    mech = four_bar(4.0, 2.0, 3.0, 4.0, coupler_point=DEMO_COUPLER_POINT)
+    units = Units(length="cm", angle="deg", rate="rad/s")
+    sweep = SweepSettings(start=(0.0,), stop=(360.0,), num=args.num, speed=(10.0,))
+    _write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
+    path = out / "four_bar.json"
+    _write(path, io.save, mech, path, units, sweep)
+    print(f"planar demo: the four-bar of the seeds (ground 4, crank 2, coupler 3, rocker 4 cm) with coupler "
+          f"point C, crank at 10 rad/s")
+    _run(io.load(path), path, args, out)
+    print(f"mechanism file {path}: try  planar info {path}  or  planar run {path} --speed 60rpm")
+    return EXIT_OK
+
+
+# ---- argument parsing ------------------------------------------------------------------------
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(EXIT_USAGE, f"planar: error: {message}\n")
+
+
+def _outputs(p, out_default=None):
+    p.add_argument("--out", default=out_default, help="output folder" + (
+        f" (default {out_default})" if out_default else " (default FILE-out next to where you run)"))
+    p.add_argument("--tables", default="csv", help="table formats: csv, json or csv,json (default csv)")
+    p.add_argument("--no-plot", action="store_true", help="do not write the PNG figures")
+    p.add_argument("--no-animation", action="store_true", help="do not write the animation")
+    p.add_argument("--animation", choices=("gif", "mp4"), default="gif", help="animation format (mp4 needs ffmpeg)")
+    p.add_argument("--frames", type=int, default=60, help="most frames in the animation (default 60)")
+    p.add_argument("--fps", type=int, default=15, help="animation frames per second (default 15)")
+    p.add_argument("--dpi", type=int, default=90, help="figure resolution (default 90)")
+    p.add_argument("--points", type=lambda s: [x for x in s.split(",") if x], default=None,
+                   help="points to trace and draw arrows on, comma separated (default: the named points)")
+
+
+def parser():
+    p = _Parser(prog="planar", description="Planar mechanism kinematics from the command line.",
+                epilog="Exit codes: 0 done, 1 bad mechanism/file/sweep, 2 bad command line, 3 cannot write.")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    d = sub.add_parser("demo", help="sweep a four-bar with a coupler point; write plots, animation, CSV")
+    _outputs(d, "planar-demo")
+    d.add_argument("--num", type=int, default=73, help="sweep values over the turn (default 73)")
+    d.set_defaults(func=cmd_demo)
+
+    r = sub.add_parser("run", help="sweep a mechanism file and write tables, plots and an animation")
+    r.add_argument("file", help="mechanism file (JSON; see planar example)")
+    r.add_argument("--start", type=float, nargs="+", help="input value(s) at the start, in the file's units")
+    r.add_argument("--stop", type=float, nargs="+", help="input value(s) at the end, in the file's units")
+    r.add_argument("--num", type=int, help="number of sweep values")
+    r.add_argument("--speed", help="input speed: a number in the file's rate unit, or with a unit: "
+                                   "10rad/s, 90deg/s, 120rpm (length/s for sliding inputs)")
+    r.add_argument("--acceleration", type=float, nargs="+", help="input acceleration(s)")
+    r.add_argument("--rocking", action="store_true", help="sweep start -> stop -> start")
+    r.add_argument("--angle-unit", choices=("deg", "rad"), help="angle unit of the outputs and of --start/--stop")
+    r.add_argument("--rate-unit", choices=tuple(RATE_UNITS), help="unit of angular rates in the outputs")
+    _outputs(r)
+    r.set_defaults(func=cmd_run)
+
+    i = sub.add_parser("info", help="mobility, redundancy, Grashof class, motion ranges and events of a file")
+    i.add_argument("file", help="mechanism file (JSON)")
+    i.set_defaults(func=cmd_info)
+
+    e = sub.add_parser("example", help="write a catalogue mechanism to a file (no NAME: list the catalogue)")
+    e.add_argument("name", nargs="?", help="catalogue name, e.g. four_bar")
+    e.add_argument("-o", "--output", help="file to write (default NAME.json)")
+    e.set_defaults(func=cmd_example)
+    return p
+
+
+def main(argv=None):
+    """Run the command line; returns the exit code."""
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except PlanarError as e:
+        print(f"planar: error: {e}", file=sys.stderr)
+        return EXIT_INPUT
+    except _OutputError as e:
+        print(f"planar: error: {e}", file=sys.stderr)
+        return EXIT_OUTPUT
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,853 @@
+"""Textbook figures of any mechanism, drawn from its compiled model and a sweep.
+
+Nothing here knows a mechanism by name. A body is drawn as a bar between its joint points (two
+points) or a plate over them (three or more); each joint draws its own parts from the body-fixed
+numbers the solver uses (the model's joint parameters): pins, hatched ground pivots, slider blocks
+on guide lines, slots, gears as pitch circles with a mark that turns with them, racks as toothed
+lines. One registry, :data:`PARTS`, maps each joint class to how it is drawn.
+
+Every function takes ``ax=None`` (a new figure when None) and returns the axes it drew on.
+matplotlib is imported when a function runs, not when planar is imported.
+
+>>> import numpy as np, matplotlib
+>>> matplotlib.use("Agg")
+>>> from planar.mechanisms import four_bar
+>>> from planar import draw
+>>> res = four_bar(coupler_point=(2.0, 0.5)).sweep(np.linspace(0, 2 * np.pi, 73))
+>>> ax = draw.draw(res, 10)
+>>> ax = draw.draw_paths(res, ["C"], ax=ax)
+>>> len(ax.lines) > 0
+True
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from planar.errors import InputError
+from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Slot
+from planar.results import Status
+from planar.units import Units
+
+EDGE = "#262626"
+FILLS = ("#a6cee3", "#fdbf6f", "#b2df8a", "#cab2d6", "#fb9a99", "#ffff99", "#8dd3c7", "#d9d9d9",
+         "#bebada", "#80b1d3")
+VELOCITY, ACCELERATION = "#1f5fbf", "#c0282d"
+PATH_COLOURS = ("#6a3d9a", "#1b9e77", "#d95f02", "#e7298a", "#66a61e", "#e6ab02")
+EVENT_MARK = {"limit": ("s", "#d62728"), "singular": ("X", "#000000"), "branch": ("D", "#9467bd")}
+
+
+def _pyplot():
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _axes(ax):
+    if ax is None:
+        _, ax = _pyplot().subplots(figsize=(7, 5), layout="constrained")
+    return ax
+
+
+# ---- poses: body-fixed vectors to world coordinates ------------------------------------------
+
+
+def _frame(q, b):
+    """(r, c, s) of body b over q (..., n); the ground is the identity."""
+    if b == 0:
+        z = np.zeros(q.shape[:-1])
+        return np.zeros(q.shape[:-1] + (2,)), z + 1.0, z
+    r = q[..., 3 * b - 3: 3 * b - 1]
+    phi = q[..., 3 * b - 1]
+    return r, np.cos(phi), np.sin(phi)
+
+
+def _world(q, b, s):
+    """World position of the body-fixed point s (2,) of body b at poses q (..., n)."""
+    r, c, sn = _frame(q, b)
+    return r + np.stack((c * s[0] - sn * s[1], sn * s[0] + c * s[1]), -1)
+
+
+def _turn(q, b, u):
+    """World direction of the body-fixed vector u of body b."""
+    _, c, sn = _frame(q, b)
+    return np.stack((c * u[0] - sn * u[1], sn * u[0] + c * u[1]), -1)
+
+
+def _local(q, b, p):
+    """Body-fixed coordinates in body b of the world point p at poses q."""
+    r, c, sn = _frame(q, b)
+    d = p - r
+    return np.stack((c * d[..., 0] + sn * d[..., 1], -sn * d[..., 0] + c * d[..., 1]), -1)
+
+
+# ---- the joint registry ----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Part:
+    """How one joint class is drawn.
+
+    ``attach(scene, j, P)`` -> [(body id, body-fixed point)] where bodies hold on to the joint
+    (the ends of bars and corners of plates); ``line(scene, j, P)`` -> (body id of the line,
+    point, direction, (body id, point) that runs on it, padding) for joints with a guide line or
+    rack, else None; ``draw(scene, j, P, q, ax)`` -> artists of the joint at pose q.
+    """
+
+    attach: object
+    draw: object
+    line: object = None
+    labelled: bool = True  # label the joint's named point (pins and sliders; not gear centres)
+
+
+def _joint_params(model):
+    """Each joint's body-fixed parameters, exactly as the compiled system holds them."""
+    out = {}
+    for g in model.system.groups:
+        for k, i in enumerate(g.members):
+            if i < len(model.joints):
+                out[model.joints[i].name] = {key: v[k] for key, v in g.P.items()}
+    return out
+
+
+def _ids(scene, j):
+    return [scene.model.body_id(b) for b in j.bodies]
+
+
+def _revolute_attach(scene, j, P):
+    return list(zip(_ids(scene, j), P["s"]))
+
+
+def _revolute_draw(scene, j, P, q, ax):
+    a, b = _ids(scene, j)
+    p = _world(q, a, P["s"][0])
+    arts = []
+    if 0 in (a, b):
+        arts += scene.ground_pivot(ax, p)
+    return arts + scene.pin(ax, p)
+
+
+def _line_of(scene, j, P):
+    a, b = _ids(scene, j)
+    pad = scene.block[0] if isinstance(j, Prismatic) else scene.size
+    return a, P["s"][0], P["u"], (b, P["s"][1]), pad
+
+
+def _slider_attach(scene, j, P):
+    a, b = _ids(scene, j)
+    ends = scene.line_ends(j.name)
+    out = [(b, P["s"][1])]
+    if a != 0:  # a moving guide is part of its body: the bar runs along it
+        out += [(a, e) for e in ends]
+    return out
+
+
+def _slider_draw(scene, j, P, q, ax):
+    a, b = _ids(scene, j)
+    ends = [_world(q, a, e) for e in scene.line_ends(j.name)]
+    u = _turn(q, a, P["u"])
+    p = _world(q, b, P["s"][1])
+    arts = []
+    if isinstance(j, Prismatic):
+        if a == 0:  # a moving guide is drawn as its body's bar
+            arts += scene.guide(ax, ends)
+        arts += scene.block_at(ax, p, u, scene.colour(b))
+    else:
+        arts += scene.slot(ax, ends)
+    return arts + scene.pin(ax, p)
+
+
+def _gear_centres(scene, j, P):
+    """(body id, body-fixed centre) of both gears."""
+    ids = _ids(scene, j)
+    if "s" in P:
+        return [(ids[0], P["s"][0]), (ids[1], P["s"][1])]
+    # carrier gears: the centres are sketch points fixed on the carrier
+    c = ids[2]
+    q0 = scene.model.q0
+    return [(ids[k], _local(q0, ids[k], _world(q0, c, _local(q0, c, np.asarray(j.data[key], float)))))
+            for k, key in ((0, "centre_a"), (1, "centre_b"))]
+
+
+def _gear_attach(scene, j, P):
+    return _gear_centres(scene, j, P)
+
+
+def _gear_draw(scene, j, P, q, ax):
+    R = np.abs(P["R"])
+    internal = P["R"][1] < 0
+    arts = []
+    for k, (b, s) in enumerate(_gear_centres(scene, j, P)):
+        ring = internal and R[k] > R[1 - k]
+        arts += scene.wheel(ax, q, b, s, R[k], ring=ring)
+    return arts
+
+
+def _rack_line(scene, j, P):
+    rack, pinion = _ids(scene, j)
+    return rack, P["s"][0], P["u"], (pinion, P["s"][1]), abs(float(P["sR"])) + scene.size
+
+
+def _rack_attach(scene, j, P):
+    rack, pinion = _ids(scene, j)
+    ends = scene.line_ends(j.name)
+    out = [(pinion, P["s"][1])]
+    if rack != 0:
+        out.append((rack, 0.5 * (ends[0] + ends[1])))
+    return out
+
+
+def _rack_draw(scene, j, P, q, ax):
+    rack, pinion = _ids(scene, j)
+    ends = [_world(q, rack, e) for e in scene.line_ends(j.name)]
+    side = float(np.sign(P["sR"]))
+    arts = scene.rack(ax, ends, side, hatch=rack == 0)
+    return arts + scene.wheel(ax, q, pinion, P["s"][1], abs(float(P["sR"])))
+
+
+PARTS = {
+    Revolute: Part(_revolute_attach, _revolute_draw),
+    Slot: Part(_slider_attach, _slider_draw, _line_of),  # Prismatic too (a subclass)
+    CarrierGear: Part(_gear_attach, _gear_draw, labelled=False),
+    Gear: Part(_gear_attach, _gear_draw, labelled=False),  # RollingContact too
+    RackPinion: Part(_rack_attach, _rack_draw, _rack_line, labelled=False),
+}
+
+
+def part_of(joint):
+    """The :class:`Part` that draws ``joint`` (looked up along its class hierarchy)."""
+    for cls in type(joint).__mro__:
+        if cls in PARTS:
+            return PARTS[cls]
+    raise InputError(f"joint {joint.name!r}: planar.draw has no picture for {type(joint).__name__}; "
+                     f"add an entry to planar.draw.PARTS")
+
+
+# ---- the scene: one mechanism, any pose ------------------------------------------------------
+
+
+def _source(source):
+    """(model, sweep or None) from a Sweep, a Model or a Mechanism."""
+    if hasattr(source, "status") and hasattr(source, "model"):
+        return source.model, source
+    if hasattr(source, "compile"):
+        source = source.compile()
+    if hasattr(source, "q0") and hasattr(source, "system"):
+        return source, None
+    raise InputError(f"cannot draw a {type(source).__name__}: give a sweep result, a Model or a Mechanism")
+
+
+class Scene:
+    """A mechanism ready to draw at any pose of a sweep (or its sketch): joint parameters,
+    body attachment points and guide-line extents are worked out once.
+
+    ``Scene(source)`` takes a sweep result, a Model or a Mechanism; ``scene.draw(ax, i)`` draws
+    pose i (the sketch when there is no sweep) and returns the artists it made.
+    """
+
+    def __init__(self, source, *, labels=True):
+        self.model, self.sweep = _source(source)
+        self.labels = labels
+        m = self.model
+        self.params = _joint_params(m)
+        qs = self.poses()
+        finite = qs[np.all(np.isfinite(qs), axis=1)]
+        # size of the drawing: the span of every named point over the sweep
+        pts = np.concatenate([_world(finite, b, s) for b, s in m.points.values()]) if m.points else np.zeros((1, 2))
+        span = np.ptp(pts, axis=0).max() if len(pts) > 1 else 0.0
+        self.L = float(span) if span > 0 else float(m.L)
+        self.size = 0.035 * self.L
+        self.block = (0.065 * self.L, 0.04 * self.L)  # half length, half height of slider blocks
+        self.colours = {b: FILLS[(b - 1) % len(FILLS)] for b in range(1, len(m.body_names))}
+        self._ends = {}
+        for j in m.joints:
+            part = part_of(j)
+            if part.line is not None:
+                self._ends[j.name] = self._extent(finite, *part.line(self, j, self.params[j.name]))
+        self.attach = {b: [] for b in range(len(m.body_names))}
+        for j in m.joints:
+            for b, s in part_of(j).attach(self, j, self.params[j.name]):
+                self.attach[b].append(np.asarray(s, float))
+        joint_names = {j.name for j in m.joints}
+        self.user_points = [n for n in m.points if n not in joint_names]
+        unlabelled = {j.name for j in m.joints if not part_of(j).labelled}
+        self.labelled = [n for n in m.points if n not in unlabelled]
+        for n in self.user_points:
+            b, s = m.points[n]
+            self.attach[b].append(np.asarray(s, float))
+
+    def poses(self):
+        """(N, n) poses: the sweep's, or the sketch alone."""
+        return self.model.q0[None] if self.sweep is None else np.asarray(self.sweep.q)
+
+    def pose(self, i):
+        if self.sweep is None:
+            return self.model.q0
+        q = np.asarray(self.sweep.q[i])
+        if not np.all(np.isfinite(q)):
+            raise InputError(f"pose {i} did not solve (status {Status(self.sweep.status[i]).name}): "
+                             f"draw a pose where the sweep is valid")
+        return q
+
+    def _extent(self, qs, a, s_a, u, runner, pad):
+        """Body-fixed ends of a guide line of body a: where the runner goes over the sweep, padded."""
+        b, s_b = runner
+        t = np.einsum("...i,i->...", _local(qs, a, _world(qs, b, s_b)) - s_a, u)
+        lo, hi = (float(t.min()), float(t.max())) if t.size else (0.0, 0.0)
+        lo, hi = lo - pad - self.size, hi + pad + self.size
+        return (s_a + lo * u, s_a + hi * u)
+
+    def line_ends(self, name):
+        return self._ends[name]
+
+    def colour(self, b):
+        return self.colours.get(b, "white")
+
+    # ---- primitives (data units scale with the drawing) ------------------------------------
+
+    def bar(self, ax, pts, colour):
+        x, y = np.asarray(pts).T
+        edge, = ax.plot(x, y, color=EDGE, lw=7.5, solid_capstyle="round", solid_joinstyle="round", zorder=3)
+        fill, = ax.plot(x, y, color=colour, lw=5.0, solid_capstyle="round", solid_joinstyle="round", zorder=3.1)
+        return [edge, fill]
+
+    def plate(self, ax, pts, colour):
+        from matplotlib.patches import Polygon
+
+        poly = Polygon(pts, closed=True, facecolor=colour, edgecolor="none", alpha=0.55, zorder=2.9)
+        ax.add_patch(poly)
+        return [poly] + self.bar(ax, np.vstack([pts, pts[:1]]), colour)
+
+    def pin(self, ax, p):
+        art, = ax.plot(*p, "o", ms=6.5, mfc="white", mec=EDGE, mew=1.4, zorder=5)
+        return [art]
+
+    def ground_pivot(self, ax, p):
+        """A triangle under the pin standing on a hatched base."""
+        from matplotlib.patches import Polygon, Rectangle
+
+        h = 1.6 * self.size
+        tri = Polygon([p, p + (-0.7 * h, -h), p + (0.7 * h, -h)], closed=True, facecolor="white",
+                      edgecolor=EDGE, lw=1.3, zorder=4)
+        base = Rectangle(p + (-1.1 * h, -1.45 * h), 2.2 * h, 0.45 * h, facecolor="none", edgecolor=EDGE,
+                         lw=0, hatch="////", zorder=1)
+        top, = ax.plot([p[0] - 1.1 * h, p[0] + 1.1 * h], [p[1] - h] * 2, color=EDGE, lw=1.4, zorder=1.1)
+        ax.add_patch(tri)
+        ax.add_patch(base)
+        return [tri, base, top]
+
+    def guide(self, ax, ends):
+        """A ground guide: the surface the block rides on, on the right of the line (under a
+        line running +x), hatched beyond."""
+        from matplotlib.patches import Polygon
+
+        e0, e1 = ends
+        d = (e1 - e0) / max(np.hypot(*(e1 - e0)), 1e-300)
+        n = np.array([d[1], -d[0]])
+        a, b = e0 + n * self.block[1], e1 + n * self.block[1]
+        k = n * 0.7 * self.size
+        line, = ax.plot(*np.array([a, b]).T, color=EDGE, lw=1.4, zorder=1.5)
+        band = Polygon([a, b, b + k, a + k], closed=True, facecolor="none", edgecolor=EDGE, lw=0,
+                       hatch="////", zorder=1)
+        ax.add_patch(band)
+        return [line, band]
+
+    def block_at(self, ax, p, u, colour):
+        from matplotlib.patches import Polygon
+
+        a, h = self.block
+        n = np.array([-u[1], u[0]])
+        corners = [p - a * u - h * n, p + a * u - h * n, p + a * u + h * n, p - a * u + h * n]
+        blk = Polygon(corners, closed=True, facecolor=colour, edgecolor=EDGE, lw=1.4, zorder=4)
+        ax.add_patch(blk)
+        return [blk]
+
+    def slot(self, ax, ends):
+        """A slot: a stadium outline along the line, as wide as a pin."""
+        e0, e1 = ends
+        d = (e1 - e0) / max(np.hypot(*(e1 - e0)), 1e-300)
+        w = 0.45 * self.size
+        n = np.array([-d[1], d[0]]) * w
+        t = np.linspace(-np.pi / 2, np.pi / 2, 12)
+        cap1 = e1 + np.outer(np.cos(t), d) * w + np.outer(np.sin(t), n / w) * w
+        cap0 = e0 - np.outer(np.cos(t), d) * w - np.outer(np.sin(t), n / w) * w
+        outline = np.vstack([e0 - n, e1 - n, cap1, e1 + n, e0 + n, cap0, e0 - n])
+        art, = ax.plot(*outline.T, color=EDGE, lw=1.3, zorder=3.5)
+        inner, = ax.plot(*np.array([e0, e1]).T, color="white", lw=3.0, zorder=3.4, solid_capstyle="round")
+        return [inner, art]
+
+    def wheel(self, ax, q, b, s, R, ring=False):
+        """A pitch circle on body b centred at s, with a radius that turns with the body."""
+        from matplotlib.patches import Circle
+
+        key = (b, round(float(s[0]), 9), round(float(s[1]), 9), round(float(R), 9))
+        if key in self._wheels:  # a gear meshing with several others is drawn once
+            return []
+        self._wheels.add(key)
+        c = _world(q, b, s)
+        arts = []
+        if ring:  # an annulus: the internal gear, hatched outside its pitch circle
+            band = Circle(c, R * 1.12, facecolor="none", edgecolor=EDGE, lw=0, hatch="////", zorder=1.2)
+            inner = Circle(c, R, facecolor="white", edgecolor=EDGE, lw=1.6, zorder=1.3)
+            arts += [band, inner]
+        else:
+            arts.append(Circle(c, R, facecolor=self.colour(b), edgecolor=EDGE, lw=1.6, alpha=0.45, zorder=2))
+        for art in arts:
+            ax.add_patch(art)
+        a = self._mark_angle(b)
+        mark = _world(q, b, s + R * np.array([np.cos(a), np.sin(a)]))
+        rad, = ax.plot(*np.array([c, mark]).T, color=EDGE, lw=1.4, zorder=2.1)
+        tip, = ax.plot(*mark, "o", ms=4, color=EDGE, zorder=2.1)
+        return arts + [rad, tip]
+
+    def _mark_angle(self, b):
+        """Body-fixed angle of the rotation mark: pointing up in the sketch."""
+        return np.pi / 2 - self.model.q0[3 * b - 1] if b else np.pi / 2
+
+    def rack(self, ax, ends, side, hatch):
+        """A pitch line with teeth on the pinion's side (``side`` +1: left of e0 -> e1)."""
+        from matplotlib.patches import Polygon
+
+        e0, e1 = ends
+        length = np.hypot(*(e1 - e0))
+        d = (e1 - e0) / max(length, 1e-300)
+        n = side * np.array([-d[1], d[0]])
+        pitch = 0.6 * self.size
+        k = max(int(length / pitch), 1)
+        t = np.linspace(0, length, 2 * k + 1)
+        hgt = np.where(np.arange(t.size) % 2 == 1, 0.45 * pitch, -0.25 * pitch)
+        teeth = e0 + np.outer(t, d) + np.outer(hgt, n)
+        art, = ax.plot(*teeth.T, color=EDGE, lw=1.1, zorder=2)
+        back = [e0 - 0.6 * pitch * n, e1 - 0.6 * pitch * n]
+        line, = ax.plot(*np.array(back).T, color=EDGE, lw=1.4, zorder=2)
+        arts = [art, line]
+        if hatch:
+            band = Polygon([back[0], back[1], back[1] - 0.9 * pitch * n, back[0] - 0.9 * pitch * n], closed=True,
+                           facecolor="none", edgecolor=EDGE, lw=0, hatch="////", zorder=1)
+            ax.add_patch(band)
+            arts.append(band)
+        return arts
+
+    # ---- a whole pose ----------------------------------------------------------------------
+
+    def body_outline(self, q, b):
+        """World points of body b's bar or plate at pose q ([] for none): two ends of a bar, or
+        the corners of a plate (its convex hull)."""
+        pts = np.array([_world(q, b, s) for s in self.attach[b]]) if self.attach[b] else np.zeros((0, 2))
+        pts = _distinct(pts, 1e-9 * self.L)
+        if len(pts) < 2:
+            return pts[:0]
+        hull = _hull(pts)
+        if len(hull) >= 3 and _area(hull) > 1e-3 * self.L**2:
+            return hull
+        # collinear: a bar between the two points farthest apart
+        d = np.linalg.norm(pts[:, None] - pts[None], axis=-1)
+        i, k = np.unravel_index(np.argmax(d), d.shape)
+        return pts[[i, k]]
+
+    def draw(self, ax, i=0):
+        """Draw pose i (the sketch without a sweep); returns the artists."""
+        q = self.pose(i)
+        self._wheels = set()
+        arts = []
+        for b in range(1, len(self.model.body_names)):
+            pts = self.body_outline(q, b)
+            if len(pts) == 2:
+                arts += self.bar(ax, pts, self.colour(b))
+            elif len(pts) > 2:
+                arts += self.plate(ax, pts, self.colour(b))
+        for j in self.model.joints:
+            arts += part_of(j).draw(self, j, self.params[j.name], q, ax)
+        for n in self.user_points:
+            b, s = self.model.points[n]
+            p = _world(q, b, s)
+            art, = ax.plot(*p, "o", ms=5, color=EDGE, zorder=5)
+            arts.append(art)
+        if self.labels:
+            arts += self.label_points(ax, q)
+        return arts
+
+    def label_points(self, ax, q):
+        names = self.labelled
+        pts = [_world(q, *self.model.points[n]) for n in names]
+        if not pts:
+            return []
+        pts = np.array(pts)
+        centre = pts.mean(axis=0)
+        arts, done = [], np.zeros(len(pts), bool)
+        for k in range(len(pts)):
+            if done[k]:
+                continue
+            same = np.flatnonzero(np.linalg.norm(pts - pts[k], axis=1) <= 1e-6 * self.L)
+            done[same] = True
+            d = pts[k] - centre
+            d = d / np.hypot(*d) if np.hypot(*d) > 1e-9 * self.L else np.array([0.0, 1.0])
+            at = pts[k] + 1.6 * self.size * d + (0.0, 0.6 * self.size)
+            arts.append(ax.text(*at, ", ".join(names[s] for s in same), ha="center", va="center",
+                                fontsize=10, fontstyle="italic", zorder=6))
+            ax.update_datalim([at + (0.0, 0.6 * self.size)])  # keep labels inside the axes
+        return arts
+
+
+def _distinct(pts, tol):
+    keep = []
+    for p in pts:
+        if all(np.hypot(*(p - k)) > tol for k in keep):
+            keep.append(p)
+    return np.array(keep).reshape(-1, 2)
+
+
+def _hull(pts):
+    """Convex hull (Andrew's monotone chain), counter-clockwise."""
+    P = sorted(map(tuple, pts))
+    if len(P) < 3:
+        return np.array(P)
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and np.cross(np.subtract(out[-1], out[-2]), np.subtract(p, out[-2])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = half(P), half(P[::-1])
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _area(poly):
+    x, y = poly.T
+    return 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def _finish(ax, units=None):
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.margins(0.08)
+    ax.autoscale_view()
+    unit = f" [{units.length}]" if units is not None and units.length else ""
+    ax.set_xlabel(f"x{unit}")
+    ax.set_ylabel(f"y{unit}")
+    for side in ("top", "right"):
+        ax.spines[side].set_visible(False)
+    ax.grid(True, color="#e6e6e6", lw=0.6, zorder=0)
+    ax.set_axisbelow(True)
+    return ax
+
+
+# ---- public drawing functions -----------------------------------------------------------------
+
+
+def draw(source, i=0, *, ax=None, labels=True, units=None, title=None):
+    """Draw a mechanism in one pose.
+
+    Parameters
+    ----------
+    source : Sweep, Model or Mechanism
+        A sweep result (pose ``i``), or a model or mechanism (its assembled sketch).
+    i : int
+        Index of the pose in the sweep.
+    labels : bool
+        Label the named points and joints.
+    units : planar.units.Units, optional
+        Labels the axes with the length unit.
+    title : str, optional
+        Defaults to the mechanism's name and the input values of the pose.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    scene = source if isinstance(source, Scene) else Scene(source, labels=labels)
+    scene.draw(ax, i)
+    ax.set_title(title if title is not None else _pose_title(scene, i, units or Units()))
+    return _finish(ax, units)
+
+
+def figure(res, i=0, points=None, *, paths=True, vectors=True, ax=None, units=None, size=(7.0, 5.5)):
+    """The usual picture of a sweep: pose ``i``, the paths of ``points`` over the sweep and
+    their velocity and acceleration arrows at pose i (see :func:`draw`, :func:`draw_paths`,
+    :func:`draw_vectors`). Returns the axes; save it with ``ax.figure.savefig(...)``."""
+    if ax is None:
+        _, ax = _pyplot().subplots(figsize=size, layout="constrained")
+    draw(res, i, ax=ax, units=units)
+    if paths:
+        draw_paths(res, points, ax=ax, units=units)
+    if vectors:
+        draw_vectors(res, i, points, ax=ax, units=units)
+    return ax
+
+
+def _pose_title(scene, i, units):
+    m = scene.model
+    u = m.u0 if scene.sweep is None else scene.sweep.inputs[i]
+    parts = [f"{n} = {_fmt(units.input_from_internal(v, ln))} {units.input_label(ln)}".rstrip()
+             for n, v, ln in zip(m.input_names, u, m.input_lengths)]
+    return f"{m.name}: " + ", ".join(parts) if parts else m.name
+
+
+def _fmt(v):
+    return f"{float(v):.4g}"
+
+
+def _path_points(res, points):
+    """The points to trace: as given, else the user-named points, else every labelled joint
+    point that moves over the sweep."""
+    if points is not None:
+        return list(points)
+    model = res.model
+    joint_names = {j.name for j in model.joints}
+    own = [n for n in model.points if n not in joint_names]
+    if own:
+        return own
+    shown = {j.name for j in model.joints if part_of(j).labelled}
+    scale = Scene(res, labels=False).L
+    return [n for n in model.points if n in shown and model.points[n][0] != 0
+            and _span(res.position(n)) > 1e-6 * scale]
+
+
+def _span(p):
+    """Largest coordinate range of the finite rows of p (N, 2); 0 when none."""
+    p = p[np.all(np.isfinite(p), axis=1)]
+    return float(np.ptp(p, axis=0).max()) if len(p) else 0.0
+
+
+def draw_paths(res, points=None, *, ax=None, events=True, units=None):
+    """Paths of named points over a sweep (coupler curves), with limit and singular positions
+    marked on them.
+
+    ``points`` defaults to the user-named points (or, when there are none, every point on a
+    moving body). Unsolved stretches of the sweep leave gaps. Returns the axes.
+    """
+    ax = _axes(ax)
+    for k, name in enumerate(_path_points(res, points)):
+        p = res.position(name)
+        ax.plot(p[:, 0], p[:, 1], color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
+                label=f"path of {name}", zorder=1.8)
+        if events:
+            for i, kind in find_events(res):
+                if np.all(np.isfinite(p[i])):
+                    marker, colour = EVENT_MARK[kind]
+                    ax.plot(*p[i], marker, ms=7, color=colour, mec="white", zorder=6)
+    if events:
+        _event_legend(ax, {kind for _, kind in find_events(res)})
+    _legend_below(ax)
+    return _finish(ax, units)
+
+
+def _event_legend(ax, kinds):
+    for kind in sorted(kinds):
+        marker, colour = EVENT_MARK[kind]
+        ax.plot([], [], marker, ms=7, color=colour, mec="white", ls="none", label=f"{kind} position")
+
+
+def find_events(res):
+    """Poses of a sweep where the motion meets a limit or a singular position, from the statuses.
+
+    Returns [(index, kind)] with kind "limit" (a valid pose next to inputs that do not
+    assemble: the input cannot go further), "singular" (positions valid, rates undefined) or
+    "branch" (a pose where branches meet).
+    """
+    st = np.asarray(res.status)
+    valid = res.ok | (st == Status.SINGULAR)
+    out = []
+    for i in range(len(st)):
+        if st[i] == Status.SINGULAR:
+            out.append((i, "singular"))
+        elif st[i] == Status.BRANCH_EVENT:
+            out.append((i, "branch"))
+        elif valid[i] and ((i > 0 and not valid[i - 1]) or (i + 1 < len(st) and not valid[i + 1])):
+            out.append((i, "limit"))
+    return out
+
+
+def _arrow_scale(vectors, L):
+    """Length units per unit of the quantity: the longest arrow a quarter of the drawing."""
+    mags = np.hypot(vectors[..., 0], vectors[..., 1])
+    top = np.nanmax(mags) if np.any(np.isfinite(mags)) else 0.0
+    return 0.25 * L / top if top > 0 else 1.0
+
+
+def draw_vectors(res, i=0, points=None, *, ax=None, velocity=True, acceleration=True, scale=None,
+                 units=None):
+    """Velocity (blue) and acceleration (red) arrows on named points at pose ``i``, as the seeds
+    draw them on open chains.
+
+    ``points`` defaults to every named point on a moving body. ``scale`` is
+    (velocity scale, acceleration scale) in drawing lengths per unit of the quantity; by
+    default the longest arrow of each kind is a quarter of the drawing. The legend states the
+    scales. Returns the axes.
+    """
+    ax = _axes(ax)
+    units = units or Units()
+    names = points if points is not None else [n for n, (b, _) in res.model.points.items() if b != 0]
+    P = np.array([res.position(n)[i] for n in names])
+    L = Scene(res, labels=False).L
+    length = units.length or "length unit"
+    kinds = [(velocity, res.velocity, VELOCITY, "velocity", units.label("speed")),
+             (acceleration, res.acceleration, ACCELERATION, "acceleration", units.label("accel"))]
+    for k, (on, get, colour, what, unit) in enumerate(kinds):
+        if not on:
+            continue
+        V = np.array([get(n)[i] for n in names])
+        s = scale[k] if scale is not None else _arrow_scale(V, L)
+        ax.quiver(P[:, 0], P[:, 1], V[:, 0] * s, V[:, 1] * s, angles="xy", scale_units="xy", scale=1,
+                  color=colour, width=0.006, zorder=7, label=f"{what}: 1 {length} = {_fmt(1 / s)} {unit}")
+        tips = P + V * s
+        ax.update_datalim(tips[np.all(np.isfinite(tips), axis=1)])
+    _legend_below(ax)
+    return _finish(ax, units)
+
+
+def _legend_below(ax):
+    """The legend under the drawing, out of the mechanism's way."""
+    n = len(ax.get_legend_handles_labels()[1])
+    if 0 < n <= 8:
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=min(n, 2), fontsize=8, frameon=False)
+
+
+def draw_instant_centres(centres, *, ax=None, units=None):
+    """Instant centres as labelled crossed circles.
+
+    ``centres`` maps a label (like "I13") to a point (x, y); centres at infinity (non-finite
+    coordinates, parallel lines) are listed in a note instead. Returns the axes.
+    """
+    ax = _axes(ax)
+    far = []
+    for label, p in centres.items():
+        p = np.asarray(p, float)
+        if not np.all(np.isfinite(p)):
+            far.append(label)
+            continue
+        ax.plot(*p, "o", ms=9, mfc="none", mec="#7b3294", mew=1.5, zorder=6)
+        ax.plot(*p, "+", ms=9, color="#7b3294", mew=1.5, zorder=6)
+        ax.annotate(label, p, textcoords="offset points", xytext=(6, -12), color="#7b3294", fontsize=9, zorder=6)
+    if far:
+        ax.text(0.01, 0.01, "at infinity: " + ", ".join(far), transform=ax.transAxes, fontsize=8, color="#7b3294")
+    return _finish(ax, units)
+
+
+def draw_event_poses(res, *, ax=None, units=None):
+    """The mechanism drawn faintly at each limit and singular position of a sweep. Returns the axes."""
+    ax = _axes(ax)
+    scene = Scene(res, labels=False)
+    for i, kind in find_events(res):
+        q = np.asarray(res.q[i])
+        for b in range(1, len(res.model.body_names)):
+            pts = scene.body_outline(q, b)
+            if len(pts) >= 2:
+                closed = np.vstack([pts, pts[:1]]) if len(pts) > 2 else pts
+                ax.plot(*closed.T, color=EVENT_MARK[kind][1], lw=1.2, ls=":", zorder=1.6)
+    return _finish(ax, units)
+
+
+# ---- panels of outputs against the input ------------------------------------------------------
+
+
+def default_outputs(model):
+    """Outputs worth plotting for any mechanism: every moving body's angle, rate and
+    acceleration, every slider's or slot's travel and its rates, and the speed and acceleration
+    of the user-named points."""
+    bodies = list(model.body_names[1:])
+    sliding = [j.name for j in model.joints if isinstance(j, Slot) and j.name in model.coordinates]
+    joint_names = {j.name for j in model.joints}
+    named = [n for n in model.points if n not in joint_names]
+    out = [f"angle:{b}" for b in bodies] + [f"omega:{b}" for b in bodies] + [f"alpha:{b}" for b in bodies]
+    out += [f"travel:{j}" for j in sliding] + [f"travel_rate:{j}" for j in sliding]
+    out += [f"travel_accel:{j}" for j in sliding]
+    out += [f"speed:{p}" for p in named] + [f"accel:{p}" for p in named]
+    return out
+
+
+# output kind -> (panel title, unit kind, getter(res, name, units))
+OUTPUTS = {
+    "angle": ("angle", "angle", lambda r, n, u: u.angle_from_internal(r.angle(n))),
+    "omega": ("angular velocity", "rate", lambda r, n, u: u.rate_from_internal(r.omega(n))),
+    "alpha": ("angular acceleration", "angular_accel", lambda r, n, u: u.acceleration_from_internal(r.alpha(n))),
+    "travel": ("slider travel", "length", lambda r, n, u: r.coordinate(n, 0)),
+    "travel_rate": ("slider velocity", "speed", lambda r, n, u: r.coordinate(n, 1)),
+    "travel_accel": ("slider acceleration", "accel", lambda r, n, u: r.coordinate(n, 2)),
+    "x": ("point x", "length", lambda r, n, u: r.position(n)[:, 0]),
+    "y": ("point y", "length", lambda r, n, u: r.position(n)[:, 1]),
+    "vx": ("point velocity x", "speed", lambda r, n, u: r.velocity(n)[:, 0]),
+    "vy": ("point velocity y", "speed", lambda r, n, u: r.velocity(n)[:, 1]),
+    "ax": ("point acceleration x", "accel", lambda r, n, u: r.acceleration(n)[:, 0]),
+    "ay": ("point acceleration y", "accel", lambda r, n, u: r.acceleration(n)[:, 1]),
+    "speed": ("point speed", "speed", lambda r, n, u: np.hypot(*r.velocity(n).T)),
+    "accel": ("point acceleration", "accel", lambda r, n, u: np.hypot(*r.acceleration(n).T)),
+}
+
+
+def output_values(res, spec, units=None):
+    """Values (N,) of one output ``"kind:name"`` (kinds: see :data:`OUTPUTS`) in ``units``."""
+    units = units or Units()
+    kind, _, name = spec.partition(":")
+    if kind not in OUTPUTS or not name:
+        raise InputError(f"unknown output {spec!r}: write kind:name with kind one of {', '.join(OUTPUTS)}")
+    return np.asarray(OUTPUTS[kind][2](res, name, units), float)
+
+
+def input_axis(res, units=None):
+    """The first input over the sweep in display units, and its axis label."""
+    units = units or Units()
+    m = res.model
+    is_len = bool(m.input_lengths[0])
+    x = units.input_from_internal(np.asarray(res.inputs[:, 0]), is_len)
+    unit = units.input_label(is_len)
+    return np.asarray(x, float), f"input {m.input_names[0]}" + (f" [{unit}]" if unit else "")
+
+
+def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
+    """Panels of outputs against the input: one panel per kind of output (angles, angular
+    velocities, slider travel, point speeds, ...), one curve per body, joint or point.
+
+    ``outputs`` lists ``"kind:name"`` specs (default :func:`default_outputs`); ``ax`` is a
+    sequence with one axes per panel, or None for a new figure. Inputs that do not assemble are
+    shaded; limit and singular positions are marked with vertical lines. Returns the array of
+    axes.
+    """
+    units = units or Units()
+    outputs = list(outputs) if outputs is not None else default_outputs(res.model)
+    panels = {}
+    for spec in outputs:
+        panels.setdefault(spec.partition(":")[0], []).append(spec)
+    if ax is None:
+        _, ax = _pyplot().subplots(len(panels), 1, sharex=True, figsize=(7, 1.9 * len(panels) + 0.8),
+                                   layout="constrained", squeeze=False)
+    axes = np.asarray(ax, dtype=object).ravel()
+    if axes.size != len(panels):
+        raise InputError(f"plot_outputs needs {len(panels)} axes (one per kind of output), got {axes.size}")
+    x, xlabel = input_axis(res, units)
+    events_at = find_events(res) if events else []
+    bad = ~(res.ok | (np.asarray(res.status) == Status.SINGULAR))
+    for a, (kind, specs) in zip(axes, panels.items()):
+        title, unit_kind, _ = OUTPUTS[kind]
+        for k, spec in enumerate(specs):
+            a.plot(x, output_values(res, spec, units), lw=1.6, color=PATH_COLOURS[k % len(PATH_COLOURS)],
+                   label=spec.partition(":")[2])
+        unit = units.label(unit_kind)
+        a.set_ylabel(f"{title}" + (f"\n[{unit}]" if unit else ""), fontsize=9)
+        for i, ev in events_at:
+            a.axvline(x[i], color=EVENT_MARK[ev][1], lw=0.9, ls=":")
+        for lo, hi in _runs(bad):
+            a.axvspan(x[lo], x[hi], color="#bbbbbb", alpha=0.35, lw=0)
+        a.grid(True, color="#e6e6e6", lw=0.6)
+        a.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
+        for side in ("top", "right"):
+            a.spines[side].set_visible(False)
+    axes[-1].set_xlabel(xlabel)
+    return axes
+
+
+def _runs(mask):
+    """(first, last) index of each run of True in mask."""
+    out, start = [], None
+    for i, v in enumerate(mask):
+        if v and start is None:
+            start = i
+        if not v and start is not None:
+            out.append((start, i - 1))
+            start = None
+    if start is not None:
+        out.append((start, len(mask) - 1))
+    return out

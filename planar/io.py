@@ -1,0 +1,451 @@
+"""Mechanism files: one JSON document holds a mechanism, its units and its sweep settings.
+
+The format (version 1) mirrors the builder calls of :class:`planar.Mechanism`, so a file reads
+like the script that would build it::
+
+    {
+      "version": 1,
+      "name": "four-bar",
+      "units": {"length": "mm", "angle": "deg", "rate": "rpm"},
+      "bodies": [{"name": "crank", "angle": 60}, {"name": "coupler"}, {"name": "rocker"}],
+      "points": [{"name": "C", "body": "coupler", "at": [1.48, 3.67]}],
+      "joints": [
+        {"type": "revolute", "name": "O2", "bodies": ["ground", "crank"], "at": [0, 0]},
+        {"type": "prismatic", "name": "S", "bodies": ["ground", "slider"], "at": [3, 1],
+         "direction": [1, 0], "origin": [0, 1]},
+        {"type": "slot", ...the same fields as prismatic...},
+        {"type": "gear", "name": "g", "bodies": ["sun", "planet"], "radius_a": 2, "radius_b": 1,
+         "internal": false, "carrier": "arm", "centre_a": [0, 0], "centre_b": [3, 0],
+         "hold_distance": false},
+        {"type": "rack_pinion", "name": "rp", "bodies": ["pinion", "rack"], "radius": 1,
+         "centre": [0, 1], "through": [0, 0], "direction": [1, 0], "side": "left"},
+        {"type": "rolling", ...the same fields as rack_pinion, bodies [wheel, body]...}
+      ],
+      "drivers": [{"joint": "O2"}, {"body": "crank"}, {"point": "C", "axis": "x", "name": "Cx"}],
+      "sweep": {"start": 0, "stop": 360, "num": 73, "speed": 60, "acceleration": 0,
+                "rocking": false}
+    }
+
+- Every joint entry is ``{"type", "name", "bodies"}`` plus the keyword arguments of the
+  builder method ``add_<type>``; ``bodies`` are its two body arguments in order. Optional fields
+  may be left out.
+- Points are world coordinates of the assembled sketch, in ``units.length`` (a label only).
+- A body's ``angle`` is its sketch angle in ``units.angle``; ``angle_rad`` gives it in radians
+  whatever the units (files written by planar use it where degrees would not round-trip).
+- ``sweep``: ``start``/``stop`` of each input (a number, or a list with one per input) in
+  ``units.angle`` for angle inputs and lengths for travel and coordinate inputs; ``num`` values;
+  ``speed`` the input's speed (``units.rate``, or length/s; the rate points from start to stop)
+  and ``acceleration`` (rad/s^2, or deg/s^2 when the rate unit is deg/s, or length/s^2); ``rocking`` sweeps start -> stop -> start (a back and forth motion).
+- ``units``: ``length`` any short label ("" for none), ``angle`` "deg" or "rad", ``rate``
+  "rad/s", "deg/s" or "rpm". Defaults: "", "deg", "rad/s".
+
+Saving and loading are exact: a file read and written again is the same document, and a
+mechanism written and read again has the same bodies, points, joints and drivers, bit for bit
+(numbers are written with Python's shortest round-trip repr).
+
+>>> import planar, planar.io
+>>> m = planar.Mechanism("pendulum")
+>>> _ = m.add_body("bob", angle=0.5)
+>>> m.add_revolute("O", m.ground, "bob", at=(0, 0))
+>>> m.add_point("P", "bob", at=(1.0, 0.0))
+>>> m.drive("O")
+>>> text = planar.io.dumps(m)
+>>> doc = planar.io.loads(text)
+>>> doc.mechanism.compile().dof, planar.io.dumps(doc) == text
+(1, True)
+"""
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from planar.errors import FileFormatError, ModelError, PlanarError
+from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic, RackPinion,
+                           Revolute, RollingContact, Slot, TravelDriver)
+from planar.model import GROUND, Mechanism
+from planar.units import Units
+
+VERSION = 1
+
+# ---- the schema: field kinds, and the fields of each joint type ------------------------------
+
+_KINDS = {
+    "name": "a non-empty string",
+    "point": "a list of two finite numbers [x, y]",
+    "vector": "a list of two finite numbers, not both zero",
+    "positive": "a positive number",
+    "number": "a finite number",
+    "bool": "true or false",
+    "side": '"left" or "right"',
+    "axis": '"x" or "y"',
+    "count": "an integer of at least 2",
+    "numbers": "a number or a list of numbers",
+}
+
+_LINE = {"at": ("point", True), "direction": ("vector", True), "origin": ("point", False)}
+_CONTACT = {"radius": ("positive", True), "centre": ("point", True), "through": ("point", True),
+            "direction": ("vector", True), "side": ("side", False)}
+JOINT_FIELDS = {  # type -> {field: (kind, required)}; "type", "name", "bodies" always
+    "revolute": {"at": ("point", True)},
+    "prismatic": _LINE,
+    "slot": _LINE,
+    "gear": {"radius_a": ("positive", True), "radius_b": ("positive", True), "internal": ("bool", False),
+             "carrier": ("name", False), "centre_a": ("point", False), "centre_b": ("point", False),
+             "hold_distance": ("bool", False)},
+    "rack_pinion": _CONTACT,
+    "rolling": _CONTACT,
+}
+_TOP = {"version", "name", "units", "bodies", "points", "joints", "drivers", "sweep"}
+_SWEEP = {"start": "numbers", "stop": "numbers", "num": "count", "speed": "numbers",
+          "acceleration": "numbers", "rocking": "bool"}
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _valid(kind, v):
+    if kind == "name":
+        return isinstance(v, str) and v != ""
+    if kind in ("point", "vector"):
+        ok = isinstance(v, list) and len(v) == 2 and all(_is_number(x) for x in v)
+        return ok and (kind == "point" or any(x != 0 for x in v))
+    if kind == "positive":
+        return _is_number(v) and v > 0
+    if kind == "number":
+        return _is_number(v)
+    if kind == "bool":
+        return isinstance(v, bool)
+    if kind == "side":
+        return v in ("left", "right")
+    if kind == "axis":
+        return v in ("x", "y")
+    if kind == "count":
+        return isinstance(v, int) and not isinstance(v, bool) and v >= 2
+    if kind == "numbers":
+        return _is_number(v) or (isinstance(v, list) and len(v) > 0 and all(_is_number(x) for x in v))
+    raise AssertionError(kind)
+
+
+class _Checker:
+    """Field-by-field validation that names the field at fault (``joints[2].radius_a``)."""
+
+    def __init__(self, source):
+        self.source = source
+
+    def fail(self, where, what):
+        raise FileFormatError(f"{self.source}: {where}: {what}")
+
+    def field(self, obj, key, kind, where, required=True):
+        if key not in obj:
+            if required:
+                self.fail(where, f"missing field {key!r} ({_KINDS[kind]})")
+            return None
+        if not _valid(kind, obj[key]):
+            self.fail(f"{where}.{key}", f"must be {_KINDS[kind]}, got {json.dumps(obj[key])}")
+        return obj[key]
+
+    def mapping(self, obj, where, known):
+        if not isinstance(obj, dict):
+            self.fail(where, f"must be a JSON object {{...}}, got {json.dumps(obj)[:60]}")
+        unknown = sorted(set(obj) - set(known))
+        if unknown:
+            self.fail(where, f"unknown field {unknown[0]!r}: the fields here are {', '.join(sorted(known))}")
+
+    def items(self, obj, key, where):
+        v = obj.get(key, [])
+        if not isinstance(v, list):
+            self.fail(f"{where}{key}", f"must be a list [...], got {json.dumps(v)[:60]}")
+        return v
+
+
+# ---- the document ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """Sweep settings of a file, in the file's units: one ``start``, ``stop``, ``speed`` and
+    ``acceleration`` per input, ``num`` values, and ``rocking`` (start -> stop -> start)."""
+
+    start: tuple
+    stop: tuple
+    num: int = 181
+    speed: tuple = (1.0,)
+    acceleration: tuple = (0.0,)
+    rocking: bool = False
+
+    def values(self, model, units):
+        """Input values (N, f) and rates (N, f), (N, f) in internal units for ``model``."""
+        f = len(model.drivers)
+        cols = []
+        for name, key in (("start", self.start), ("stop", self.stop), ("speed", self.speed),
+                          ("acceleration", self.acceleration)):
+            if len(key) not in (1, f):
+                raise FileFormatError(f"sweep.{name}: has {len(key)} values but the mechanism has {f} "
+                                      f"input(s) {list(model.input_names)}")
+            cols.append(np.broadcast_to(np.asarray(key, float), (f,)))
+        start, stop, speed, acc = cols
+        t = np.linspace(0.0, 1.0, self.num)
+        sign = np.ones_like(t)
+        if self.rocking:
+            t, sign = np.r_[t, t[-2::-1]], np.r_[sign, -sign[-2::-1]]
+        U, Ud, Udd = [], [], []
+        for k, is_len in enumerate(model.input_lengths):
+            U.append(units.input_to_internal(start[k] + t * (stop[k] - start[k]), is_len, 0))
+            # speed is a size: the rate points from start to stop (and back when rocking)
+            forward = 1.0 if stop[k] >= start[k] else -1.0
+            Ud.append(forward * sign * units.input_to_internal(abs(speed[k]), is_len, 1))
+            Udd.append(np.full(t.shape, units.input_to_internal(acc[k], is_len, 2)))
+        return np.stack(U, 1), np.stack(Ud, 1), np.stack(Udd, 1)
+
+
+@dataclass(frozen=True)
+class MechanismFile:
+    """A loaded mechanism file: the built :class:`planar.Mechanism`, its :class:`Units`, the
+    :class:`SweepSettings` (or None) and ``data``, the canonical document (what :func:`save`
+    writes back)."""
+
+    mechanism: Mechanism
+    units: Units
+    sweep: SweepSettings | None
+    data: dict = field(repr=False)
+
+
+def _tuple(v):
+    return tuple(float(x) for x in v) if isinstance(v, list) else (float(v),)
+
+
+def from_dict(data, source="<mechanism file>"):
+    """Validate a document (parsed JSON) and build it; see the module doc for the format."""
+    c = _Checker(source)
+    c.mapping(data, "file", _TOP)
+    if data.get("version", VERSION) != VERSION:
+        c.fail("version", f"this planar reads version {VERSION} files, got {json.dumps(data['version'])}")
+    name = data.get("name", "mechanism")
+    if not isinstance(name, str):
+        c.fail("name", f"must be a string, got {json.dumps(name)}")
+    udata = data.get("units", {})
+    c.mapping(udata, "units", ("length", "angle", "rate"))
+    try:
+        units = Units(**udata)
+    except PlanarError as e:
+        c.fail("units", str(e))
+
+    m = Mechanism(name)
+    for i, b in enumerate(c.items(data, "bodies", "")):
+        where = f"bodies[{i}]"
+        c.mapping(b, where, ("name", "angle", "angle_rad"))
+        bname = c.field(b, "name", "name", where)
+        if "angle" in b and "angle_rad" in b:
+            c.fail(where, "give 'angle' or 'angle_rad', not both")
+        angle = c.field(b, "angle_rad", "number", where, False)
+        if angle is None:
+            deg = c.field(b, "angle", "number", where, False)
+            angle = 0.0 if deg is None else float(units.angle_to_internal(deg))
+        _build(c, where, m.add_body, bname, angle=angle)
+    for i, p in enumerate(c.items(data, "points", "")):
+        where = f"points[{i}]"
+        c.mapping(p, where, ("name", "body", "at"))
+        _build(c, where, m.add_point, c.field(p, "name", "name", where), c.field(p, "body", "name", where),
+               at=c.field(p, "at", "point", where))
+    for i, j in enumerate(c.items(data, "joints", "")):
+        where = f"joints[{i}]"
+        if not isinstance(j, dict):
+            c.mapping(j, where, ())
+        kind = j.get("type")
+        if kind not in JOINT_FIELDS:
+            c.fail(f"{where}.type", f"must be one of {', '.join(JOINT_FIELDS)}, got {json.dumps(kind)}")
+        spec = JOINT_FIELDS[kind]
+        c.mapping(j, where, {"type", "name", "bodies", *spec})
+        jname = c.field(j, "name", "name", where)
+        bodies = j.get("bodies")
+        if not (isinstance(bodies, list) and len(bodies) == 2 and all(_valid("name", b) for b in bodies)):
+            c.fail(f"{where}.bodies", f"must be a list of two body names, got {json.dumps(bodies)}")
+        kwargs = {k: c.field(j, k, kind_, where, req) for k, (kind_, req) in spec.items() if k in j or req}
+        _build(c, f"{where} ({kind} {jname!r})", getattr(m, f"add_{kind}"), jname, *bodies, **kwargs)
+    for i, d in enumerate(c.items(data, "drivers", "")):
+        where = f"drivers[{i}]"
+        c.mapping(d, where, ("joint", "body", "point", "axis", "name"))
+        kwargs = {k: c.field(d, k, "name", where, False) for k in ("joint", "body", "point", "name")}
+        if "axis" in d:
+            kwargs["axis"] = c.field(d, "axis", "axis", where)
+        _build(c, where, m.drive, **{k: v for k, v in kwargs.items() if v is not None})
+
+    sweep = None
+    if "sweep" in data:
+        s = data["sweep"]
+        c.mapping(s, "sweep", _SWEEP)
+        got = {k: c.field(s, k, kind, "sweep", k in ("start", "stop")) for k, kind in _SWEEP.items()}
+        sweep = SweepSettings(
+            start=_tuple(got["start"]), stop=_tuple(got["stop"]), num=got["num"] or 181,
+            speed=_tuple(1.0 if got["speed"] is None else got["speed"]),
+            acceleration=_tuple(0.0 if got["acceleration"] is None else got["acceleration"]),
+            rocking=bool(got["rocking"]))
+    return MechanismFile(m, units, sweep, _canonical(data))
+
+
+def _build(c, where, call, *args, **kwargs):
+    try:
+        call(*args, **kwargs)
+    except ModelError as e:
+        c.fail(where, str(e))
+
+
+def _canonical(data):
+    """The document with its version, so that saving a loaded file writes it back the same."""
+    return {"version": VERSION, **{k: v for k, v in data.items() if k != "version"}}
+
+
+# ---- from a Mechanism to a document ---------------------------------------------------------
+
+
+def _xy(p):
+    return [float(p[0]), float(p[1])]
+
+
+def _joint_entry(j):
+    """The builder call that makes joint ``j``: {"type", "name", "bodies", **kwargs}."""
+    d = j.data
+    if isinstance(j, (Prismatic, Slot)):
+        kind = "prismatic" if isinstance(j, Prismatic) else "slot"
+        return {"type": kind, "name": j.name, "bodies": list(j.bodies), "at": _xy(d["at"]),
+                "direction": _xy(d["direction"]), "origin": _xy(d["origin"])}
+    if isinstance(j, Revolute):
+        return {"type": "revolute", "name": j.name, "bodies": list(j.bodies), "at": _xy(d["at"])}
+    if isinstance(j, (CarrierGear, Gear)):
+        e = {"type": "gear", "name": j.name, "bodies": list(j.bodies[:2]), "radius_a": float(d["radius_a"]),
+             "radius_b": float(d["radius_b"]), "internal": bool(d["sign"] < 0)}
+        if isinstance(j, CarrierGear):
+            e["carrier"] = j.bodies[2]
+        e.update(centre_a=_xy(d["centre_a"]), centre_b=_xy(d["centre_b"]),
+                 hold_distance=isinstance(j, RollingContact))
+        return e
+    if isinstance(j, RackPinion):
+        rack, pinion = j.bodies
+        return {"type": "rack_pinion", "name": j.name, "bodies": [pinion, rack], "radius": float(d["radius"]),
+                "centre": _xy(d["centre"]), "through": _xy(d["through"]), "direction": _xy(d["direction"]),
+                "side": "left" if d["side"] > 0 else "right"}
+    raise FileFormatError(f"joint {j.name!r} of type {type(j).__name__} has no file form")
+
+
+def _driver_entry(d, joints, points):
+    """The drive() call that makes driver ``d``."""
+    if isinstance(d, (AngleDriver, TravelDriver)):
+        kind = Revolute if isinstance(d, AngleDriver) else Slot
+        # a revolute's angle has no data of its own; a slider's travel carries its line
+        own = [j for j in joints if isinstance(j, kind) and j.bodies == d.bodies
+               and (kind is Revolute or _same(j.data, d.data))]
+        own.sort(key=lambda j: j.name != d.name)
+        if isinstance(d, AngleDriver) and d.bodies[0] == GROUND and (d.name == d.bodies[1] or not own):
+            entry = {"body": d.bodies[1]}
+        elif own:
+            entry = {"joint": own[0].name}
+        else:
+            raise FileFormatError(f"driver {d.name!r} matches no joint coordinate or body angle")
+        default = entry.get("joint", entry.get("body"))
+    elif isinstance(d, CoordinateDriver):
+        axis = "x" if d.data["axis"][0] == 1.0 else "y"
+        (body,) = d.bodies
+        named = [n for n, (b, p) in points.items() if b == body and np.array_equal(p, d.data["at"])]
+        pref = [n for n in named if f"{n}.{axis}" == d.name]
+        entry = {"point": (pref or named)[0], "axis": axis}
+        default = f"{entry['point']}.{axis}"
+    else:
+        raise FileFormatError(f"driver {d.name!r} of type {type(d).__name__} has no file form")
+    if d.name != default:
+        entry["name"] = d.name
+    return entry
+
+
+def _same(a, b):
+    return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
+
+
+def _body_entry(name, angle, units):
+    entry = {"name": name}
+    if angle != 0.0:
+        shown = float(units.angle_from_internal(angle))
+        if float(units.angle_to_internal(shown)) == angle:
+            entry["angle"] = shown
+        else:  # degrees would not give back the same radians: keep the radians
+            entry["angle_rad"] = angle
+    return entry
+
+
+def to_dict(obj, units=None, sweep=None):
+    """The document of a :class:`planar.Mechanism` (with ``units``, default degrees and rad/s,
+    and optional :class:`SweepSettings` or dict of sweep fields) or of a :class:`MechanismFile`."""
+    if isinstance(obj, MechanismFile):
+        return json.loads(json.dumps(obj.data))
+    if not isinstance(obj, Mechanism):
+        raise FileFormatError(f"can only save a planar.Mechanism or a MechanismFile, got {type(obj).__name__}")
+    units = units or Units()
+    m = obj
+    joint_names = {j.name for j in m._joints}
+    points = {n: v for n, v in m._points.items() if n not in joint_names}
+    data = {"version": VERSION, "name": m.name,
+            "units": {"length": units.length, "angle": units.angle, "rate": units.rate},
+            "bodies": [_body_entry(n, a, units) for n, a in m._bodies.items() if n != GROUND],
+            "points": [{"name": n, "body": b, "at": _xy(p)} for n, (b, p) in points.items()],
+            "joints": [_joint_entry(j) for j in m._joints],
+            "drivers": [_driver_entry(d, m._joints, m._points) for d in m._drivers]}
+    if sweep is not None:
+        s = sweep if isinstance(sweep, dict) else {
+            "start": list(sweep.start), "stop": list(sweep.stop), "num": sweep.num,
+            "speed": list(sweep.speed), "acceleration": list(sweep.acceleration), "rocking": sweep.rocking}
+        data["sweep"] = {k: (v[0] if isinstance(v, list) and len(v) == 1 else v) for k, v in s.items()}
+    return data
+
+
+# ---- text and files ------------------------------------------------------------------------
+
+
+def dumps(obj, units=None, sweep=None):
+    """JSON text of a mechanism or a loaded file (see :func:`to_dict`)."""
+    data = to_dict(obj, units, sweep)
+    if not isinstance(obj, MechanismFile):
+        from_dict(json.loads(json.dumps(data)), "<written document>")  # never write a file we cannot read
+    return _format(data)
+
+
+def _format(data):
+    """JSON with one line per top-level field, and per body, point, joint or driver."""
+    lines = []
+    for key, value in data.items():
+        if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            items = ",\n".join(f"    {json.dumps(v)}" for v in value)
+            lines.append(f"  {json.dumps(key)}: [\n{items}\n  ]")
+        else:
+            lines.append(f"  {json.dumps(key)}: {json.dumps(value)}")
+    return "{\n" + ",\n".join(lines) + "\n}\n"
+
+
+def loads(text, source="<string>"):
+    """Read a mechanism document from JSON text: a :class:`MechanismFile`."""
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise FileFormatError(f"{source}: not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}") from None
+    return from_dict(data, source)
+
+
+def load(path):
+    """Read a mechanism file: a :class:`MechanismFile` (``.mechanism``, ``.units``, ``.sweep``)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as e:
+        raise FileFormatError(f"{path}: cannot read the file: {e.strerror or e}") from None
+    except UnicodeDecodeError:
+        raise FileFormatError(f"{path}: not a text file (a mechanism file is UTF-8 JSON)") from None
+    return loads(text, str(path))
+
+
+def save(obj, path, units=None, sweep=None):
+    """Write a mechanism (or a loaded :class:`MechanismFile`) to ``path`` as JSON; returns the path."""
+    path = Path(path)
+    path.write_text(dumps(obj, units, sweep), encoding="utf-8")
+    return path

@@ -1,0 +1,125 @@
+"""Units at the edges: planar computes in radians and seconds; files, the command line and plots
+speak the units their user names.
+
+Lengths are never converted: they are in whatever unit the user sketched in, and ``length`` only
+labels them. Angles are "deg" or "rad"; angular rates "rad/s", "deg/s" or "rpm"; angular
+accelerations are in deg/s^2 when rates are in deg/s, else in rad/s^2.
+
+>>> u = Units(length="mm", angle="deg", rate="rpm")
+>>> float(u.rate_to_internal(60.0))        # 60 rpm in rad/s
+6.283185307179586
+>>> float(u.angle_from_internal(3.141592653589793))
+180.0
+>>> parse_rate("120rpm"), parse_rate("2.5")
+((120.0, 'rpm'), (2.5, None))
+"""
+
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from planar.errors import InputError
+
+ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
+RATE_UNITS = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "rpm": 2.0 * math.pi / 60.0}
+
+
+def _check(unit, table, what):
+    if not isinstance(unit, str) or unit not in table:
+        raise InputError(f"unknown {what} unit {unit!r}: use one of {', '.join(table)}")
+    return unit
+
+
+def _scale(value, factor):
+    # exact when the factor is 1 (radians stay bit for bit)
+    return value if factor == 1.0 else np.multiply(value, factor)
+
+
+def _unscale(value, factor):
+    return value if factor == 1.0 else np.divide(value, factor)
+
+
+@dataclass(frozen=True)
+class Units:
+    """The units a user reads and writes: ``length`` (a label: "mm", "cm", "in", or "" for
+    none), ``angle`` ("deg" or "rad") and ``rate`` ("rad/s", "deg/s" or "rpm")."""
+
+    length: str = ""
+    angle: str = "deg"
+    rate: str = "rad/s"
+
+    def __post_init__(self):
+        if not isinstance(self.length, str) or len(self.length) > 16 or not re.fullmatch(r"[^\s\[\]]*", self.length):
+            raise InputError(f"length unit must be a short label without spaces, like 'mm', got {self.length!r}")
+        _check(self.angle, ANGLE_UNITS, "angle")
+        _check(self.rate, RATE_UNITS, "rate")
+
+    # ---- conversions (internal = radians, rad/s, rad/s^2) ----------------------------------
+
+    def angle_to_internal(self, value):
+        return _scale(value, ANGLE_UNITS[self.angle])
+
+    def angle_from_internal(self, value):
+        return _unscale(value, ANGLE_UNITS[self.angle])
+
+    def rate_to_internal(self, value):
+        return _scale(value, RATE_UNITS[self.rate])
+
+    def rate_from_internal(self, value):
+        return _unscale(value, RATE_UNITS[self.rate])
+
+    @property
+    def acceleration(self):
+        """Unit of angular accelerations: deg/s^2 with rates in deg/s, else rad/s^2."""
+        return "deg/s^2" if self.rate == "deg/s" else "rad/s^2"
+
+    def acceleration_to_internal(self, value):
+        return _scale(value, RATE_UNITS[self.rate] if self.rate == "deg/s" else 1.0)
+
+    def acceleration_from_internal(self, value):
+        return _unscale(value, RATE_UNITS[self.rate] if self.rate == "deg/s" else 1.0)
+
+    # ---- an input that is an angle or a length ---------------------------------------------
+
+    def input_to_internal(self, value, is_length, derivative=0):
+        """Input value (``derivative`` 0), rate (1) or acceleration (2) to internal units;
+        lengths pass through."""
+        if is_length:
+            return value
+        return (self.angle_to_internal, self.rate_to_internal, self.acceleration_to_internal)[derivative](value)
+
+    def input_from_internal(self, value, is_length, derivative=0):
+        if is_length:
+            return value
+        return (self.angle_from_internal, self.rate_from_internal, self.acceleration_from_internal)[derivative](value)
+
+    # ---- labels ----------------------------------------------------------------------------
+
+    def label(self, kind):
+        """Unit label of a quantity kind: "length", "speed", "accel" (of points), "angle",
+        "rate", "angular_accel"."""
+        L = self.length or "length"
+        return {
+            "length": self.length,
+            "speed": f"{L}/s",
+            "accel": f"{L}/s^2",
+            "angle": self.angle,
+            "rate": self.rate,
+            "angular_accel": self.acceleration,
+        }[kind]
+
+    def input_label(self, is_length, derivative=0):
+        if is_length:
+            return self.label(("length", "speed", "accel")[derivative])
+        return self.label(("angle", "rate", "angular_accel")[derivative])
+
+
+def parse_rate(text):
+    """Split "120rpm", "2 rad/s", "90deg/s" or "3" into (value, unit or None)."""
+    m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(rad/s|deg/s|rpm)?\s*", str(text))
+    if not m:
+        raise InputError(f"cannot read the speed {text!r}: give a number with an optional unit, "
+                         f"like 120rpm, 2rad/s or 90deg/s")
+    return float(m.group(1)), m.group(2)

@@ -1,0 +1,79 @@
+"""Animations: GIF frames as the sweep says, thinning, rocking, traces, and clear refusals."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from PIL import Image  # noqa: E402
+
+from planar import animate as anim  # noqa: E402
+from planar.errors import InputError  # noqa: E402
+from planar.mechanisms import four_bar  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def res():
+    return four_bar(coupler_point=(1.7, 1.0)).sweep(np.linspace(0, 2 * np.pi, 25))
+
+
+def test_gif_has_one_frame_per_pose(res, tmp_path):
+    calls = []
+    out = anim.animate(res, tmp_path / "fb.gif", fps=10, dpi=40, progress=lambda d, n: calls.append((d, n)))
+    with Image.open(out) as im:
+        assert im.n_frames == 25
+        first = np.asarray(im.convert("RGB"))
+        im.seek(12)
+        middle = np.asarray(im.convert("RGB"))
+    assert np.mean(np.any(first < 245, axis=-1)) > 0.01  # not blank
+    assert np.any(first != middle)  # it moves
+    assert calls[-1] == (25, 25) and len(calls) == 25
+
+
+def test_frames_are_thinned_and_rock(res):
+    f = anim.frame_indices(res, max_frames=10)
+    assert len(f) == 10 and f[0] == 0 and f[-1] == 24 and np.all(np.diff(f) > 0)
+    r = anim.frame_indices(res, max_frames=10, rocking=True)
+    np.testing.assert_array_equal(r, np.r_[f, f[-2:0:-1]])
+
+
+def test_unsolved_poses_are_skipped():
+    res = four_bar(4, 3, 3, 3).sweep(np.radians(np.arange(0.0, 361.0, 10.0)))
+    f = anim.frame_indices(res)
+    assert np.all(np.isfinite(np.asarray(res.q)[f]))
+    assert len(f) < len(res)
+
+
+def test_traces_reach_the_current_pose(res, tmp_path, monkeypatch):
+    seen = []
+    real = anim.Scene.draw
+
+    def spy(self, ax, i=0):
+        seen.append((i, [ln.get_xydata()[-1].copy() for ln in ax.lines
+                         if ln.get_label() == "path of C" and len(ln.get_xdata())]))
+        return real(self, ax, i)
+
+    monkeypatch.setattr(anim.Scene, "draw", spy)
+    anim.animate(res, tmp_path / "t.gif", max_frames=5, dpi=30)
+    i, ends = seen[-1]
+    # the trace drawn before the last frame ends where C was on the frame before it
+    assert len(ends) == 1 and i == 24
+    np.testing.assert_allclose(ends[0], res.position("C")[18], atol=1e-12)
+
+
+def test_refusals(res, tmp_path, monkeypatch):
+    with pytest.raises(InputError, match="use a .gif or .mp4"):
+        anim.animate(res, tmp_path / "x.avi")
+    monkeypatch.setattr(anim, "ffmpeg_available", lambda: False)
+    with pytest.raises(InputError, match="needs ffmpeg"):
+        anim.animate(res, tmp_path / "x.mp4")
+    nothing = four_bar(4, 3, 3, 3).sweep(np.radians(np.arange(150.0, 200.0, 10.0)))
+    with pytest.raises(InputError, match="nothing to animate"):
+        anim.frame_indices(nothing)
+
+
+@pytest.mark.skipif(not anim.ffmpeg_available(), reason="ffmpeg is not installed")
+def test_mp4_when_ffmpeg_exists(res, tmp_path):
+    out = anim.animate(res, tmp_path / "fb.mp4", max_frames=6, dpi=40)
+    assert out.stat().st_size > 1000

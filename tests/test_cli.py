@@ -1,0 +1,168 @@
+"""The command line end to end in a temporary folder, its outputs, and its error paths with
+their exit codes."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from planar import cli, io
+from planar.mechanisms import CATALOGUE
+
+
+@pytest.fixture
+def here(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def run(capsys, *argv):
+    code = cli.main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_demo_writes_plot_animation_csv_and_file(here, capsys):
+    code, out, err = run(capsys, "demo", "--num", "25", "--frames", "8", "--dpi", "40")
+    assert code == 0, err
+    files = sorted(p.name for p in (here / "planar-demo").iterdir())
+    assert files == ["four_bar.csv", "four_bar.gif", "four_bar.json", "four_bar.png", "four_bar_outputs.png"]
+    assert "1 degree(s) of freedom" in out and "25 solved" in out and "coupler: angle" in out
+    rows = list(csv.reader(open(here / "planar-demo" / "four_bar.csv")))
+    assert len(rows) == 26 and rows[0][:3] == ["input:crank [deg]", "status", "angle:crank [deg]"]
+    head = rows[0]
+    # the seed's case: crank at 60 deg, 10 rad/s (row 5 of 25 over one turn: 60 deg)
+    row = dict(zip(head, rows[5]))
+    assert float(row["input:crank [deg]"]) == pytest.approx(60.0)
+    assert float(row["omega:rocker [rad/s]"]) == pytest.approx(1.4309095175803546, rel=1e-9)
+    assert float(row["vx:C [cm/s]"]) == pytest.approx(-6.764952520133216, rel=1e-9)
+    assert "progress" not in out and "\r" not in out  # no progress indicator off a terminal
+
+
+def test_example_then_run_with_rpm_and_json(here, capsys):
+    code, out, _ = run(capsys, "example")
+    assert code == 0 and all(name in out for name in CATALOGUE)
+    code, out, _ = run(capsys, "example", "slider_crank", "-o", "sc.json")
+    assert code == 0 and (here / "sc.json").exists()
+    code, out, err = run(capsys, "run", "sc.json", "--num", "13", "--speed", "60rpm", "--tables", "csv,json",
+                         "--no-animation", "--no-plot", "--out", "o")
+    assert code == 0, err
+    rows = list(csv.reader(open(here / "o" / "slider_crank.csv")))
+    head = rows[0]
+    assert len(rows) == 14 and "omega:crank [rpm]" in head and "travel:slide" in head
+    assert float(dict(zip(head, rows[3]))["omega:crank [rpm]"]) == pytest.approx(60.0)
+    table = json.loads((here / "o" / "slider_crank.json").read_text())
+    assert len(table["columns"]["status"]) == 13 and table["units"]["omega:crank"] == "rpm"
+    assert "stroke" in out
+
+
+def test_run_defaults_to_a_folder_named_after_the_file(here, capsys):
+    io.save(CATALOGUE["four_bar"](), here / "fb.json")
+    code, out, err = run(capsys, "run", "fb.json", "--no-animation", "--num", "5", "--start", "0", "--stop", "40",
+                         "--angle-unit", "deg", "--rate-unit", "deg/s")
+    assert code == 0, err
+    assert (here / "fb-out" / "four_bar.png").exists() and (here / "fb-out" / "four_bar_outputs.png").exists()
+    rows = list(csv.reader(open(here / "fb-out" / "four_bar.csv")))
+    assert [float(r[0]) for r in rows[1:]] == pytest.approx([0.0, 10.0, 20.0, 30.0, 40.0], rel=1e-15)
+    assert "omega:crank [deg/s]" in rows[0]
+
+
+def test_rocking_run_goes_there_and_back(here, capsys):
+    io.save(CATALOGUE["four_bar"](4, 3, 3, 3), here / "rocker.json")  # a triple rocker
+    code, out, err = run(capsys, "run", "rocker.json", "--start", "-150", "--stop", "150", "--num", "21",
+                         "--rocking", "--frames", "6", "--dpi", "30", "--no-plot")
+    assert code == 0, err
+    assert "there and back" in out and "limit at" in out and "assembles over" in out
+    assert (here / "rocker-out" / "four_bar.gif").exists()
+    rows = list(csv.reader(open(here / "rocker-out" / "four_bar.csv")))
+    assert len(rows) == 1 + 41
+
+
+def test_info(here, capsys):
+    io.save(CATALOGUE["geared_five_bar"](), here / "g5.json")
+    code, out, err = run(capsys, "info", "g5.json")
+    assert code == 0, err
+    assert "mobility: 1 degree(s) of freedom" in out and "redundant joints:" in out
+    assert "Grashof class:" in out and "sweep:" in out and "events:" in out
+
+
+@pytest.mark.parametrize("argv, code, message", [
+    (["run", "missing.json"], 1, "cannot read the file"),
+    (["info", "bad.json"], 1, "not valid JSON at line 1"),
+    (["run", "field.json"], 1, r"joints[0].at: must be a list of two finite numbers"),
+    (["run", "ok.json", "--speed", "fast"], 1, "cannot read the speed 'fast'"),
+    (["run", "ok.json", "--num", "1"], 1, "--num must be at least 2"),
+    (["run", "ok.json", "--tables", "xls", "--no-plot", "--no-animation"], 1, "unknown table format 'xls'"),
+    (["run", "ok.json", "--start", "0", "1"], 1, "sweep.start: has 2 values but the mechanism has 1 input"),
+    (["example", "five_bar"], 2, "no catalogue mechanism 'five_bar'"),
+    (["run"], 2, "the following arguments are required: file"),
+    (["frobnicate"], 2, "invalid choice"),
+    (["run", "ok.json", "--out", "blocker/x", "--no-animation"], 3, "cannot write"),
+])
+def test_error_paths(here, capsys, argv, code, message):
+    (here / "bad.json").write_text('{"bodies": [')
+    doc = io.to_dict(CATALOGUE["four_bar"]())
+    io.save(CATALOGUE["four_bar"](), here / "ok.json")
+    doc["joints"][0]["at"] = [0]
+    (here / "field.json").write_text(json.dumps(doc))
+    (here / "blocker").write_text("a file where a folder should be")
+    with pytest.raises(SystemExit) if code == 2 and argv[0] != "example" else _nothing() as e:
+        got, out, err = run(capsys, *argv)
+    if e is not None and hasattr(e, "value"):
+        got = e.value.code
+        err = capsys.readouterr().err
+    assert got == code
+    assert message in err and err.startswith(("planar: error:", "usage:"))
+
+
+class _nothing:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False
+
+
+def test_console_entry_point_and_exit_code(here):
+    """The installed command (or python -m planar.cli) returns the exit codes."""
+    ok = subprocess.run([sys.executable, "-m", "planar.cli", "example", "four_bar", "-o", "f.json"],
+                        capture_output=True, text=True, cwd=here)
+    assert ok.returncode == 0 and (here / "f.json").exists()
+    bad = subprocess.run([sys.executable, "-m", "planar.cli", "info", "nothing.json"], capture_output=True,
+                         text=True, cwd=here)
+    assert bad.returncode == 1 and "planar: error:" in bad.stderr
+
+
+def test_progress_only_on_a_terminal():
+    class Tty:
+        def __init__(self, tty):
+            self.tty, self.text = tty, ""
+
+        def isatty(self):
+            return self.tty
+
+        def write(self, s):
+            self.text += s
+
+        def flush(self):
+            pass
+
+    for tty, want in ((True, "\rframe 1/2\rframe 2/2\n"), (False, "")):
+        stream = Tty(tty)
+        p = cli._Progress("frame", stream)
+        p(1, 2)
+        p(2, 2)
+        assert stream.text == want
+
+
+def test_default_sweep_is_a_turn_or_a_travel():
+    units = cli.Units()
+    s = cli.default_sweep(CATALOGUE["four_bar"]().compile(), units)
+    assert s.stop[0] - s.start[0] == pytest.approx(360.0) and s.num == 73
+    m = CATALOGUE["slider_crank"](driver="slider").compile()
+    s = cli.default_sweep(m, units)
+    assert s.stop[0] - s.start[0] == pytest.approx(0.5 * m.L)
+    assert np.isclose(0.5 * (s.start[0] + s.stop[0]), m.u0[0])

@@ -1,0 +1,207 @@
+"""Figures rendered with Agg and checked for what they must show: one bar or plate per body,
+hatched ground pivots, blocks, gears, racks, labels; paths where the sweep says; arrows as the
+velocities are; panels one per kind of output; limit positions marked."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from matplotlib.collections import PathCollection  # noqa: E402,F401
+from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
+from matplotlib.quiver import Quiver  # noqa: E402
+
+from planar import draw  # noqa: E402
+from planar.errors import InputError  # noqa: E402
+from planar.joints import JOINT_TYPES  # noqa: E402
+from planar.mechanisms import CATALOGUE, four_bar, slider_crank  # noqa: E402
+from planar.results import Status  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def close_figures():
+    yield
+    plt.close("all")
+
+
+def rendered(ax):
+    """The figure as an RGB array (it renders: no artist fails to draw)."""
+    fig = ax.figure if not isinstance(ax, np.ndarray) else ax[0].figure
+    fig.canvas.draw()
+    return np.asarray(fig.canvas.buffer_rgba())[..., :3]
+
+
+def ink(img):
+    """Fraction of pixels that are not white."""
+    return float(np.mean(np.any(img < 245, axis=-1)))
+
+
+@pytest.fixture(scope="module")
+def fb():
+    return four_bar(4, 2, 3, 4, coupler_point=(1.7320508075688772, 1.0)).sweep(np.radians(np.arange(0, 361, 10.0)),
+                                                                               velocity=10.0)
+
+
+def thick_lines(ax):
+    return [ln for ln in ax.lines if ln.get_linewidth() >= 5]
+
+
+def test_four_bar_pose_has_each_part(fb):
+    ax = draw.draw(fb, 6)
+    # one outline per body (and a fill line inside it): crank and rocker bars, the coupler a plate
+    outlines = [ln for ln in ax.lines if ln.get_linewidth() == 7.5]
+    assert sorted(len(ln.get_xdata()) for ln in outlines) == [2, 2, 4]
+    assert len(thick_lines(ax)) == 2 * len(outlines)
+    crank = next(ln for ln in outlines if np.allclose(ln.get_xydata()[0], fb.position("O2")[6])
+                 or np.allclose(ln.get_xydata()[1], fb.position("O2")[6]))
+    assert {tuple(np.round(p, 9)) for p in crank.get_xydata()} == {tuple(np.round(fb.position(n)[6], 9)) for n in ("O2", "A")}
+    hatched = [p for p in ax.patches if isinstance(p, Rectangle) and p.get_hatch()]
+    assert len(hatched) == 2  # the two ground pivots
+    triangles = [p for p in ax.patches if isinstance(p, Polygon) and len(p.get_xy()) == 4 and p.get_facecolor()[:3] == (1, 1, 1)]
+    assert len(triangles) == 2
+    plates = [p for p in ax.patches if isinstance(p, Polygon) and p.get_alpha() == 0.55]
+    assert len(plates) == 1  # the coupler, a triangle A B C
+    assert sorted(t.get_text() for t in ax.texts) == ["A", "B", "C", "O2", "O4"]
+    assert "crank = 60 deg" in ax.get_title()
+    assert ink(rendered(ax)) > 0.02
+
+
+def test_the_pose_is_where_the_sweep_says(fb):
+    ax = draw.draw(fb, 6, labels=False)
+    pins = [ln for ln in ax.lines if ln.get_marker() == "o" and ln.get_markerfacecolor() == "white"]
+    got = np.array(sorted(tuple(np.round(np.ravel(ln.get_xydata()), 9)) for ln in pins))
+    want = np.array(sorted(tuple(np.round(fb.position(n)[6], 9)) for n in ("O2", "A", "B", "O4")))
+    np.testing.assert_allclose(got, want, atol=1e-9)
+
+
+def test_draw_a_model_or_mechanism_draws_the_sketch():
+    m = four_bar(coupler_point=(1.0, 0.5))
+    ax = draw.draw(m)
+    assert len(thick_lines(ax)) == len(thick_lines(draw.draw(m.compile()))) == 6
+    assert "crank = 0 deg" in ax.get_title()
+
+
+def test_paths_follow_the_sweep(fb):
+    ax = draw.draw_paths(fb, ["C", "B"])
+    paths = [ln for ln in ax.lines if ln.get_label().startswith("path of")]
+    assert [p.get_label() for p in paths] == ["path of C", "path of B"]
+    np.testing.assert_array_equal(paths[0].get_xydata(), fb.position("C"))
+    np.testing.assert_array_equal(paths[1].get_xydata(), fb.position("B"))
+
+
+def test_default_paths_are_the_named_points_or_the_moving_joints(fb):
+    assert draw._path_points(fb, None) == ["C"]
+    res = four_bar().sweep(np.linspace(0, 1, 5))
+    assert draw._path_points(res, None) == ["A", "B"]  # O2 and O4 do not move
+
+
+def test_vectors_are_the_velocities_and_accelerations(fb):
+    ax = draw.draw_vectors(fb, 6, ["A", "C"])
+    qv = [c for c in ax.collections if isinstance(c, Quiver)]
+    assert len(qv) == 2
+    v = np.array([fb.velocity("A")[6], fb.velocity("C")[6]])
+    a = np.array([fb.acceleration("A")[6], fb.acceleration("C")[6]])
+    for q, want in zip(qv, (v, a)):
+        got = np.stack([q.U, q.V], axis=1)
+        scale = got[0, 0] / want[0, 0]
+        np.testing.assert_allclose(got, want * scale, rtol=1e-12)
+        assert np.max(np.hypot(*got.T)) == pytest.approx(0.25 * draw.Scene(fb).L)  # the longest: a quarter
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels[0].startswith("velocity: 1 length unit = ") and labels[1].startswith("acceleration")
+
+
+def test_instant_centres_mark_finite_ones_and_list_those_at_infinity():
+    ax = draw.draw_instant_centres({"I12": (0, 0), "I13": (2.8, 4.9), "I24": (np.inf, 0.0)})
+    assert sorted(t.get_text() for t in ax.texts) == ["I12", "I13", "at infinity: I24"]
+    rendered(ax)
+
+
+def test_output_panels_one_per_kind(fb):
+    axes = draw.plot_outputs(fb)
+    assert len(axes) == 5  # angles, rates, accelerations of the bodies; speed and acceleration of C
+    coupler = next(ln for ln in axes[1].lines if ln.get_label() == "coupler")
+    np.testing.assert_allclose(coupler.get_ydata(), fb.omega("coupler"))
+    np.testing.assert_allclose(coupler.get_xdata(), np.arange(0, 361, 10.0))
+    assert axes[-1].get_xlabel() == "input crank [deg]"
+    assert "[rad/s]" in axes[1].get_ylabel()
+    with pytest.raises(InputError, match="needs 2 axes"):
+        draw.plot_outputs(fb, ["angle:coupler", "omega:coupler"], ax=[axes[0]])
+    with pytest.raises(InputError, match="unknown output 'spin:coupler'"):
+        draw.output_values(fb, "spin:coupler")
+
+
+def test_slider_outputs_and_picture():
+    res = slider_crank().sweep(np.linspace(0, 2 * np.pi, 25))
+    outs = draw.default_outputs(res.model)
+    assert {"travel:slide", "travel_rate:slide", "travel_accel:slide"} <= set(outs)
+    np.testing.assert_array_equal(draw.output_values(res, "travel:slide"), res.coordinate("slide"))
+    ax = draw.draw(res, 3)
+    blocks = [p for p in ax.patches if isinstance(p, Polygon) and len(p.get_xy()) == 5 and p.get_alpha() is None
+              and p.get_facecolor()[3] > 0 and p.get_facecolor()[:3] != (1, 1, 1)]
+    assert len(blocks) == 1
+    centre = blocks[0].get_xy()[:4].mean(axis=0)
+    np.testing.assert_allclose(centre, res.position("B")[3], atol=1e-12)
+
+
+def test_limit_positions_are_marked():
+    # a triple rocker (non-Grashof): the crank cannot turn fully
+    res = four_bar(4, 3, 3, 3).sweep(np.radians(np.arange(0, 361, 5.0)))
+    assert not res.ok.all()
+    events = draw.find_events(res)
+    assert {k for _, k in events} == {"limit"} and len(events) >= 2
+    for i, _ in events:
+        assert res.ok[i] and not all(res.ok[max(i - 1, 0): i + 2])
+    ax = draw.draw_paths(res)
+    marks = [ln for ln in ax.lines if ln.get_marker() == "s" and len(ln.get_xdata())]
+    assert len(marks) == len(events) * len(draw._path_points(res, None))
+    axes = draw.plot_outputs(res, ["angle:rocker"])
+    assert len(axes[0].patches) >= 1  # the unassemblable inputs are shaded
+    ax = draw.draw_event_poses(res)
+    assert len(ax.lines) >= 3 * len(events)
+
+
+def test_unsolved_pose_refuses_to_draw():
+    res = four_bar(4, 3, 3, 3).sweep(np.radians(np.arange(0.0, 181.0, 10.0)))
+    assert res.status[-1] == Status.NOT_ASSEMBLABLE
+    with pytest.raises(InputError, match="pose 18 did not solve"):
+        draw.draw(res, 18)
+    with pytest.raises(InputError, match="cannot draw a list"):
+        draw.draw([1, 2])
+
+
+def test_every_joint_class_has_a_picture():
+    for cls in JOINT_TYPES:
+        if not cls.is_driver:
+            assert draw.part_of(cls.__new__(cls)) in draw.PARTS.values()
+
+
+@pytest.mark.parametrize("name", sorted(CATALOGUE))
+def test_every_catalogue_mechanism_draws(name):
+    model = CATALOGUE[name]().compile()
+    span = np.where(model.input_lengths, 0.2 * model.L, 0.5)
+    values = model.u0 + np.linspace(0, 1, 9)[:, None] * span
+    res = model.sweep(values if len(model.drivers) > 1 else values[:, 0])
+    ax = draw.draw(res, 4)
+    draw.draw_paths(res, ax=ax)
+    img = rendered(ax)
+    assert ink(img) > 0.02
+    joints = {type(j) for j in model.joints}
+    if joints & {draw.Gear, draw.CarrierGear}:
+        assert any(isinstance(p, Circle) for p in ax.patches)
+    if draw.RackPinion in joints:
+        assert any(len(ln.get_xdata()) > 10 for ln in ax.lines)  # the teeth
+
+
+def test_the_every_joint_example_draws_all_parts():
+    import runpy
+    from pathlib import Path
+
+    build = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "every_joint_type.py"))["build"]
+    res = build().sweep(np.linspace(0, 1, 3))
+    ax = draw.draw(res, 1)
+    rendered(ax)
+    kinds = {type(j).__name__ for j in res.model.joints}
+    assert kinds == {"Revolute", "Prismatic", "Slot", "CarrierGear", "Gear", "RackPinion"}
+    assert len([p for p in ax.patches if isinstance(p, Circle)]) == 5  # gear1, gear2, planet, pinion, wheel
