@@ -54,17 +54,11 @@ class Frames:
 
 def point_block(S, sign=1.0):
     """Jacobian block (..., 2, 3) of sign * (r + S) with respect to (x, y, phi) of its body."""
-    P = perp(S)
-    shape = S.shape[:-1]
-    one = np.full(shape, sign)
-    zero = np.zeros(shape)
-    return np.stack(
-        (
-            np.stack((one, zero, sign * P[..., 0]), axis=-1),
-            np.stack((zero, one, sign * P[..., 1]), axis=-1),
-        ),
-        axis=-2,
-    )
+    out = np.zeros(S.shape[:-1] + (2, 3))
+    out[..., 0, 0] = out[..., 1, 1] = sign
+    out[..., 0, 2] = -sign * S[..., 1]
+    out[..., 1, 2] = sign * S[..., 0]
+    return out
 
 
 def row_block(n, n_dot_perp_S_extra):

@@ -24,13 +24,20 @@ class Status(IntEnum):
     NOT_ASSEMBLABLE = 4  # the input is outside the motion range: see the assembly gap
     NOT_CONVERGED = 5  # assemblable, but not reached on the tracked branch
     INCONSISTENT = 6  # a redundant joint does not hold at the solved pose
+    LIMIT = 7  # positions valid at a limit position (the input cannot go further), rates NaN
 
     @property
     def valid(self):
         return self <= Status.BRANCH_EVENT
 
+    @property
+    def posed(self):
+        """Positions valid (rates may not be)."""
+        return self <= Status.SINGULAR or self == Status.LIMIT
+
 
 VALID = np.array([s.valid for s in Status])
+POSED = np.array([s.posed for s in Status])
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,7 +47,9 @@ class Sweep:
     ``status`` (N,) holds :class:`Status` codes, ``residual`` the scaled constraint residual,
     ``iterations`` the Newton iterations, ``singularity`` the normalised |det| of the scaled
     Jacobian (0 at a singular position), ``branch`` its sign (the assembly mode), ``gap`` the
-    scaled assembly gap of points that did not assemble (NaN elsewhere).
+    scaled assembly gap of points that did not assemble (NaN elsewhere). ``events`` lists the
+    singular positions met, in sweep order (:class:`planar.events.Event`: limit positions,
+    bifurcations, near-singular stretches).
     """
 
     model: object
@@ -56,6 +65,7 @@ class Sweep:
     singularity: np.ndarray
     branch: np.ndarray
     gap: np.ndarray
+    events: tuple = ()
 
     def __post_init__(self):
         for k, v in vars(self).items():
@@ -73,6 +83,18 @@ class Sweep:
     def ok(self):
         """(N,) True where positions, velocities and accelerations are all valid."""
         return VALID[self.status]
+
+    @property
+    def nearest_limit(self):
+        """(N,) input value of the nearest limit position found, for points that did not
+        assemble (NaN elsewhere, and where no limit was met). One input only."""
+        out = np.full(len(self), np.nan)
+        lims = np.array([e.input for e in self.events if e.kind == "limit"], float).ravel()
+        miss = self.status == Status.NOT_ASSEMBLABLE
+        if lims.size and miss.any() and self.inputs.shape[1] == 1:
+            u = self.inputs[miss, 0]
+            out[miss] = lims[np.argmin(np.abs(u[:, None] - lims[None, :]), axis=1)]
+        return out
 
     # ---- bodies and points -----------------------------------------------------------------
 

@@ -1,15 +1,19 @@
 """Batched Newton for positions, linear solves for velocities and accelerations.
 
-Everything works on N configurations at once (numpy stacked solves); unconverged points are
-compressed out of the active set each iteration. Residuals and steps are scaled: length rows
-by the model's characteristic length L, x and y steps by L, angles as they are.
+Everything works on N configurations at once and goes through the block-triangular plan of
+:mod:`planar.blocks`: a Newton step, a velocity and an acceleration are forward substitutions
+through small blocks. Unconverged points are compressed out of the active set each iteration.
+Residuals and steps are scaled: length rows by the model's characteristic length L, x and y
+steps by L, angles as they are.
 """
 
 import numpy as np
 
+from planar.blocks import plan as block_plan
+
 
 def _solve(J, b):
-    """Stacked solve J x = b that survives exactly singular members (their x is NaN)."""
+    """Stacked dense solve J x = b that survives exactly singular members (their x is NaN)."""
     try:
         return np.linalg.solve(J, b[..., None])[..., 0]
     except np.linalg.LinAlgError:
@@ -21,30 +25,32 @@ def _solve(J, b):
         return x
 
 
-def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None):
+def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None, plan=None):
     """Solve Phi(q; u) = 0 (independent rows plus drivers) from guesses q (N, n).
 
     Converged when the scaled residual is below ``tol`` and the scaled Newton step below
     ``step_tol`` (both: a residual test alone accepts plateaus near limit positions, a step
     test alone accepts stagnation). ``max_step`` (scaled) damps each step, for far guesses.
-    Returns (q, converged, residual, iterations); ``residual`` is the scaled max-norm over all
-    rows, redundant ones included, at the last evaluation.
+    ``plan`` (default: the whole model) restricts the solve to some blocks.
+    Returns (q, converged, residual, iterations); ``residual`` is the scaled max-norm of the
+    solved rows at the last evaluation.
     """
+    p = block_plan(model) if plan is None else plan
     q = np.array(q, dtype=float)
     N = q.shape[0]
     conv = np.zeros(N, bool)
     res = np.full(N, np.inf)
     iters = np.zeros(N, int)
     idx = np.arange(N)
-    rows, rs, cs = model.active_rows, model.row_scale, model.col_scale
+    rs, cs = model.row_scale[p.rows], model.col_scale[p.cols]
     with np.errstate(all="ignore"):
         for it in range(max_iter):
             if idx.size == 0:
                 break
-            Phi, J = model.system.evaluate(q[idx], u[idx])
+            Phi, _, Jv = p.evaluate(q[idx], u[idx])
             res[idx] = np.max(np.abs(Phi * rs), axis=1)
-            dq = _solve(J[:, rows], Phi[:, rows])
-            step = np.max(np.abs(dq / cs), axis=1)
+            dq = p.solve(Jv, Phi)
+            step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
             if max_step is not None:
                 dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
             q[idx] -= dq
@@ -56,28 +62,35 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None
     return q, conv, res, iters
 
 
-def rates(model, q, u, ud, udd):
+def velocity(model, p, Jv, ud):
+    """qd (N, n) solving the kept rows with input rates ``ud`` (N, f)."""
+    nu = np.zeros((Jv.shape[0], p.rows.size))
+    nu[:, p.drivers] = ud[:, p.driver_inputs]
+    return p.solve(Jv, nu)
+
+
+def acceleration(model, p, q, qd, u, Jv, udd):
+    """qdd (N, n) from gamma at (q, qd) and input accelerations ``udd`` (N, f)."""
+    gam = p.system.gamma(q, qd, u)[:, p.rows]
+    gam[:, p.drivers] += udd[:, p.driver_inputs]
+    return p.solve(Jv, gam)
+
+
+def rates(model, q, u, ud, udd, plan=None):
     """Velocities, accelerations and the singularity measure at solved positions q.
 
     ``ud`` and ``udd`` (N, f) are the input rates. Returns (qd, qdd, sing, sign): ``sing`` is
-    |det| of the row- and column-scaled Jacobian over the product of its row norms (Hadamard,
-    in [0, 1], 0 at a singular position), ``sign`` the sign of det (the assembly mode).
+    the smallest normalised |det| of the scaled diagonal blocks (|det| over the product of its
+    row norms, in [0, 1], 0 at a singular position), ``sign`` the sign of det (the assembly
+    mode: the product of the block signs).
     """
-    _, J = model.system.evaluate(q, u)
-    rows, drows = model.active_rows, model.driver_rows_active
-    Ja = J[:, rows]
-    Js = Ja * model.row_scale[rows][None, :, None] * model.col_scale[None, None, :]
-    norms = np.linalg.norm(Js, axis=2)
-    sign, logdet = np.linalg.slogdet(Js)
+    p = block_plan(model) if plan is None else plan
+    _, _, Jv = p.evaluate(q, u)
+    signs, sing = p.modes(Jv)
     with np.errstate(all="ignore"):
-        sing = np.exp(logdet - np.sum(np.log(norms), axis=1))
-        nu = np.zeros(Ja.shape[:2])
-        nu[:, drows] = ud
-        qd = _solve(Ja, nu)
-        gam = model.system.gamma(q, qd, u)[:, rows]
-        gam[:, drows] += udd
-        qdd = _solve(Ja, gam)
-    return qd, qdd, sing, sign
+        qd = velocity(model, p, Jv, ud)
+        qdd = acceleration(model, p, q, qd, u, Jv, udd)
+    return qd, qdd, sing, np.prod(signs, axis=1)
 
 
 def least_squares_gap(model, q, u, *, iterations=40):

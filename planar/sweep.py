@@ -2,189 +2,437 @@
 
 1. Anchors: a sequential predictor-corrector walk from the assembled sketch through the input
    values in order, in steps no longer than ``max_step`` (scaled input units), halving a step
-   whose solution changes assembly mode (sign of det) or lands far from its predictor.
-2. Every other value is solved in one batch from its anchor with the second-order Taylor
-   predictor ``q + q_u du + 1/2 q_uu du du`` (the velocity and acceleration solutions at
-   input rate ``du``), and passes the same acceptance test; failures are walked to one by one.
-3. Velocities and accelerations by two linear solves with the solved Jacobian; points whose
-   Jacobian is singular keep their positions and get NaN rates; points that cannot be reached
-   get NaN everywhere, their status and the assembly gap.
+   whose solution changes assembly mode (the sign of a block det) or lands far from its
+   predictor. Where that fails a singular position lies ahead: :func:`planar.events.cross`
+   follows the branch by arclength, locates it and says what it is (a limit stops the branch;
+   at a bifurcation the sweep goes on along the smooth branch, or the other one if asked).
+2. Every other value is solved in one batch from the anchor before it (after it when an event
+   lies between) with the second-order Taylor predictor ``q + q_u du + 1/2 q_uu du^2`` (the
+   velocity and acceleration solutions at unit input rate) and passes the same acceptance
+   test; failures are walked to one by one.
+3. Velocities and accelerations by forward substitution through the blocks with the final
+   Jacobian. Points on a limit position keep their positions (status LIMIT, rates NaN); points
+   on a bifurcation get their values from the smooth branch around them; points that cannot
+   be reached get NaN everywhere, their status, the assembly gap and the nearest limit.
+
+Only the blocks the asked-for ``outputs`` need are solved; the other coordinates are NaN.
 """
+
+from dataclasses import replace
 
 import numpy as np
 
+from planar.blocks import plan as block_plan
+from planar.errors import InputError
+from planar.events import NEAR, SINGULAR, Event, cross
+from planar.results import POSED as POSED_MASK
 from planar.results import Status, Sweep
-from planar.solver import least_squares_gap, newton, rates
+from planar.solver import least_squares_gap, newton, velocity, acceleration
 
 CHUNK = 4096
-SINGULAR = 1e-10  # normalised |det| below which rates are not computed
-NEAR_SINGULAR = 1e-6
 GAP = 1e-8  # scaled residual above which a least-squares minimum is not an assembly
 JUMP = 0.2  # accepted distance from the predictor, as a fraction of the predicted move
+HALVINGS = 5  # natural-parameter step halvings before the arclength tracer takes over
+EVENT_TOL = 1e-9  # scaled input distance within which a value is on a located event
+BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
+
+
+def _scale(model):
+    return np.where(model.input_lengths, 1.0 / model.L, 1.0)
 
 
 def _scaled_norm(model, du):
-    s = np.where(model.input_lengths, 1.0 / model.L, 1.0)
-    return np.max(np.abs(du * s), axis=-1)
+    return np.max(np.abs(du * _scale(model)), axis=-1)
 
 
-def _predict(model, q, u, du):
-    """Second-order Taylor predictor from solved poses q at inputs u, for input steps du."""
-    qd, qdd, _, sign = rates(model, q, u, du, np.zeros_like(du))
-    return q + qd + 0.5 * qdd, sign
+class _Branch:
+    """Solves on one plan: Newton, modes, rates, predictors and the acceptance test."""
 
+    def __init__(self, model, plan, tol):
+        self.m, self.p, self.tol = model, plan, tol
+        self.cs = model.col_scale[plan.cols]
 
-def _accept(model, q, q_pred, q_from, conv, sign, sign_ref):
-    move = np.max(np.abs((q_pred - q_from) / model.col_scale), axis=1)
-    off = np.max(np.abs((q - q_pred) / model.col_scale), axis=1)
-    return conv & (sign == sign_ref) & (off <= JUMP * move + 1e-9)
+    def state(self, q, u, ud, udd=None):
+        """(qd, qdd, signs, sing) at solved poses for input rates ud (qdd for udd = 0)."""
+        p = self.p
+        _, _, Jv = p.evaluate(q, u)
+        signs, sing = p.modes(Jv)
+        with np.errstate(all="ignore"):
+            qd = velocity(self.m, p, Jv, ud)
+            qdd = acceleration(self.m, p, q, qd, u, Jv, np.zeros_like(ud) if udd is None else udd)
+        return qd, qdd, signs, sing
 
+    def predict(self, q, u, du):
+        qd, qdd, signs, _ = self.state(q, u, du)
+        return q + qd + 0.5 * qdd, signs
 
-def _sign(model, q, u):
-    return rates(model, q, u, np.zeros_like(u), np.zeros_like(u))[3]
+    def solve(self, q_pred, u, max_iter=8):
+        return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p)
+
+    def signs(self, q, u):
+        _, _, Jv = self.p.evaluate(q, u)
+        return self.p.modes(Jv)[0]
+
+    def accept(self, q, q_pred, q_from, conv, signs, signs_ref):
+        c = self.p.cols
+        move = np.max(np.abs((q_pred - q_from)[:, c] / self.cs), axis=1)
+        off = np.max(np.abs((q - q_pred)[:, c] / self.cs), axis=1)
+        same = np.all(signs == signs_ref, axis=1)
+        return conv & same & (off <= JUMP * move + 1e-9)
 
 
 class _Walker:
-    """Sequential continuation of one pose (batch of one) with step halving."""
+    """Sequential continuation of one pose (batch of one), with events."""
 
-    def __init__(self, model, tol, max_step):
-        self.model, self.tol, self.max_step = model, tol, max_step
+    def __init__(self, br, max_step, other):
+        self.br, self.max_step, self.other = br, max_step, other
+        self.events = []
 
-    def walk(self, q, u, sign, target):
-        """Follow the branch from (q, u) to input ``target``; returns (q, sign) or None."""
-        m = self.model
+    def walk(self, q, u, signs, target, index):
+        """Follow the branch from (q, u) to ``target``. Returns ("ok", q, signs),
+        ("limit", event, (q_before, u_before)) or ("lost",)."""
+        br, m = self.br, self.br.m
         total = float(_scaled_norm(m, target - u))
         if total == 0.0:
-            return q, sign
+            return "ok", q, signs
         h = min(1.0, self.max_step / total)
         t = 0.0
         u0 = u
+        halvings = 0
         while t < 1.0:
             dt = min(h, 1.0 - t)
             u_next = u0 + (t + dt) * (target - u0)
-            q_pred, _ = _predict(m, q[None], u[None], (u_next - u)[None])
-            qn, conv, _, _ = newton(m, q_pred, u_next[None], tol=self.tol)
-            sn = _sign(m, qn, u_next[None])
-            if _accept(m, qn, q_pred, q[None], conv, sn, sign)[0]:
+            q_pred, _ = br.predict(q[None], u[None], (u_next - u)[None])
+            qn, conv, _, _ = br.solve(q_pred, u_next[None])
+            sn = br.signs(qn, u_next[None])
+            if br.accept(qn, q_pred, q[None], conv, sn, signs[None])[0]:
                 q, u, t = qn[0], u_next, t + dt
                 h = min(2 * h, self.max_step / total)
-            else:
-                h /= 2
-                if h * total < 1e-10:
-                    return None
-        return q, sign
+                halvings = 0
+                continue
+            flipped = bool(conv[0]) and not np.all(sn[0] == signs)
+            halvings += 1
+            h /= 2
+            # a sign flip, repeated failures, or steps shrinking towards a turning point
+            if flipped or halvings > HALVINGS or h * total < self.max_step / 2**HALVINGS:
+                return self._cross(q, u, signs, target, index)
+        return "ok", q, signs
 
-    def enter(self, q, sign, target):
-        """Re-enter the motion range at ``target`` from a pose q of the same branch."""
-        m = self.model
-        qn, conv, _, _ = newton(m, q[None], target[None], tol=self.tol, max_iter=40, max_step=0.3)
+    def _cross(self, q, u, signs, target, index):
+        br, m = self.br, self.br.m
+        got = cross(m, br.p, q, u, target, self.max_step, other=self.other, index=index)
+        self.events.extend(got.events)
+        if got.limit is not None:
+            ev = got.limit
+            if _scaled_norm(m, np.atleast_1d(ev.input) - target) <= 1e-10:
+                # the value is the limit position itself
+                self.events.append(ev)
+                return "ok", ev.q, signs
+            return "limit", ev, got.before
+        if got.q is None:
+            return ("lost",)
+        qn, conv, _, _ = br.solve(got.q[None], target[None], max_iter=30)
         if not conv[0]:
-            return None
-        if _sign(m, qn, target[None])[0] != sign:
-            return None
-        return qn[0], sign
+            return ("lost",)
+        return "ok", qn[0], br.signs(qn, target[None])[0]
+
+    def enter(self, guesses, signs, target):
+        """Re-enter the motion range at ``target`` from guesses of the same branch."""
+        br = self.br
+        for g in guesses:
+            qn, conv, _, _ = newton(br.m, g[None], target[None], tol=br.tol, max_iter=40, max_step=0.3, plan=br.p)
+            if conv[0] and np.all(br.signs(qn, target[None])[0] == signs):
+                return qn[0]
+        return None
 
 
 def _anchors(model, U, max_step):
-    """Indices of the values where the sequential walk stops: the first, and each value more
-    than ``max_step`` from the previous anchor."""
+    """Indices of the values where the sequential walk stops: the first, the last, each value
+    more than ``max_step`` from the previous anchor and (one input) each value where the input
+    turns back, so the walk covers every value."""
+    V = U * _scale(model)
+    idx = _walk_anchors(V, max_step)
+    turns = np.zeros(0, int)
+    if V.shape[1] == 1 and len(V) > 2:
+        d = np.sign(np.diff(V[:, 0]))
+        nz = np.flatnonzero(d)
+        turns = nz[1:][d[nz[1:]] != d[nz[:-1]]]
+    return np.unique(np.r_[idx, turns, len(V) - 1]).astype(int)
+
+
+def _walk_anchors(V, max_step):
     idx = [0]
-    s = np.where(model.input_lengths, 1.0 / model.L, 1.0)
-    last = U[0] * s
-    for i, row in enumerate(U * s):
-        if np.max(np.abs(row - last)) > max_step:
+    i, span = 0, 64
+    while True:
+        far = np.flatnonzero(np.max(np.abs(V[i + 1 : i + 1 + span] - V[i]), axis=1) > max_step)
+        if far.size:
+            i += 1 + int(far[0])
             idx.append(i)
-            last = row
-    return np.array(idx)
+        elif i + 1 + span >= len(V):
+            return np.array(idx)
+        else:
+            span *= 2
 
 
-def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05):
+def _output_columns(model, outputs):
+    """Coordinates the named bodies, points, joints or inputs depend on."""
+    if outputs is None:
+        return None
+    if isinstance(outputs, str):
+        outputs = [outputs]
+    cols = set()
+    for name in outputs:
+        bodies = []
+        if name in model.body_names:
+            bodies = [model.body_id(name)]
+        elif name in model.points:
+            bodies = [model.points[name][0]]
+        elif name in model.coordinates or name in model.input_names:
+            j = next((d for d in model.drivers if d.name == name), None) or model.joint(name)
+            bodies = [model.body_id(b) for b in j.bodies]
+        else:
+            raise InputError(f"unknown output {name!r}: name bodies {list(model.body_names[1:])}, points or "
+                             f"joints {sorted(model.points)}")
+        for b in bodies:
+            if b > 0:
+                cols.update(range(3 * b - 3, 3 * b))
+    return sorted(cols)
+
+
+def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth"):
+    """See :meth:`planar.Model.sweep`."""
+    if branch not in ("smooth", "other"):
+        raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
+    cols = _output_columns(model, outputs)
+    p = block_plan(model, cols)
+    br = _Branch(model, p, tol)
+    walker = _Walker(br, max_step, branch == "other")
     N, n = U.shape[0], model.n
-    walker = _Walker(model, tol, max_step)
     q = np.full((N, n), np.nan)
     solved = np.zeros(N, bool)
-    anchor_sign = np.zeros(N)
+    signs = np.zeros((N, len(p.blocks)))
+    events = []
+
+    def walk(start, i, lo):
+        """Walk from ``start`` (q, u, signs) to value i; events get the index of the first
+        value after ``lo`` at or past them."""
+        k = len(walker.events)
+        got = walker.walk(*start, U[i], int(i))
+        for j in range(k, len(walker.events)):
+            ev = walker.events[j]
+            idx = _event_index(U, lo, i, start[1], ev.input)
+            if not any(_same(ev, e, model) for e in events):
+                events.append(replace(ev, index=idx))
+        if got[0] == "limit":
+            ev = replace(got[1], index=_event_index(U, lo, i, start[1], got[1].input))
+            if not any(_same(ev, e, model) for e in events):
+                events.append(ev)
+            limits.append((ev, np.sign(U[i] - start[1])))
+        return got
 
     # 1. the sequential walk over anchors, from the assembled sketch
-    sign0 = _sign(model, model.q0[None], model.u0[None])[0]
-    state = (model.q0, model.u0, sign0)
+    chosen = br.signs(model.q0[None], model.u0[None])[0]
+    state = (model.q0, model.u0, chosen)
+    limits = []  # (limit event, direction of the input that hit it)
     anchors = _anchors(model, U, max_step)
+    lo = -1
     for i in anchors:
-        got = walker.walk(state[0], state[1], state[2], U[i])
-        if got is None:
-            got = walker.enter(state[0], state[2], U[i])
-        if got is not None:
-            q[i], solved[i], anchor_sign[i] = got[0], True, got[1]
-            state = (got[0], U[i], got[1])
+        if _past_limit(limits, state[1], U[i]):
+            got = ("lost",)
+        else:
+            got = walk(state, i, lo)
+        if _at_events(model, U[i : i + 1], events):
+            lo = i
+            continue  # a value on a singular position is no pose to go on from
+        if got[0] == "ok":
+            q[i], solved[i], signs[i] = got[1], True, got[2]
+            state = (got[1], U[i], got[2])
+        else:
+            if got[0] == "limit":
+                state = (got[2][0], got[2][1], state[2])
+            qe = walker.enter([state[0], model.q0], chosen, U[i])
+            if qe is not None:
+                q[i], solved[i], signs[i] = qe, True, chosen
+                state = (qe, U[i], chosen)
+        lo = i
 
-    # 2. every other value from the nearest solved anchor before it (else after it)
+    # 2. every other value from an anchor of its own stretch (no event in between)
+    at_event = _at_events(model, U, events)
+    solved[list(at_event)] = False
     good = anchors[solved[anchors]]
-    rest = np.setdiff1d(np.arange(N), good)
+    one = U.shape[1] == 1
+    if one and good.size:  # kinematic coefficients at the anchors, once; singular ones are no source
+        QU, QUU, sg = np.empty((good.size, n)), np.empty((good.size, n)), np.empty(good.size)
+        for a in range(0, good.size, CHUNK):
+            g = good[a : a + CHUNK]
+            QU[a : a + CHUNK], QUU[a : a + CHUNK], _, sg[a : a + CHUNK] = br.state(q[g], U[g], np.ones((g.size, 1)))
+        regular = sg >= NEAR
+        good, QU, QUU = good[regular], QU[regular], QUU[regular]
     q_pred = np.full((N, n), np.nan)
+    done = np.zeros(N, bool)
+    out = _Out(N, n)
+    rest = np.setdiff1d(np.arange(N), np.r_[anchors[solved[anchors]], list(at_event)]).astype(int)
+    cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}), int)
     if good.size and rest.size:
         pos = np.searchsorted(good, rest) - 1
-        src = np.where(pos >= 0, good[np.maximum(pos, 0)], good[0])
-        for lo in range(0, rest.size, CHUNK):
-            i, a = rest[lo : lo + CHUNK], src[lo : lo + CHUNK]
-            qp, _ = _predict(model, q[a], U[a], U[i] - U[a])
-            qn, conv, _, _ = newton(model, qp, U[i], tol=tol, max_iter=6)
-            sn = _sign(model, qn, U[i])
-            ok = _accept(model, qn, qp, q[a], conv, sn, anchor_sign[a])
-            q[i[ok]], solved[i[ok]], anchor_sign[i[ok]] = qn[ok], True, sn[ok]
+        prev = good[np.maximum(pos, 0)]
+        nxt = good[np.minimum(pos + 1, good.size - 1)]
+        seg = np.searchsorted(cuts, rest, side="right")
+        same_prev = (pos >= 0) & (np.searchsorted(cuts, prev, side="right") == seg)
+        same_next = (pos + 1 < good.size) & (np.searchsorted(cuts, nxt, side="right") == seg)
+        src = np.where(same_prev, prev, nxt)
+        has = same_prev | same_next
+        rest, src = rest[has], src[has]
+        if one:
+            where = np.searchsorted(good, src)
+        for a in range(0, rest.size, CHUNK):
+            i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
+            du = U[i] - U[s_]
+            if one:
+                k = where[a : a + CHUNK]
+                qp = q[s_] + QU[k] * du + 0.5 * QUU[k] * du**2
+            else:
+                qp, _ = br.predict(q[s_], U[s_], du)
+            r = _final(br, qp, U[i], Ud[i], Udd[i])
+            ok = br.accept(r["q"], qp, q[s_], r["conv"], r["signs"], signs[s_])
+            out.put(i[ok], r, ok)
+            q[i[ok]], solved[i[ok]], signs[i[ok]], done[i[ok]] = r["q"][ok], True, r["signs"][ok], True
             q_pred[i] = qp
 
     # 3. the rest one by one, from the solved point before each
-    last = None
+    failed_from = None
     for i in np.flatnonzero(~solved):
+        if i in at_event or _at_events(model, U[i : i + 1], events):
+            continue
         prev = np.flatnonzero(solved[:i])
         j = prev[-1] if prev.size else None
-        if j is None:
-            start = (model.q0, model.u0, sign0)
-        else:
-            start = (q[j], U[j], anchor_sign[j])
-        if last is not None and last == j:
-            continue  # the walk from this pose failed already: stay out until a new anchor
-        got = walker.walk(*start, U[i])
-        if got is None:
-            last = j
+        start = (model.q0, model.u0, chosen) if j is None else (q[j], U[j], signs[j])
+        if (failed_from is not None and failed_from == j) or _past_limit(limits, start[1], U[i]):
+            continue  # the walk from this pose failed already, or a limit lies between
+        got = walk(start, i, -1 if j is None else j)
+        if got[0] != "ok":
+            failed_from = j
             continue
-        q[i], solved[i], anchor_sign[i] = got[0], True, got[1]
+        q[i], solved[i], signs[i] = got[1], True, got[2]
+    at_event = _at_events(model, U, events)
+    for i, ev in at_event.items():
+        q[i], solved[i], done[i] = ev.q, True, True
+    events.sort(key=lambda e: e.index)
+    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event)
 
-    return _finish(model, U, Ud, Udd, q, solved, q_pred, tol)
+
+def _event_index(U, lo, i, u_from, u_star):
+    """First index in (lo, i] whose value is at or past u_star, walking from u_from to U[i]."""
+    d = U[i] - u_from
+    ks = np.arange(lo + 1, i + 1)
+    proj = (U[ks] - u_from) @ d
+    star = (np.atleast_1d(u_star) - u_from) @ d
+    past = np.flatnonzero(proj >= star - 1e-12 * max(1.0, abs(star)))
+    return int(ks[past[0]]) if past.size else int(i)
 
 
-def _finish(model, U, Ud, Udd, q, solved, q_pred, tol):
+def _same(a, b, model):
+    return a.kind == b.kind and _scaled_norm(model, np.atleast_1d(a.input) - np.atleast_1d(b.input)) <= 1e-8
+
+
+def _at_events(model, U, events):
+    """Values that sit on a located limit or bifurcation: index -> event."""
+    out = {}
+    for ev in events:
+        if ev.kind in ("limit", "bifurcation", "singular"):
+            for i in np.flatnonzero(_scaled_norm(model, U - np.atleast_1d(ev.input)) <= EVENT_TOL):
+                out[int(i)] = ev
+    return out
+
+
+def _past_limit(limits, u_from, u_to):
+    """True when a limit found moving in direction d lies between u_from and u_to."""
+    for ev, d in limits:
+        star = np.atleast_1d(ev.input)
+        if np.all((u_to - star) * d > 0) and np.all((star - u_from) * d >= 0):
+            return True
+    return False
+
+
+class _Out:
+    """Per-point results filled chunk by chunk."""
+
+    def __init__(self, N, n):
+        self.qd = np.full((N, n), np.nan)
+        self.qdd = np.full((N, n), np.nan)
+        self.residual = np.full(N, np.nan)
+        self.iters = np.zeros(N, int)
+        self.sing = np.full(N, np.nan)
+        self.branch = np.zeros(N)
+        self.status = np.full(N, Status.NOT_CONVERGED, dtype=np.int8)
+
+    def put(self, i, r, sel=slice(None)):
+        self.qd[i], self.qdd[i] = r["qd"][sel], r["qdd"][sel]
+        self.residual[i], self.iters[i] = r["res"][sel], r["iters"][sel]
+        self.sing[i], self.branch[i], self.status[i] = r["sing"][sel], r["branch"][sel], r["status"][sel]
+
+
+def _final(br, q, U, Ud, Udd):
+    """Newton from good guesses q to the final poses, with their rates and statuses, in two
+    evaluations: the step at the guess, then at the new pose the residual (the certificate),
+    a last correction and the Jacobian the rates use. Points whose last correction is too
+    large take the general Newton first."""
+    m, p, tol = br.m, br.p, br.tol
+    rs, cs = m.row_scale[p.rows], m.col_scale[p.cols]
+    q = q.copy()
+    iters = np.ones(q.shape[0], int)
+    with np.errstate(all="ignore"):
+        Phi, _, Jv = p.evaluate(q, U)
+        q -= p.solve(Jv, Phi)
+        Phi, full, Jv = p.evaluate(q, U)
+        res = np.max(np.abs(Phi * rs), axis=1)
+        dq = p.solve(Jv, Phi)
+        step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
+        conv = (res <= tol) & (step <= 1e-10)
+        q -= np.where(np.isfinite(dq), dq, 0.0)
+        # the rates need the Jacobian at the final pose: re-evaluate where the correction
+        # was not negligible
+        slow = np.flatnonzero(~conv | (step > 1e-13))
+        if slow.size:
+            qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p)
+            q[slow], conv[slow], iters[slow] = qs, cv, it + 1
+            Phi_s, full_s, Jv_s = p.evaluate(q[slow], U[slow])
+            res[slow] = np.max(np.abs(Phi_s * rs), axis=1)
+            full[slow], Jv[slow] = full_s, Jv_s
+        signs, sing = p.modes(Jv)
+        qd = velocity(m, p, Jv, Ud)
+        qdd = acceleration(m, p, q, qd, U, Jv, Udd)
+    st = np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
+    st = np.where(sing < SINGULAR, Status.SINGULAR, st)
+    red = m.redundant_rows  # rows of constraints outside the plan read 0
+    if red.size:
+        bad = np.max(np.abs(full[:, red] * m.row_scale[red]), axis=1) > 1e3 * tol
+        st = np.where(bad, Status.INCONSISTENT, st)
+    # a point on a singular position converges only linearly: its position still holds
+    st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
+    rate_ok = (st <= Status.BRANCH_EVENT)[:, None]
+    return dict(q=q, qd=np.where(rate_ok, qd, np.nan), qdd=np.where(rate_ok, qdd, np.nan), conv=conv,
+                res=res, iters=iters, signs=signs, sing=sing, branch=np.prod(signs, axis=1), status=st)
+
+
+def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event):
     N, n = q.shape
-    status = np.full(N, Status.NOT_CONVERGED, dtype=np.int8)
-    qd = np.full((N, n), np.nan)
-    qdd = np.full((N, n), np.nan)
-    residual = np.full(N, np.nan)
-    iters = np.zeros(N, int)
-    sing = np.full(N, np.nan)
-    branch = np.zeros(N)
-    gap = np.full(N, np.nan)
-    idx = np.flatnonzero(solved)
+    p = br.p
+    idx = np.flatnonzero(solved & ~done)
     for lo in range(0, idx.size, CHUNK):
         i = idx[lo : lo + CHUNK]
-        # one more Newton pass: the reported residual and iteration count at the final pose
-        qn, conv, res, it = newton(model, q[i], U[i], tol=tol)
-        q[i], residual[i], iters[i] = qn, res, it
-        a, b, s, sg = rates(model, qn, U[i], Ud[i], Udd[i])
-        sing[i], branch[i] = s, sg
-        st = np.where(s < NEAR_SINGULAR, Status.NEAR_SINGULAR, Status.SOLVED)
-        st = np.where(s < SINGULAR, Status.SINGULAR, st)
-        Phi, _ = model.system.evaluate(qn, U[i], jacobian=False)
-        red = model.redundant_rows
-        if red.size:
-            bad = np.max(np.abs(Phi[:, red] * model.row_scale[red]), axis=1) > 1e3 * tol
-            st = np.where(bad, Status.INCONSISTENT, st)
-        st = np.where(conv, st, Status.NOT_CONVERGED)
-        status[i] = st
-        rate_ok = (st <= Status.BRANCH_EVENT)[:, None]
-        qd[i], qdd[i] = np.where(rate_ok, a, np.nan), np.where(rate_ok, b, np.nan)
-    q[status > Status.SINGULAR] = np.nan
+        r = _final(br, q[i], U[i], Ud[i], Udd[i])
+        q[i] = r["q"]
+        out.put(i, r)
+    _on_events(model, br, U, Ud, Udd, q, out, events, at_event)
+    status = out.status
+    q[~POSED_MASK[status]] = np.nan
+    if p.cols.size < n:
+        drop = np.setdiff1d(np.arange(n), p.cols)
+        q[:, drop] = out.qd[:, drop] = out.qdd[:, drop] = np.nan
 
     # unreached points: the assembly gap from the best guess at hand
+    gap = np.full(N, np.nan)
     miss = np.flatnonzero(~solved)
     for lo in range(0, miss.size, CHUNK):
         i = miss[lo : lo + CHUNK]
@@ -192,5 +440,73 @@ def _finish(model, U, Ud, Udd, q, solved, q_pred, tol):
         _, g = least_squares_gap(model, guess, U[i])
         gap[i] = g
         status[i] = np.where(g > GAP, Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
-    return Sweep(model, U.copy(), np.array(Ud), np.array(Udd), q, qd, qdd, status, residual, iters,
-                 sing, branch, gap)
+    events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
+    events = tuple(sorted(events, key=lambda e: e.index))
+    return Sweep(model, U.copy(), np.array(Ud), np.array(Udd), q, out.qd, out.qdd, status, out.residual,
+                 out.iters, out.sing, out.branch, gap, events)
+
+
+def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
+    """Values at and around located singular positions. A value on a limit keeps the located
+    pose (status LIMIT, rates NaN). Around a bifurcation every value within BRANCH_H takes its
+    values from the smooth branch interpolated from regular points (the direct solves lose
+    accuracy like 1/distance there); the values on it get status BRANCH_EVENT."""
+    for i, ev in at_event.items():
+        q[i] = ev.q
+        out.qd[i] = out.qdd[i] = np.nan
+        out.sing[i], out.residual[i] = ev.singularity, np.nan
+        out.status[i] = Status.LIMIT if ev.kind == "limit" else Status.SINGULAR
+    s = _scale(model)
+    for ev in events:
+        if ev.kind not in ("bifurcation", "singular") or U.shape[1] != 1:
+            continue
+        dist = np.abs(U[:, 0] - ev.input) * s[0]
+        near = np.flatnonzero((dist < BRANCH_H / 4) & POSED_MASK[out.status])
+        if near.size == 0 or "other branch" in ev.note:
+            continue
+        got = _on_branch(model, br, ev, U[near, 0], Ud[near, 0], Udd[near, 0])
+        if got is None:
+            continue
+        q[near], out.qd[near], out.qdd[near] = got
+        on = dist[near] <= EVENT_TOL
+        out.status[near[on]] = Status.BRANCH_EVENT
+
+
+def _on_branch(model, br, ev, u, ud, udd):
+    """Position, velocity and acceleration at inputs u (one input) on the smooth branch through
+    the singular position ``ev``: degree-7 interpolation of eight regular points at
+    u* +- k h (k = 1..4, h = BRANCH_H / 4 scaled), each solved from the branch tangent with its
+    own rates. Direct solves lose digits like 1/distance (positions), 1/distance^2
+    (velocities) and 1/distance^3 (accelerations) there; these nodes are far enough not to."""
+    T = ev.tangents[0]
+    us = float(ev.input)
+    h = BRANCH_H / 4 / float(_scale(model)[0])
+    nodes = us + h * np.array([-4.0, -3.0, -2.0, -1.0, 1.0, 2.0, 3.0, 4.0])
+    guess = ev.q[None] + (nodes - us)[:, None] * T[None]
+    qn, conv, _, _ = br.solve(guess, nodes[:, None], max_iter=20)
+    if not conv.all():
+        return None
+    qu, quu, _, _ = br.state(qn, nodes[:, None], np.ones((nodes.size, 1)))
+    K = nodes.size
+    W = np.array([[np.prod([(x - nodes[k]) / (nodes[j] - nodes[k]) for k in range(K) if k != j])
+                   for j in range(K)] for x in u])
+    q_u = W @ qu
+    return W @ qn, q_u * ud[:, None], q_u * udd[:, None] + (W @ quu) * (ud**2)[:, None]
+
+
+def _near_stretches(model, U, sing, status, events):
+    """One near-singular event per run of NEAR_SINGULAR points not already explained."""
+    out = []
+    flag = status == Status.NEAR_SINGULAR
+    if not flag.any():
+        return out
+    known = list(events)
+    edges = np.flatnonzero(np.diff(np.r_[0, flag.astype(int), 0]))
+    for a, b in zip(edges[::2], edges[1::2]):
+        k = a + int(np.nanargmin(sing[a:b]))
+        if any(a <= e.index <= b for e in known):
+            continue
+        out.append(Event("near_singular", U[k, 0] if U.shape[1] == 1 else U[k].copy(), int(a),
+                         singularity=float(sing[k]), error=float(np.finfo(float).eps / sing[k]),
+                         note=f"{b - a} value(s) close to a singular position: valid but sensitive"))
+    return out

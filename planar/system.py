@@ -10,6 +10,7 @@ at zero and its Jacobian columns go to a dump column that is dropped.
 """
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -71,6 +72,51 @@ class System:
             if jacobian:
                 J[:, g.rows[:, :, None], g.cols[:, None, :]] = g.kind.Phi_q(P, F)
         return Phi, (J[:, :, : self.n] if jacobian else None)
+
+    @cached_property
+    def entries(self):
+        """(rows, cols) of every value :meth:`values` returns, group by group (cols = n for the
+        ground: a dump column)."""
+        rows, cols = [], []
+        for g in self.groups:
+            K, nr, nc = g.rows.shape[0], g.rows.shape[1], g.cols.shape[1]
+            rows.append(np.broadcast_to(g.rows[:, :, None], (K, nr, nc)).ravel())
+            cols.append(np.broadcast_to(g.cols[:, None, :], (K, nr, nc)).ravel())
+        if not rows:
+            return np.zeros(0, int), np.zeros(0, int)
+        return np.concatenate(rows), np.concatenate(cols)
+
+    def values(self, q, u=None):
+        """Phi (N, m) and the Jacobian as its non-zero pattern: (N, nnz + 1) values in the order
+        of :attr:`entries`, then a zero (the slot of every structurally absent entry)."""
+        N = q.shape[0]
+        full = self._full(q)
+        cs = (np.cos(full[..., 2]), np.sin(full[..., 2]))
+        Phi = np.zeros((N, self.m))
+        Jv = np.empty((N, self.entries[0].size + 1))
+        Jv[:, -1] = 0.0
+        at = 0
+        for g in self.groups:
+            F = self._frames(full, cs, g)
+            P = self._params(g, u)
+            Phi[:, g.rows] = g.kind.Phi(P, F)
+            block = g.kind.Phi_q(P, F)
+            size = block[0].size
+            Jv[:, at : at + size] = block.reshape(N, size)
+            at += size
+        return Phi, Jv
+
+    def restrict(self, rows):
+        """The system of only the constraints that own one of ``rows`` (global ids kept)."""
+        keep = np.zeros(self.m, bool)
+        keep[rows] = True
+        groups = []
+        for g in self.groups:
+            sel = keep[g.rows].any(axis=1)
+            if sel.any():
+                groups.append(Group(g.kind, g.members[sel], g.bodies[sel], {k: v[sel] for k, v in g.P.items()},
+                                    g.rows[sel], g.cols[sel], g.inputs[sel]))
+        return System(self.n_bodies, self.m, tuple(groups))
 
     def gamma(self, q, qd, u=None):
         """gamma (N, m) with Phi_q qdd = gamma, at configurations q and rates qd."""

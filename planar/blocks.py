@@ -1,0 +1,221 @@
+"""Block-triangular form of the driven constraint system: solve small blocks in order.
+
+The square Newton system (independent joint rows plus drivers, one column per coordinate) is
+decomposed by its structure: a maximum matching pairs each row with the coordinate it computes
+(Hopcroft-Karp), and the strongly connected components of the resulting dependency graph, in
+topological order, are the blocks. With body frames at joints this leaves 1x1 explicit blocks
+(pivot coordinates, driven angles) and one small block per loop (an Assur group), so a Newton
+step, a velocity and an acceleration are each a forward substitution through small dense
+solves instead of one n x n solve. Only the blocks upstream of the asked-for coordinates are
+kept: asking for the first loop of a Watt six-bar does not solve the second.
+
+>>> from planar.mechanisms import watt_six_bar
+>>> model = watt_six_bar().compile()
+>>> [b.size for b in plan(model).blocks]  # pivots and angles 1x1, one block per loop
+[1, 1, 1, 1, 1, 4, 1, 1, 4]
+>>> rocker = 3 * model.body_id("rocker") - 1
+>>> [b.size for b in plan(model, [rocker]).blocks]  # the first loop only
+[1, 1, 1, 1, 1, 4]
+"""
+
+import weakref
+from dataclasses import dataclass
+
+import networkx as nx
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import maximum_bipartite_matching
+
+from planar.errors import ModelError
+
+
+@dataclass(frozen=True, eq=False)
+class Block:
+    """One diagonal block: ``eqs`` (positions among the plan's rows) compute ``cols``.
+
+    ``diag`` (b*b) and ``coup`` (b*w) index the Jacobian values of the plan's system (the
+    last index is a structural zero); ``up`` (w,) are the upstream columns the rows also use;
+    ``scale`` (b*b) turns diagonal entries into the row- and column-scaled Jacobian.
+    """
+
+    eqs: np.ndarray
+    cols: np.ndarray
+    diag: np.ndarray
+    up: np.ndarray
+    coup: np.ndarray
+    scale: np.ndarray
+
+    @property
+    def size(self):
+        return self.cols.size
+
+
+@dataclass(frozen=True, eq=False)
+class Plan:
+    """Blocks of the square system restricted to what some columns need.
+
+    ``system`` holds only the constraints that own a kept row; ``rows`` are the kept global
+    rows (a subset of the model's active rows, in that order); ``cols`` the columns solved.
+    """
+
+    system: object
+    rows: np.ndarray
+    drivers: np.ndarray  # positions of the driver rows among ``rows``
+    driver_inputs: np.ndarray  # input column of each of them
+    cols: np.ndarray
+    blocks: tuple
+    n: int
+
+    def evaluate(self, q, u):
+        """Phi of the kept rows (N, len(rows)), all rows (N, m) and the Jacobian values."""
+        Phi, Jv = self.system.values(q, u)
+        return Phi[:, self.rows], Phi, Jv
+
+    def solve(self, Jv, b):
+        """x (N, n) with ``J x = b`` on the kept rows (``b`` (N, len(rows))), by forward
+        substitution through the blocks; columns not solved are 0, singular blocks give
+        non-finite values."""
+        N = b.shape[0]
+        x = np.zeros((N, self.n))
+        with np.errstate(all="ignore"):
+            for blk in self.blocks:
+                rhs = b[:, blk.eqs]
+                if blk.up.size:
+                    C = Jv[:, blk.coup].reshape(N, blk.size, blk.up.size)
+                    rhs = rhs - np.einsum("nij,nj->ni", C, x[:, blk.up])
+                x[:, blk.cols] = small_solve(Jv[:, blk.diag].reshape(N, blk.size, blk.size), rhs)
+        return x
+
+    def modes(self, Jv):
+        """Per block: the sign of its det (its assembly mode), and the smallest normalised
+        |det| of the scaled blocks (|det| over the product of its row norms, in [0, 1]; 0 at
+        a singular position). Returns (signs (N, blocks), singularity (N,))."""
+        d = self.dets(Jv)
+        return np.sign(d), np.min(np.abs(d), axis=1)
+
+    def dets(self, Jv):
+        """(N, blocks) normalised signed dets of the scaled diagonal blocks."""
+        N = Jv.shape[0]
+        out = np.ones((N, len(self.blocks)))
+        with np.errstate(all="ignore"):
+            for k, blk in enumerate(self.blocks):
+                A = (Jv[:, blk.diag] * blk.scale).reshape(N, blk.size, blk.size)
+                norms = np.prod(np.linalg.norm(A, axis=2), axis=1)
+                out[:, k] = np.where(norms > 0, small_det(A) / norms, 0.0)
+        return out
+
+
+def small_solve(A, b):
+    """Stacked solve of small systems (N, k, k) x = (N, k): closed forms for k <= 2."""
+    k = b.shape[1]
+    if k == 1:
+        return b / A[:, 0]
+    if k == 2:
+        det = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+        return np.stack((b[:, 0] * A[:, 1, 1] - A[:, 0, 1] * b[:, 1],
+                         A[:, 0, 0] * b[:, 1] - A[:, 1, 0] * b[:, 0]), axis=1) / det[:, None]
+    try:
+        return np.linalg.solve(A, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        x = np.full(b.shape, np.nan)
+        ok = np.linalg.slogdet(A)[0] != 0
+        if ok.any():
+            x[ok] = np.linalg.solve(A[ok], b[ok][..., None])[..., 0]
+        return x
+
+
+def small_det(A):
+    """Stacked determinants of (N, k, k)."""
+    k = A.shape[1]
+    if k == 1:
+        return A[:, 0, 0]
+    if k == 2:
+        return A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+    sign, logdet = np.linalg.slogdet(A)
+    return sign * np.exp(logdet)
+
+
+_PLANS = weakref.WeakKeyDictionary()
+
+
+def plan(model, cols=None):
+    """The block plan of ``model`` for the coordinates ``cols`` (all when None), cached."""
+    key = None if cols is None else tuple(sorted(set(int(c) for c in cols)))
+    cache = _PLANS.setdefault(model, {})
+    if key not in cache:
+        cache[key] = _build(model, key)
+    return cache[key]
+
+
+def _pattern(model):
+    """Structural non-zeros of the full system's Jacobian values: entries non-zero at random
+    poses (exact zeros of a kernel, e.g. a pivot at a body's frame origin, are structural)."""
+    rng = np.random.default_rng(1)
+    sysm = model.system
+    q = model.q0[None] + rng.normal(size=(3, model.n)) * np.tile([model.L, model.L, 1.0], model.n // 3)
+    u = model.u0[None] + rng.normal(size=(3, model.u0.size))
+    _, Jv = sysm.values(q, u)
+    return np.any(Jv[:, :-1] != 0, axis=0)
+
+
+def _build(model, key):
+    sysm = model.system
+    n = model.n
+    rows_all = np.asarray(model.active_rows)
+    erow, ecol = sysm.entries
+    nz = _pattern(model) & (ecol < n)
+    pos = {int(r): i for i, r in enumerate(rows_all)}
+    S = np.zeros((rows_all.size, n), bool)
+    for r, c in zip(erow[nz], ecol[nz]):
+        if int(r) in pos:
+            S[pos[int(r)], c] = True
+    match = maximum_bipartite_matching(csr_matrix(S.astype(np.int8)), perm_type="column")
+    if np.any(match < 0):
+        raise ModelError(f"model {model.name!r}: the driven system is structurally singular "
+                         f"(some coordinate is in no independent row); check the drivers")
+    # eq i computes column match[i]; eq i depends on eq j when it uses column match[j]
+    owner = np.empty(n, int)
+    owner[match] = np.arange(rows_all.size)
+    G = nx.DiGraph()
+    G.add_nodes_from(range(rows_all.size))
+    for i in range(rows_all.size):
+        for c in np.flatnonzero(S[i]):
+            j = owner[c]
+            if j != i:
+                G.add_edge(j, i)
+    C = nx.condensation(G)
+    order = list(nx.topological_sort(C))
+    if key is not None:
+        need = {C.graph["mapping"][owner[c]] for c in key}
+        need |= {a for b in need for a in nx.ancestors(C, b)}
+        order = [b for b in order if b in need]
+    eqs_kept = np.sort(np.concatenate([np.array(sorted(C.nodes[b]["members"]), int) for b in order]))
+    rows = rows_all[eqs_kept]
+    sub = sysm.restrict(rows)
+    srow, scol = sub.entries
+    snz = np.zeros(srow.size, bool)
+    index = {}
+    # map (row, col) -> value slot in the restricted system (structural non-zeros only)
+    full_idx = {(int(r), int(c)): k for k, (r, c) in enumerate(zip(erow, ecol)) if c < n and nz[k]}
+    for k, (r, c) in enumerate(zip(srow, scol)):
+        if (int(r), int(c)) in full_idx:
+            index[(int(r), int(c))] = k
+            snz[k] = True
+    zero = srow.size
+    where = {int(r): i for i, r in enumerate(rows)}
+    rs, cs = model.row_scale, model.col_scale
+    blocks = []
+    for b in order:
+        eq = np.array(sorted(C.nodes[b]["members"]), int)
+        grow = rows_all[eq]
+        cols = match[eq]
+        used = sorted({int(c) for i in eq for c in np.flatnonzero(S[i])} - set(int(c) for c in cols))
+        diag = np.array([index.get((int(r), int(c)), zero) for r in grow for c in cols], int)
+        coup = np.array([index.get((int(r), int(c)), zero) for r in grow for c in used], int)
+        scale = np.array([rs[r] * cs[c] for r in grow for c in cols])
+        blocks.append(Block(np.array([where[int(r)] for r in grow]), cols.astype(int), diag,
+                            np.array(used, int), coup, scale))
+    drivers = np.flatnonzero(np.isin(rows, rows_all[np.asarray(model.driver_rows_active)]))
+    driver_inputs = np.searchsorted(rows_all[np.asarray(model.driver_rows_active)], rows[drivers])
+    cols = np.sort(np.concatenate([blk.cols for blk in blocks])) if blocks else np.zeros(0, int)
+    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n)
