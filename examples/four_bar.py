@@ -1,8 +1,9 @@
 """The four-bar of the seeds (000: movef4centros [4 2 3 4]; 003: f4bar with the acceleration
 errata fixed): r1 = 4, r2 = 2, r3 = 3, r4 = 4, crank at 60 deg turning at 10 rad/s, coupler
-point C 2 from A at 30 deg off A->B; both assembly modes; then the frame turned by 25 deg.
+point C 2 from A at 30 deg off A->B; both assembly modes; the frame turned by 25 deg; the
+instant centres (centros) at 60 deg and their loci, as movef4centros draws them.
 
-Run: ``python examples/four_bar.py [OUTDIR]`` (writes four_bar.png there).
+Run: ``python examples/four_bar.py [OUTDIR]`` (writes four_bar.png and four_bar_centres.png).
 """
 
 import sys
@@ -11,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from planar import draw
+from planar.analysis import instant_centres
 from planar.mechanisms import four_bar
 
 C = (2 * np.cos(np.radians(30)), 2 * np.sin(np.radians(30)))  # p along A->B, q to its left
@@ -43,6 +45,17 @@ def main(outdir="."):
     res = four_bar(4, 2, 3, 4, coupler_point=C).sweep(np.radians(np.arange(0.0, 361.0, 5.0)), velocity=10.0)
     ax = draw.figure(res, 12, ["A", "B", "C"], size=(7, 5.5))
     out = Path(outdir) / "four_bar.png"
+    ax.figure.savefig(out, dpi=80)
+    print("wrote", out.name)
+
+    print("instant centres at crank 60 deg (1 ground, 2 crank, 3 coupler, 4 rocker):")
+    names = res.model.body_names
+    for (a, b), locus in instant_centres(res).items():
+        x, y = np.round(locus[12], 6) + 0.0  # no "-0.000000" from round-off
+        print(f"  I{names.index(a) + 1}{names.index(b) + 1} = ({x:.6f}, {y:.6f})")
+    ax = draw.draw(res, 12)
+    draw.draw_instant_centres(res, 12, ax=ax, loci=True)
+    out = Path(outdir) / "four_bar_centres.png"
     ax.figure.savefig(out, dpi=80)
     print("wrote", out.name)
 

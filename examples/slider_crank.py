@@ -1,7 +1,7 @@
 """The slider-cranks of the seeds: sldlink (000) with the crank, the coupler or the slider as
 input (r2 = 2, r3 = 3, offset r4 = 4), and the offset slider-crank of the student report (003):
 r2 = 2, r3 = 5, e = 1, crank at 30 deg and 12 rad/s, with its stroke and time ratio measured
-on a sweep of the crank.
+by the stroke analysis.
 
 Run: ``python examples/slider_crank.py [OUTDIR]`` (writes slider_crank.png there).
 """
@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from planar import draw
+from planar.analysis import stroke
 from planar.mechanisms import slider_crank
 
 deg = np.degrees
@@ -41,15 +42,9 @@ def main(outdir="."):
     res = m.sweep(np.radians([30.0]), velocity=12.0)
     print(f"  B = ({res.position('B')[0, 0]:.6f}, {res.position('B')[0, 1]:.6f}), "
           f"v_B = {res.velocity('B')[0, 0]:.6f}, a_B = {res.acceleration('B')[0, 0]:.6f}")
-    # stroke and time ratio from one turn of the crank, 0.01 deg apart
-    th2 = np.radians(np.arange(0.0, 360.0, 0.01))
-    turn = m.sweep(th2)
-    x = turn.position("B")[:, 0]
-    i_far, i_near = int(np.argmax(x)), int(np.argmin(x))
-    out_stroke = (th2[i_near] - th2[i_far]) % (2 * np.pi)  # crank turn from the far dead centre back
-    print(f"  stroke {np.ptp(x):.4f}, time ratio {max(out_stroke, 2 * np.pi - out_stroke) / min(out_stroke, 2 * np.pi - out_stroke):.3f} "
-          f"(dead centres at th2 = {deg(th2[i_far]):.2f} and {deg(th2[i_near]):.2f} deg)")
-
+    s = stroke(m, "slide")  # the slider's extremes over one crank turn, located by the solver
+    print(f"  stroke {s.stroke:.6f}, time ratio {s.time_ratio:.6f} "
+          f"(dead centres at th2 = {deg(s.input_at_maximum):.6f} and {deg(s.input_at_minimum):.6f} deg)")
 
     res = slider_crank(2, 5, offset=1, coupler_point=(2.5, 0.8)).sweep(np.radians(np.arange(0.0, 361.0, 5.0)),
                                                                         velocity=12.0)

@@ -18,7 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
+from planar.analysis import grashof, mobility, output, stroke
 from planar.errors import InputError, PlanarError
+from planar.joints import Revolute, Slot
 from planar.results import Status
 from planar.units import RATE_UNITS, Units, parse_rate
 
@@ -56,7 +58,7 @@ def table(res, units):
     cols.append(("status", "", np.array([Status(s).name for s in res.status])))
     specs = [f"{kind}:{b}" for b in model.body_names[1:] for kind in ("angle", "omega", "alpha")]
     specs += [f"{kind}:{j}" for j in model.coordinates for kind in ("travel", "travel_rate", "travel_accel")
-              if model.joint(j).__class__.__name__ in ("Prismatic", "Slot")]
+              if isinstance(model.joint(j), Slot)]
     specs += [f"{kind}:{p}" for p, (b, _) in model.points.items() if b != 0
               for kind in ("x", "y", "vx", "vy", "ax", "ay")]
     for spec in specs:
@@ -164,6 +166,10 @@ def _fmt(v):
     return f"{float(v):.6g}"
 
 
+def _length(v, units):
+    return f"{_fmt(v)} {units.length}".rstrip()
+
+
 def _intervals(x, mask):
     """[lo, hi] of x over each run of True in mask."""
     from planar.draw import _runs
@@ -192,11 +198,10 @@ def summary(res, units, settings):
             lines.append(f"  {b}: angle {_fmt(np.nanmin(a))} to {_fmt(np.nanmax(a))} {units.angle}, "
                          f"largest |rate| {_fmt(np.nanmax(np.abs(w)) if np.any(np.isfinite(w)) else math.nan)} {units.rate}")
     for j in model.coordinates:
-        if model.joint(j).__class__.__name__ in ("Prismatic", "Slot"):
+        if isinstance(model.joint(j), Slot):
             t = res.coordinate(j)
             if np.any(np.isfinite(t)):
-                lines.append(f"  {j}: travel {_fmt(np.nanmin(t))} to {_fmt(np.nanmax(t))} {units.length}, "
-                             f"stroke {_fmt(np.nanmax(t) - np.nanmin(t))} {units.length}".rstrip())
+                lines.append(f"  {j}: travel {_length(np.nanmin(t), units)} to {_length(np.nanmax(t), units)}")
     events = find_events(res)
     if events:
         lines.append("events: " + ", ".join(f"{kind} at {xlabel.split(' [')[0]} = {_fmt(x[i])}" for i, kind in events))
@@ -205,12 +210,69 @@ def summary(res, units, settings):
     return lines
 
 
+def four_bar_links(model):
+    """(ground, crank, coupler, rocker) lengths and the input link ("crank", "coupler",
+    "rocker" or None) when the model is one loop of four revolutes, read from its sketch; else
+    None. The crank is the driven link next to the ground (either, when the coupler is driven)."""
+    joints = model.joints
+    if len(joints) != 4 or len(model.body_names) != 4 or not all(isinstance(j, Revolute) for j in joints):
+        return None
+    pins = {}
+    for j in joints:
+        for b in j.bodies:
+            pins.setdefault(b, []).append(j)
+    if any(len(v) != 2 for v in pins.values()):
+        return None
+    loop, body, joint = [], "ground", pins["ground"][0]
+    for _ in range(4):  # walk the loop: ground -> first link -> ... -> back to the ground
+        nxt = next(b for b in joint.bodies if b != body)
+        loop.append(joint)
+        body, joint = nxt, next(k for k in pins[nxt] if k is not joint)
+    if body != "ground":
+        return None
+    links = [next(b for b in loop[k].bodies if b in loop[(k + 1) % 4].bodies) for k in range(4)]  # ground last
+    lengths = [float(np.hypot(*(loop[k].data["at"] - loop[(k + 1) % 4].data["at"]))) for k in range(4)]
+    driven = None
+    if len(model.drivers) == 1 and "ground" in model.drivers[0].bodies and model.drivers[0].bodies != ("ground",):
+        driven = next((b for b in model.drivers[0].bodies if b != "ground"), None)
+    if driven == links[2]:  # the link at the far side of the loop is driven: walk the other way
+        links, lengths = [links[2], links[1], links[0], links[3]], [lengths[2], lengths[1], lengths[0], lengths[3]]
+    role = {links[0]: "crank", links[1]: "coupler", links[2]: "rocker"}.get(driven)
+    return (lengths[3], lengths[0], lengths[1], lengths[2]), role
+
+
 def _grashof_line(model):
-    try:
-        from planar import analysis  # noqa: F401  (written by a colleague; may not exist yet)
-    except ImportError:
-        return "Grashof class: not available in this version (planar.analysis is missing)"
-    return "Grashof class: not available in this version (planar.analysis has no Grashof check yet)"
+    found = four_bar_links(model)
+    if found is None:
+        return "Grashof class: does not apply (not a single loop of four revolutes)"
+    (r1, r2, r3, r4), role = found
+    g = grashof(r1, r2, r3, r4, driver=role or "crank")
+    turns = f"; the input {'turns fully' if g.input_turns else 'cannot turn fully'}" if role else ""
+    return (f"Grashof class: {g.kind} (links {_fmt(r1)}, {_fmt(r2)}, {_fmt(r3)}, {_fmt(r4)}: "
+            f"s + l - p - q = {_fmt(g.excess)}){turns}")
+
+
+def stroke_lines(model, units):
+    """Stroke and time ratio of every slider and every link that goes back and forth while the
+    one input angle turns (nothing when the input does not turn fully)."""
+    if len(model.drivers) != 1 or model.input_lengths[0]:
+        return []
+    turn = model.sweep(model.u0[0] + np.linspace(0.0, 2 * math.pi, 181))
+    if not turn.ok.all():
+        return []
+    lines = []
+    sliders = [j for j in model.coordinates if isinstance(model.joint(j), Slot)]
+    for name in sliders + list(model.body_names[1:]):
+        values = output(turn, name)
+        if np.ptp(values) <= 1e-9 * (model.L if name in sliders else 1.0):
+            continue  # it does not move: no stroke
+        try:
+            s = stroke(turn, name)
+        except PlanarError:
+            continue  # it turns with the input rather than going back and forth
+        size = _length(s.stroke, units) if name in sliders else f"{_fmt(units.angle_from_internal(s.stroke))} {units.angle}"
+        lines.append(f"  {name}: stroke {size}, time ratio {s.time_ratio:.6f}")
+    return ["strokes over one turn of the input:"] + lines if lines else []
 
 
 def info_lines(doc, path):
@@ -223,9 +285,7 @@ def info_lines(doc, path):
     lines = [f"file: {path}",
              f"mechanism: {model.name}: {len(model.body_names) - 1} moving bodies, {len(model.joints)} joints ("
              + ", ".join(f"{c} {k}" for k, c in kinds.items()) + f"), {len(model.drivers)} input(s): {inputs or 'none'}",
-             f"mobility: {model.dof} degree(s) of freedom (Gruebler count {model.grubler}, Jacobian rank "
-             f"{model.rank} of {model.n} coordinates)",
-             "redundant joints: " + (", ".join(model.redundant_joints) if model.redundant_joints else "none"),
+             f"mobility: {mobility(model)}",
              _grashof_line(model)]
     return model, lines
 
@@ -258,7 +318,7 @@ def _run(doc, source, args, out):
     _, lines = info_lines(doc, source)
     for line in lines[1:]:
         print(line)
-    for line in summary(res, units, settings):
+    for line in summary(res, units, settings) + stroke_lines(model, units):
         print(line)
     _write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
     stem = _stem(model.name)
@@ -319,7 +379,7 @@ def cmd_info(args):
     units = doc.units
     settings = doc.sweep or default_sweep(model, units)
     res = run_sweep(model, units, settings)
-    for line in lines + summary(res, units, settings):
+    for line in lines + summary(res, units, settings) + stroke_lines(model, units):
         print(line)
     return EXIT_OK
 

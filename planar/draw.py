@@ -706,22 +706,45 @@ def _legend_below(ax):
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=min(n, 2), fontsize=8, frameon=False)
 
 
-def draw_instant_centres(centres, *, ax=None, units=None):
+def draw_instant_centres(source, i=0, *, ax=None, loci=False, units=None):
     """Instant centres as labelled crossed circles.
 
-    ``centres`` maps a label (like "I13") to a point (x, y); centres at infinity (non-finite
-    coordinates, parallel lines) are listed in a note instead. Returns the axes.
+    ``source`` is a sweep result (every centre of every pair of bodies at pose ``i``, from
+    :func:`planar.analysis.instant_centres`, labelled the textbook way: I13 for the ground,
+    numbered 1, and the second moving body, numbered 3) or a mapping of labels to points
+    (x, y). Centres at infinity (relative translation) are listed in a note. With ``loci``
+    (sweeps only), the paths of the centres that move are drawn too. Returns the axes.
     """
     ax = _axes(ax)
+    paths = {}
+    if hasattr(source, "model"):
+        from planar.analysis import instant_centres
+
+        names = source.model.body_names
+        paths = {f"I{names.index(a) + 1}{names.index(b) + 1}": p for (a, b), p in instant_centres(source).items()}
+        centres = {k: p[i] for k, p in paths.items()}
+    else:
+        centres = source
     far = []
+    # loci run off to infinity where lines turn parallel: keep them near what is drawn already
+    box = ax.dataLim if np.all(np.isfinite(ax.dataLim.bounds)) else None
     for label, p in centres.items():
         p = np.asarray(p, float)
+        if loci and label in paths and _span(paths[label]) > 1e-9:
+            path = paths[label]
+            if box is not None:
+                pad = max(box.width, box.height)
+                out = ((path[:, 0] < box.x0 - pad) | (path[:, 0] > box.x1 + pad)
+                       | (path[:, 1] < box.y0 - pad) | (path[:, 1] > box.y1 + pad))
+                path = np.where(out[:, None], np.nan, path)
+            ax.plot(*path.T, color="#7b3294", lw=0.9, ls="-.", alpha=0.6, zorder=1.6)
         if not np.all(np.isfinite(p)):
             far.append(label)
             continue
         ax.plot(*p, "o", ms=9, mfc="none", mec="#7b3294", mew=1.5, zorder=6)
         ax.plot(*p, "+", ms=9, color="#7b3294", mew=1.5, zorder=6)
         ax.annotate(label, p, textcoords="offset points", xytext=(6, -12), color="#7b3294", fontsize=9, zorder=6)
+        ax.update_datalim([p])
     if far:
         ax.text(0.01, 0.01, "at infinity: " + ", ".join(far), transform=ax.transAxes, fontsize=8, color="#7b3294")
     return _finish(ax, units)

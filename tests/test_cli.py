@@ -81,11 +81,32 @@ def test_rocking_run_goes_there_and_back(here, capsys):
     assert len(rows) == 1 + 41
 
 
+def test_info_of_a_four_bar_names_its_grashof_class_and_strokes(here, capsys):
+    io.save(CATALOGUE["four_bar"](4, 2, 3, 4), here / "fb.json")
+    code, out, err = run(capsys, "info", "fb.json")
+    assert code == 0, err
+    assert "Grashof class: crank-rocker (links 4, 2, 3, 4: s + l - p - q = -1); the input turns fully" in out
+    assert "rocker: stroke 63.0029 deg, time ratio 1.424266" in out
+
+
+@pytest.mark.parametrize("driver, role", [("crank", "crank"), ("rocker", "crank"), ("coupler", "coupler")])
+def test_four_bar_links_are_read_from_any_loop_of_four_revolutes(driver, role):
+    start = {"crank": 1.0, "rocker": 2.0, "coupler": 0.5}[driver]
+    model = CATALOGUE["four_bar"](4, 2, 3, 3.5, driver=driver, start=start).compile()
+    lengths, got = cli.four_bar_links(model)
+    # driving the rocker makes it the crank of the loop walked the other way round
+    assert got == role
+    want = {"crank": (4, 2, 3, 3.5), "rocker": (4, 3.5, 3, 2), "coupler": (4, 2, 3, 3.5)}[driver]
+    np.testing.assert_allclose(lengths, want, rtol=1e-12)
+    assert cli.four_bar_links(CATALOGUE["slider_crank"]().compile()) is None
+
+
 def test_info(here, capsys):
     io.save(CATALOGUE["geared_five_bar"](), here / "g5.json")
     code, out, err = run(capsys, "info", "g5.json")
     assert code == 0, err
-    assert "mobility: 1 degree(s) of freedom" in out and "redundant joints:" in out
+    assert "mobility: 12 coordinates, 11 joint rows: Grubler 1, rank 11, 1 degree(s) of freedom" in out
+    assert "redundant joints: none" in out
     assert "Grashof class:" in out and "sweep:" in out and "events:" in out
 
 

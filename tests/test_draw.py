@@ -118,6 +118,18 @@ def test_instant_centres_mark_finite_ones_and_list_those_at_infinity():
     rendered(ax)
 
 
+def test_instant_centres_of_a_sweep_with_loci(fb):
+    from planar.analysis import instant_centre
+
+    ax = draw.draw_instant_centres(fb, 6, loci=True)
+    labels = sorted(t.get_text() for t in ax.texts)
+    assert labels == ["I12", "I13", "I14", "I23", "I24", "I34"]
+    i13 = next(t for t in ax.texts if t.get_text() == "I13")
+    np.testing.assert_allclose(i13.xy, instant_centre(fb, "ground", "coupler")[6])  # 2.839095, 4.917457
+    loci = [ln for ln in ax.lines if ln.get_linestyle() == "-."]
+    assert len(loci) == 4  # I13, I23, I24, I34 move; I12 and I14 are the ground pivots
+
+
 def test_output_panels_one_per_kind(fb):
     axes = draw.plot_outputs(fb)
     assert len(axes) == 5  # angles, rates, accelerations of the bodies; speed and acceleration of C
