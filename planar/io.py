@@ -256,7 +256,7 @@ def from_dict(data, source="<mechanism file>"):
         if not isinstance(j, dict):
             c.mapping(j, where, ())
         kind = j.get("type")
-        if kind not in JOINT_FIELDS:
+        if not isinstance(kind, str) or kind not in JOINT_FIELDS:
             c.fail(f"{where}.type", f"must be one of {', '.join(JOINT_FIELDS)}, got {json.dumps(kind)}")
         spec = JOINT_FIELDS[kind]
         c.mapping(j, where, {"type", "name", "bodies", *spec})
