@@ -31,9 +31,9 @@ def _motion(res, body):
 def instant_centre(res, body_a, body_b):
     """(N, 2) locus of the instant centre of ``body_a`` and ``body_b`` over the sweep ``res``.
 
-    NaN where the rates are not valid (see ``res.status``) and where the relative motion is a
-    translation (equal angular velocities: the centre is at infinity, for example across a
-    prismatic joint). With ``body_a`` the ground, the locus is the fixed centrode of ``body_b``.
+    NaN where the rates are not valid (see ``res.status``) and where the two bodies turn at the
+    same rate: their relative motion is then a translation (the centre is at infinity, for
+    example across a prismatic joint) or, at that instant, none at all. With ``body_a`` the ground, the locus is the fixed centrode of ``body_b``.
     """
     Va, wa = _motion(res, body_a)
     Vb, wb = _motion(res, body_b)

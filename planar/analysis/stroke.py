@@ -19,6 +19,7 @@ from planar.analysis.outputs import output
 from planar.errors import AssemblyError, InputError
 
 TURN = 2 * np.pi
+ROUNDING = 1e-12  # a Newton step may leave its bracket by this much (radians)
 NEWTON_DONE = 1e-7  # a last Newton step this small (radians) leaves an error of order its square
 MAX_ITER = 60
 
@@ -120,20 +121,23 @@ def stroke(source, output_name, *, samples=360, **options):
     res = _one_turn(source, samples, options)
     model = res.model
     u = res.inputs[:, 0]
-    y, g, _ = _coefficients(res, output_name)
+    y, g, h = _coefficients(res, output_name)
     if abs(y[-1] - y[0]) > 1e-8 * max(1.0, np.ptp(y)):
         raise InputError(f"output {output_name!r} does not come back after one turn of the input "
                          f"({y[0]:.12g} -> {y[-1]:.12g}): it does not go back and forth")
-    rising = g > 0
-    i = np.flatnonzero(rising[:-1] != rising[1:])
-    if i.size == 0:
+    # stationary points: a sample where the rate is exactly zero, or a sign change between two
+    # samples (the last sample is the first pose again, one turn on)
+    n = len(u) - 1
+    g[n], h[n] = g[0], h[0]  # one pose: rounding must not hide a root there from both sides
+    at = np.flatnonzero(g[:n] == 0)
+    i = np.flatnonzero(g[:n] * g[1:] < 0)
+    if at.size + i.size == 0:
         raise InputError(f"output {output_name!r} has no extreme over the turn: it never turns back")
 
     # safeguarded Newton on the rate g(u) = 0, each root bracketed by two samples and first
     # guessed from the cubic through g and its slope at both
-    _, _, h = _coefficients(res, output_name)
-    lo, hi, g_lo = u[i].copy(), u[i + 1].copy(), g[i].copy()
-    x = np.array([_hermite_root(u[k], u[k + 1], g[k], g[k + 1], h[k], h[k + 1]) for k in i])
+    lo, hi, g_lo = np.r_[u[at], u[i]], np.r_[u[at], u[i + 1]], np.r_[g[at], g[i]]
+    x = np.r_[u[at], [_hermite_root(u[k], u[k + 1], g[k], g[k + 1], h[k], h[k + 1]) for k in i]]
     for _ in range(MAX_ITER):
         order = np.argsort(x)
         r = model.sweep(np.r_[u[0], x[order]], **options)
@@ -147,7 +151,7 @@ def stroke(source, output_name, *, samples=360, **options):
         hi = np.where(same, hi, x)
         with np.errstate(invalid="ignore", divide="ignore"):
             dx = -gx / hx
-        newton = (x + dx > lo) & (x + dx < hi)
+        newton = (x + dx >= lo - ROUNDING) & (x + dx <= hi + ROUNDING)
         if newton.all() and np.abs(dx).max() <= NEWTON_DONE:
             # the last Newton step is exact to O(dx^2): take it, and the value by Taylor
             x, yx = x + dx, yx + gx * dx + 0.5 * hx * dx**2

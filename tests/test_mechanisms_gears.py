@@ -1,0 +1,143 @@
+"""Rolling-contact builders against their closed forms (written here: pure rolling makes every
+angle and travel linear in the input).
+
+- rack and pinion: travel s = R (th - th0) along the rack;
+- wheel on a line: centre (-R phi, R), rim point P = centre + R e^{i(phi - pi/2)} (a cycloid);
+- wheel inside a circle of radius Rt: centre angle psi = -pi/2 - r phi / (Rt - r),
+  P = centre + r e^{i(phi - pi/2)} (a hypocycloid);
+- gear train: th_k = (-1)^(k-1) (R1 / Rk) th1;
+- planetary set (Willis): Rs (th_s - th_c) = -(Rs + 2 Rp)(th_r - th_c) and
+  Rp (th_p - th_c) = -Rs (th_s - th_c).
+"""
+
+import numpy as np
+import pytest
+from hypothesis import given, strategies as st
+
+import planar
+from planar.mechanisms import gear_train, planetary_gear_train, rack_and_pinion, rolling_wheel
+from tests.test_mechanisms_four_bar import FAST, SWEEPS, assert_close, rate
+
+radius = st.floats(0.2, 5.0)
+angle = st.floats(-np.pi, np.pi)
+
+
+def motion(t, w, a):
+    """Input values over a sweep: a turn and a half from ``t`` (rates w, a)."""
+    return t + np.linspace(0, 3 * np.pi, 25), w, a
+
+
+def xy(z):
+    return np.stack([z.real, z.imag], -1)
+
+
+@SWEEPS
+@given(R=radius, th=angle, start=angle, driver=st.sampled_from(["pinion", "rack"]), w=rate, a=rate)
+def test_rack_and_pinion(R, th, start, driver, w, a):
+    m = rack_and_pinion(R, rack_angle=th, driver=driver, start=start)
+    values = start + np.linspace(0, 3 * np.pi * (R if driver == "rack" else 1), 25)
+    res = m.sweep(values, velocity=w, acceleration=a, **FAST)
+    assert res.ok.all()
+    if driver == "pinion":
+        s, sd, sdd = R * (values - start), R * w, R * a
+    else:
+        s, sd, sdd = values, w, a
+        assert_close(res.angle("pinion"), (values - start) / R, 1.0, 1e-9, "pinion angle")
+    assert_close(res.coordinate("slide"), s, R, 1e-9, "travel")
+    assert_close(res.coordinate("slide", 1), sd, abs(sd) + R * abs(w), 1e-8, "rack speed")
+    assert_close(res.coordinate("slide", 2), sdd, abs(sdd) + R * abs(a), 1e-8, "rack acceleration")
+    u = np.exp(1j * th)
+    P = R * np.exp(1j * (th - np.pi / 2)) + s * u
+    assert_close(res.position("P"), xy(P), R + np.abs(s).max(), 1e-9, "P")
+
+
+@SWEEPS
+@given(r=radius, ratio=st.floats(1.2, 6.0), inside=st.booleans(), start=angle, w=rate, a=rate,
+       by_centre=st.booleans())
+def test_rolling_wheel(r, ratio, inside, start, w, a, by_centre):
+    Rt = ratio * r if inside else None
+    driver = "centre" if by_centre and not inside else "wheel"
+    m = rolling_wheel(r, track_radius=Rt, driver=driver, start=start)
+    values, _, _ = motion(start, w, a)
+    if driver == "centre":
+        values = start + r * np.linspace(0, 3 * np.pi, 25)  # centre x; the wheel turns by -x / r
+    res = m.sweep(values, velocity=w, acceleration=a, **FAST)
+    assert res.ok.all()
+    if driver == "centre":
+        phi, phid, phidd = -values / r, -w / r, -a / r
+    else:
+        phi, phid, phidd = values, w, a
+    rim = r * np.exp(1j * (phi - np.pi / 2))
+    rim_d, rim_dd = 1j * phid * rim, (1j * phidd - phid**2) * rim
+    if Rt is None:
+        c, cd, cdd = -r * phi + 1j * r, -r * phid + 0j, -r * phidd + 0j
+    else:
+        k = r / (Rt - r)
+        psi, psid, psidd = -np.pi / 2 - k * phi, -k * phid, -k * phidd
+        c = (Rt - r) * np.exp(1j * psi)
+        cd, cdd = 1j * psid * c, (1j * psidd - psid**2) * c
+    L = r + (Rt or 0) + np.abs(c).max()
+    V = abs(phid) * L
+    assert_close(res.angle("wheel"), phi, 1.0, 1e-9, "wheel angle")
+    assert_close(res.position("centre"), xy(c), L, 1e-9, "centre")
+    assert_close(res.position("P"), xy(c + rim), L, 1e-9, "P")
+    assert_close(res.velocity("centre"), xy(cd + 0 * c), V, 1e-8, "centre velocity")
+    assert_close(res.velocity("P"), xy(cd + rim_d), V, 1e-8, "P velocity")
+    assert_close(res.acceleration("P"), xy(cdd + rim_dd), abs(phidd) * L + phid**2 * L, 1e-8, "P acceleration")
+
+
+@SWEEPS
+@given(radii=st.lists(radius, min_size=2, max_size=5), start=angle, w=rate, a=rate)
+def test_gear_train(radii, start, w, a):
+    values, _, _ = motion(start, w, a)
+    res = gear_train(radii, start=start).sweep(values, velocity=w, acceleration=a, **FAST)
+    assert res.ok.all()
+    for k, Rk in enumerate(radii, 1):
+        ratio = (-1) ** (k - 1) * radii[0] / Rk
+        scale = max(1.0, abs(ratio))
+        assert_close(res.angle(f"gear{k}") - (start if k == 1 else 0.0), ratio * (values - start), scale * 10, 1e-9,
+                     f"gear{k}")
+        assert_close(res.omega(f"gear{k}"), ratio * w, scale * abs(w), 1e-8, f"w{k}")
+        assert_close(res.alpha(f"gear{k}"), ratio * a, scale * abs(a), 1e-8, f"a{k}")
+
+
+@SWEEPS
+@given(Rs=radius, Rp=radius, planets=st.integers(1, 5), fixed=st.sampled_from(["sun", "carrier", "ring"]),
+       pick=st.booleans(), start=angle, w=rate)
+def test_planetary_gear_train(Rs, Rp, planets, fixed, pick, start, w):
+    driver = [b for b in ("sun", "carrier", "ring") if b != fixed][int(pick)]
+    m = planetary_gear_train(Rs, Rp, planets=planets, fixed=fixed, driver=driver, start=start)
+    model = m.compile()
+    assert model.dof == 1 and len(model.redundant_joints) == planets - 1
+    values, _, _ = motion(start, w, 0.0)
+    res = m.sweep(values, velocity=w, **FAST)
+    assert res.ok.all()
+    Rr = Rs + 2 * Rp
+    th = {b: (res.angle(b) - (start if b == driver else 0.0) if b != fixed else 0.0) for b in ("sun", "carrier", "ring")}
+    om = {b: (res.omega(b) if b != fixed else 0.0) for b in ("sun", "carrier", "ring")}
+    scale = 1 + Rr / min(Rs, Rp)
+    assert_close(Rs * (th["sun"] - th["carrier"]) + Rr * (th["ring"] - th["carrier"]), 0.0, scale * Rr * 10, 1e-9,
+                 "Willis")
+    assert_close(Rs * (om["sun"] - om["carrier"]) + Rr * (om["ring"] - om["carrier"]), 0.0, scale * Rr * abs(w),
+                 1e-8, "Willis rates")
+    for k in range(1, planets + 1):
+        assert_close(Rp * (res.omega(f"planet{k}") - om["carrier"]) + Rs * (om["sun"] - om["carrier"]), 0.0,
+                     scale * Rr * abs(w), 1e-8, f"planet{k}")
+
+
+@pytest.mark.parametrize("build, kw, match", [
+    (rolling_wheel, dict(radius=2, track_radius=1), "track_radius"),
+    (rolling_wheel, dict(track_radius=3, driver="centre"), "driver='wheel'"),
+    (gear_train, dict(radii=[1.0]), "radii"),
+    (planetary_gear_train, dict(planets=0), "planets"),
+    (planetary_gear_train, dict(fixed="sun", driver="sun"), "fixed member"),
+    (rack_and_pinion, dict(driver="wheel"), "driver"),
+])
+def test_bad_arguments_are_refused_by_name(build, kw, match):
+    with pytest.raises(planar.ModelError, match=match):
+        build(**kw)
+
+
+def test_redundant_rows_are_reported():
+    assert rack_and_pinion().compile().redundant_joints == ("slide",)
+    assert planetary_gear_train(planets=1).compile().redundant_joints == ()
