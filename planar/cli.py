@@ -179,7 +179,7 @@ def _intervals(x, mask):
 
 def summary(res, units, settings):
     """Lines describing a sweep: statuses, motion ranges met, output ranges, events."""
-    from planar.draw import find_events, input_axis
+    from planar.draw import input_axis
 
     model = res.model
     x, xlabel = input_axis(res, units)
@@ -202,9 +202,13 @@ def summary(res, units, settings):
             t = res.coordinate(j)
             if np.any(np.isfinite(t)):
                 lines.append(f"  {j}: travel {_length(np.nanmin(t), units)} to {_length(np.nanmax(t), units)}")
-    events = find_events(res)
-    if events:
-        lines.append("events: " + ", ".join(f"{kind} at {xlabel.split(' [')[0]} = {_fmt(x[i])}" for i, kind in events))
+    if res.events:
+        name, unit = model.input_names[0], units.input_label(bool(model.input_lengths[0]))
+        lines.append("events:")
+        for e in res.events:
+            at = units.input_from_internal(np.ravel(e.input)[0], bool(model.input_lengths[0]))
+            lines.append(f"  {e.kind.replace('_', '-')} position at {name} = {_fmt(at)} {unit}".rstrip()
+                         + (f": {e.note}" if e.note else ""))
     else:
         lines.append("events: no limit or singular position met")
     return lines

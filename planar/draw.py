@@ -26,7 +26,7 @@ import numpy as np
 
 from planar.errors import InputError
 from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Slot
-from planar.results import Status
+from planar.results import POSED, Status
 from planar.units import Units
 
 EDGE = "#262626"
@@ -34,7 +34,9 @@ FILLS = ("#a6cee3", "#fdbf6f", "#b2df8a", "#cab2d6", "#fb9a99", "#ffff99", "#8dd
          "#bebada", "#80b1d3")
 VELOCITY, ACCELERATION = "#1f5fbf", "#c0282d"
 PATH_COLOURS = ("#6a3d9a", "#1b9e77", "#d95f02", "#e7298a", "#66a61e", "#e6ab02")
-EVENT_MARK = {"limit": ("s", "#d62728"), "singular": ("X", "#000000"), "branch": ("D", "#9467bd")}
+# the kinds of planar.events.Event: marker and colour
+EVENT_MARK = {"limit": ("s", "#d62728"), "bifurcation": ("D", "#9467bd"), "singular": ("X", "#000000"),
+              "near_singular": ("^", "#ff7f0e")}
 
 
 def _pyplot():
@@ -625,40 +627,22 @@ def draw_paths(res, points=None, *, ax=None, events=True, units=None):
         ax.plot(p[:, 0], p[:, 1], color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
                 label=f"path of {name}", zorder=1.8)
         if events:
-            for i, kind in find_events(res):
-                if np.all(np.isfinite(p[i])):
-                    marker, colour = EVENT_MARK[kind]
-                    ax.plot(*p[i], marker, ms=7, color=colour, mec="white", zorder=6)
+            b, s = res.model.points[name]
+            for e in _posed_events(res):
+                marker, colour = EVENT_MARK[e.kind]
+                ax.plot(*_world(np.asarray(e.q), b, s), marker, ms=7, color=colour, mec="white", zorder=6)
     if events:
-        _event_legend(ax, {kind for _, kind in find_events(res)})
+        for kind in sorted({e.kind for e in _posed_events(res)}):
+            marker, colour = EVENT_MARK[kind]
+            ax.plot([], [], marker, ms=7, color=colour, mec="white", ls="none", label=kind.replace("_", "-") + " position")
     _legend_below(ax)
     return _finish(ax, units)
 
 
-def _event_legend(ax, kinds):
-    for kind in sorted(kinds):
-        marker, colour = EVENT_MARK[kind]
-        ax.plot([], [], marker, ms=7, color=colour, mec="white", ls="none", label=f"{kind} position")
-
-
-def find_events(res):
-    """Poses of a sweep where the motion meets a limit or a singular position, from the statuses.
-
-    Returns [(index, kind)] with kind "limit" (a valid pose next to inputs that do not
-    assemble: the input cannot go further), "singular" (positions valid, rates undefined) or
-    "branch" (a pose where branches meet).
-    """
-    st = np.asarray(res.status)
-    valid = res.ok | (st == Status.SINGULAR)
-    out = []
-    for i in range(len(st)):
-        if st[i] == Status.SINGULAR:
-            out.append((i, "singular"))
-        elif st[i] == Status.BRANCH_EVENT:
-            out.append((i, "branch"))
-        elif valid[i] and ((i > 0 and not valid[i - 1]) or (i + 1 < len(st) and not valid[i + 1])):
-            out.append((i, "limit"))
-    return out
+def _posed_events(res):
+    """The sweep's events (limit positions, bifurcations, singular positions, near-singular
+    stretches: :class:`planar.events.Event`) that carry their pose."""
+    return [e for e in res.events if e.q is not None and np.all(np.isfinite(e.q))]
 
 
 def _arrow_scale(vectors, L):
@@ -751,16 +735,17 @@ def draw_instant_centres(source, i=0, *, ax=None, loci=False, units=None):
 
 
 def draw_event_poses(res, *, ax=None, units=None):
-    """The mechanism drawn faintly at each limit and singular position of a sweep. Returns the axes."""
+    """The mechanism drawn in dotted outline at each event of a sweep (limit positions,
+    bifurcations, singular positions, in the colours of :data:`EVENT_MARK`). Returns the axes."""
     ax = _axes(ax)
     scene = Scene(res, labels=False)
-    for i, kind in find_events(res):
-        q = np.asarray(res.q[i])
+    for e in _posed_events(res):
+        q = np.asarray(e.q)
         for b in range(1, len(res.model.body_names)):
             pts = scene.body_outline(q, b)
             if len(pts) >= 2:
                 closed = np.vstack([pts, pts[:1]]) if len(pts) > 2 else pts
-                ax.plot(*closed.T, color=EVENT_MARK[kind][1], lw=1.2, ls=":", zorder=1.6)
+                ax.plot(*closed.T, color=EVENT_MARK[e.kind][1], lw=1.2, ls=":", zorder=1.6)
     return _finish(ax, units)
 
 
@@ -826,8 +811,8 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
 
     ``outputs`` lists ``"kind:name"`` specs (default :func:`default_outputs`); ``ax`` is a
     sequence with one axes per panel, or None for a new figure. Inputs that do not assemble are
-    shaded; limit and singular positions are marked with vertical lines. Returns the array of
-    axes.
+    shaded; the sweep's events (limit and singular positions) are marked with vertical lines.
+    Returns the array of axes.
     """
     units = units or Units()
     outputs = list(outputs) if outputs is not None else default_outputs(res.model)
@@ -841,8 +826,10 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     if axes.size != len(panels):
         raise InputError(f"plot_outputs needs {len(panels)} axes (one per kind of output), got {axes.size}")
     x, xlabel = input_axis(res, units)
-    events_at = find_events(res) if events else []
-    bad = ~(res.ok | (np.asarray(res.status) == Status.SINGULAR))
+    m = res.model
+    events_at = [(float(units.input_from_internal(np.ravel(e.input)[0], bool(m.input_lengths[0]))), e.kind)
+                 for e in res.events] if events else []
+    bad = ~POSED[np.asarray(res.status)]
     for a, (kind, specs) in zip(axes, panels.items()):
         title, unit_kind, _ = OUTPUTS[kind]
         for k, spec in enumerate(specs):
@@ -850,8 +837,8 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
                    label=spec.partition(":")[2])
         unit = units.label(unit_kind)
         a.set_ylabel(f"{title}" + (f"\n[{unit}]" if unit else ""), fontsize=9)
-        for i, ev in events_at:
-            a.axvline(x[i], color=EVENT_MARK[ev][1], lw=0.9, ls=":")
+        for at, kind in events_at:
+            a.axvline(at, color=EVENT_MARK[kind][1], lw=0.9, ls=":")
         for lo, hi in _runs(bad):
             a.axvspan(x[lo], x[hi], color="#bbbbbb", alpha=0.35, lw=0)
         a.grid(True, color="#e6e6e6", lw=0.6)

@@ -157,21 +157,24 @@ def test_slider_outputs_and_picture():
     np.testing.assert_allclose(centre, res.position("B")[3], atol=1e-12)
 
 
-def test_limit_positions_are_marked():
-    # a triple rocker (non-Grashof): the crank cannot turn fully
+def test_limit_positions_are_marked_where_the_sweep_found_them():
+    # a triple rocker (non-Grashof): the crank cannot turn fully; the sweep locates its limit
     res = four_bar(4, 3, 3, 3).sweep(np.radians(np.arange(0, 361, 5.0)))
     assert not res.ok.all()
-    events = draw.find_events(res)
-    assert {k for _, k in events} == {"limit"} and len(events) >= 2
-    for i, _ in events:
-        assert res.ok[i] and not all(res.ok[max(i - 1, 0): i + 2])
-    ax = draw.draw_paths(res)
+    limits = [e for e in res.events if e.kind == "limit"]
+    assert limits
+    ax = draw.draw_paths(res, ["B"])
     marks = [ln for ln in ax.lines if ln.get_marker() == "s" and len(ln.get_xdata())]
-    assert len(marks) == len(events) * len(draw._path_points(res, None))
+    assert len(marks) == len(limits)
+    b, s = res.model.points["B"]
+    np.testing.assert_allclose(marks[0].get_xydata()[0], draw._world(np.asarray(limits[0].q), b, s), atol=1e-12)
+    assert "limit position" in [t.get_text() for t in ax.get_legend().get_texts()]
     axes = draw.plot_outputs(res, ["angle:rocker"])
     assert len(axes[0].patches) >= 1  # the unassemblable inputs are shaded
+    vlines = [ln for ln in axes[0].lines if ln.get_linestyle() == ":"]
+    assert [ln.get_xdata()[0] for ln in vlines] == pytest.approx([np.degrees(e.input) for e in res.events])
     ax = draw.draw_event_poses(res)
-    assert len(ax.lines) >= 3 * len(events)
+    assert len(ax.lines) == 3 * len(res.events)  # a dotted outline per body at each event
 
 
 def test_unsolved_pose_refuses_to_draw():
