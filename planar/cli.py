@@ -405,8 +405,8 @@ def cmd_example(args):
     if args.name is None:
         print("catalogue mechanisms (write one with: planar example NAME):")
         for name, fn in CATALOGUE.items():
-            doc = (fn.__doc__ or "").strip().splitlines()
-            print(f"  {name:24s} {doc[0] if doc else ''}")
+            first = " ".join((fn.__doc__ or "").strip().split("\n\n")[0].split())  # the opening paragraph
+            print(f"  {name:24s} {first.split('. ')[0].rstrip('.')}")
         return EXIT_OK
     if args.name not in CATALOGUE:
         print(f"planar: error: no catalogue mechanism {args.name!r}: the names are {', '.join(CATALOGUE)}",
@@ -439,6 +439,12 @@ def cmd_demo(args):
     print(f"planar demo: the four-bar of the seeds (ground 4, crank 2, coupler 3, rocker 4 cm) with coupler "
           f"point C, crank at 10 rad/s")
     _run(io.load(path), path, args, out)
+    # the seeds' worked example: the crank at 60 deg
+    res = mech.sweep([math.radians(60.0)], velocity=10.0)
+    th3, th4 = (math.degrees(res.angle(b)[0]) for b in ("coupler", "rocker"))
+    print(f"at crank 60 deg: th3 = {th3:.6f} deg, th4 = {th4:.6f} deg, w3 = {res.omega('coupler')[0]:.6f}, "
+          f"w4 = {res.omega('rocker')[0]:.6f} rad/s, a3 = {res.alpha('coupler')[0]:.6f}, "
+          f"a4 = {res.alpha('rocker')[0]:.6f} rad/s^2")
     print(f"mechanism file {path}: try  planar info {path}  or  planar run {path} --speed 60rpm")
     return EXIT_OK
 

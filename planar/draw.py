@@ -820,8 +820,9 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     for spec in outputs:
         panels.setdefault(spec.partition(":")[0], []).append(spec)
     if ax is None:
-        _, ax = _pyplot().subplots(len(panels), 1, sharex=True, figsize=(7, 1.9 * len(panels) + 0.8),
-                                   layout="constrained", squeeze=False)
+        fig, ax = _pyplot().subplots(len(panels), 1, sharex=True, figsize=(7, 1.9 * len(panels) + 0.8),
+                                     layout="constrained", squeeze=False)
+        fig.suptitle(f"{res.model.name}: outputs against the input", fontsize=11)
     axes = np.asarray(ax, dtype=object).ravel()
     if axes.size != len(panels):
         raise InputError(f"plot_outputs needs {len(panels)} axes (one per kind of output), got {axes.size}")
