@@ -67,7 +67,7 @@ def main(outdir="."):
     print("redundant joints (a pinion on a fixed pivot over a rack that stays level):", list(model.redundant_joints))
 
     # gear1 turns twice while gear2 (twice its radius) turns once: one full cycle
-    th1 = np.linspace(0.0, 4 * np.pi, 241)
+    th1 = np.linspace(0.0, 4 * np.pi, 121)
     res = model.sweep(th1, velocity=2 * np.pi)  # gear1 at 1 rev/s
     print("all poses valid:", bool(res.ok.all()))
     print(f"slider stroke {np.ptp(res.position('B')[:, 0]):.6f}")
@@ -77,15 +77,15 @@ def main(outdir="."):
     print(f"rocker swings {np.degrees(np.ptp(res.angle('rocker'))):.6f} deg")
     print(f"largest slider speed {np.max(np.abs(res.coordinate('S', 1))):.6f} per s")
 
-    ax = draw.figure(res, 20, ["T"], vectors=False, size=(9, 5))
+    ax = draw.figure(res, 10, ["T"], vectors=False, size=(9, 5))
     out = Path(outdir) / "every_joint_type.png"
     ax.figure.savefig(out, dpi=80)
     print("wrote", out.name)
 
     sweep = io.SweepSettings(start=(0.0,), stop=(720.0,), num=121, speed=(60.0,))
     path = io.save(mech, Path(outdir) / "every_joint_type.json", Units(rate="rpm"), sweep)
-    again = io.load(path).mechanism.sweep(th1, velocity=2 * np.pi)
-    print("wrote", path.name, "- read back, it sweeps the same:", bool(np.array_equal(again.q, res.q)))
+    again = io.load(path).mechanism.sweep(th1[::10], velocity=2 * np.pi)
+    print("wrote", path.name, "- read back, it sweeps the same:", bool(np.allclose(again.q, res.q[::10], atol=1e-12)))
 
 
 if __name__ == "__main__":
