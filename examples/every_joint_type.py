@@ -1,4 +1,4 @@
-"""A custom machine that uses every joint type planar has, driven by one input.
+"""A custom machine that uses every joint type of planar's files, driven by one input.
 
 - gear1 (on a ground pivot O1) meshes with gear2 (on O2): a gear pair on the ground as carrier;
 - a crank pin A on gear2 drives a connecting rod to a slider block B on a ground guide (prismatic);
@@ -6,6 +6,8 @@
 - a rocker pivoted at O1 carries a slot that a pin K of the rod runs in (pin in slot);
 - a planet gear on the rocker rolls on gear1 (a gear pair whose centres sit on different bodies);
 - a push rod from the slider rolls a wheel along the floor (rolling without slip).
+(A wheel rolling inside a ring with no arm, the gear option ``hold_distance``, is the catalogue's
+``rolling_wheel(track_radius=...)``.)
 
 Run: ``python examples/every_joint_type.py [OUTDIR]`` (writes every_joint_type.png there, and
 the machine as a mechanism file, every_joint_type.json: try ``planar run every_joint_type.json``).

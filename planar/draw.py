@@ -396,6 +396,8 @@ class Scene:
             arts.append(Circle(c, R, facecolor=self.colour(b), edgecolor=EDGE, lw=1.6, alpha=0.45, zorder=2))
         for art in arts:
             ax.add_patch(art)
+        if b == 0:  # a fixed wheel or ring does not turn: no mark
+            return arts
         a = self._mark_angle(b)
         mark = _world(q, b, s + R * np.array([np.cos(a), np.sin(a)]))
         rad, = ax.plot(*np.array([c, mark]).T, color=EDGE, lw=1.4, zorder=2.1)
@@ -404,7 +406,7 @@ class Scene:
 
     def _mark_angle(self, b):
         """Body-fixed angle of the rotation mark: pointing up in the sketch."""
-        return np.pi / 2 - self.model.q0[3 * b - 1] if b else np.pi / 2
+        return np.pi / 2 - self.model.q0[3 * b - 1]
 
     def rack(self, ax, ends, side, hatch):
         """A pitch line with teeth on the pinion's side (``side`` +1: left of e0 -> e1)."""

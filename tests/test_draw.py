@@ -209,6 +209,21 @@ def test_every_catalogue_mechanism_draws(name):
         assert any(len(ln.get_xdata()) > 10 for ln in ax.lines)  # the teeth
 
 
+def test_a_wheel_rolling_inside_a_ring():
+    from planar.mechanisms import rolling_wheel
+
+    res = rolling_wheel(1.0, track_radius=3.0).sweep(np.linspace(0, 3, 7))
+    assert {type(j).__name__ for j in res.model.joints} == {"RollingContact"}
+    ax = draw.draw(res, 3)
+    circles = [p for p in ax.patches if isinstance(p, Circle)]
+    ring = [c for c in circles if c.get_hatch()]
+    assert len(ring) == 1 and ring[0].get_radius() == pytest.approx(3.0 * 1.12)
+    wheel = next(c for c in circles if not c.get_hatch() and c.get_radius() == pytest.approx(1.0))
+    np.testing.assert_allclose(wheel.center, res.position("centre")[3], atol=1e-12)
+    marks = [ln for ln in ax.lines if ln.get_marker() == "o" and ln.get_markersize() == 4]
+    assert len(marks) == 1  # the wheel turns and shows it; the fixed ring has no mark
+
+
 def test_the_every_joint_example_draws_all_parts():
     import runpy
     from pathlib import Path
