@@ -37,14 +37,15 @@ def choice(value, choices, what):
     return value
 
 
-def point_pair(value, what):
-    """A (p, q) pair of numbers (a point given along a link and to its left), or None."""
-    if value is None:
+def point_pair(value, what, required=False):
+    """A (p, q) pair of numbers (a point along a link and to its left, or x and y), or None
+    when not ``required``."""
+    if value is None and not required:
         return None
     try:
         p, q = value
     except (TypeError, ValueError):
-        raise ModelError(f"{what} must be a pair (p, q): p along the link, q to its left; got {value!r}") from None
+        raise ModelError(f"{what} must be a pair of two numbers, got {value!r}") from None
     return number(p, f"{what}[0]"), number(q, f"{what}[1]")
 
 

@@ -79,8 +79,8 @@ def watt_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_poin
     True
     """
     r5, r6 = _checks.lengths(link_5=link_5, link_6=link_6)
-    pq_c = _checks.point_pair(coupler_point, "coupler_point")
-    pq_d = _checks.point_pair(rocker_point, "rocker_point")
+    pq_c = _checks.point_pair(coupler_point, "coupler_point", required=True)
+    pq_d = _checks.point_pair(rocker_point, "rocker_point", required=True)
     m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
     return _dyad(m, ("C", "E", "D"), ("link5", "link6", "coupler", "rocker"), along(A, B, *pq_c),
                  along(O4, B, *pq_d), r5, r6, crossed_2, "the Watt six-bar's dyad C-E-D")
@@ -112,8 +112,8 @@ def stephenson_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, couple
         points ``O2``, ``A``, ``B``, ``O4``, ``C``, ``D``, ``O6``.
     """
     r5, r6 = _checks.lengths(link_5=link_5, link_6=link_6)
-    pq = _checks.point_pair(coupler_point, "coupler_point")
-    O6 = np.array([_checks.number(v, f"pivot_6[{k}]") for k, v in enumerate(_checks.point_pair(pivot_6, "pivot_6"))])
+    pq = _checks.point_pair(coupler_point, "coupler_point", required=True)
+    O6 = np.array(_checks.point_pair(pivot_6, "pivot_6", required=True))
     m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
     return _dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), along(A, B, *pq), O6, r5, r6,
                  crossed_2, "the Stephenson six-bar's dyad C-D-O6")
