@@ -372,3 +372,38 @@ def _scalar(u):
 
 
 __all__ = ["Event", "Crossing", "Tracer", "cross", "tangent_cone", "NEAR", "SINGULAR"]
+
+
+def around(model, plan, q, u, signs, max_step, reach):
+    """From the pose q at input u (one input), follow its circuit through the next limit
+    position and back to the same input: the pose there if its block signs are ``signs``
+    (the other assembly mode of a dyad, say), else None. Tries both ways, each within
+    ``reach`` (scaled input distance) of u."""
+    from planar.solver import newton
+
+    u = np.atleast_1d(np.asarray(u, float))
+    s = 1.0 / model.L if model.input_lengths[0] else 1.0
+    for way in (1.0, -1.0):
+        tr = Tracer(model, plan, q, u, u + way * reach / s, max_step)
+        try:
+            y, t, _ = tr.start(q)
+        except np.linalg.LinAlgError:
+            return None
+        h, turned = min(max_step, 0.1 * tr.d), False
+        for _ in range(int(8 * reach / max_step) + 50):
+            st = tr.step(y, t, h)
+            if st is None:
+                break
+            y1, t1, _, _, h = st
+            turned = turned or (t1[-1] < 0 < t[-1])
+            if turned and y1[-1] <= 0:
+                w = y[-1] / (y[-1] - y1[-1])
+                qn, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u[None], max_iter=30, plan=plan)
+                _, _, Jv = plan.evaluate(qn, u[None])
+                if conv[0] and np.all(plan.modes(Jv)[0][0] == signs):
+                    return qn[0]
+                break
+            if y1[-1] >= tr.d:
+                break
+            y, t = y1, t1
+    return None

@@ -24,7 +24,7 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 from planar.errors import InputError
-from planar.events import NEAR, SINGULAR, Event, cross
+from planar.events import NEAR, SINGULAR, Event, around, cross
 from planar.results import POSED as POSED_MASK
 from planar.results import Status, Sweep
 from planar.solver import least_squares_gap, newton, velocity, acceleration
@@ -136,13 +136,43 @@ class _Walker:
             return ("lost",)
         return "ok", qn[0], br.signs(qn, target[None])[0]
 
+    def enter_any(self, guesses, signs, targets, tries=4):
+        """(index, pose) of the first of ``targets`` (M, f) where the branch can be entered:
+        a batched least-squares search from each guess, then Newton, the mode test and, on
+        another mode, the way round through a limit. None if none found."""
+        br = self.br
+        best = None
+        for g in guesses:
+            ql, gap = least_squares_gap(br.m, np.repeat(g[None], len(targets), 0), targets)
+            for c in np.flatnonzero(gap <= GAP)[:tries]:
+                if best is not None and c >= best[0]:
+                    break
+                qe = self.enter([ql[c]], signs, targets[c])
+                if qe is not None:
+                    best = (int(c), qe)
+                    break
+        return best
+
     def enter(self, guesses, signs, target):
         """Re-enter the motion range at ``target`` from guesses of the same branch."""
         br = self.br
         for g in guesses:
             qn, conv, _, _ = newton(br.m, g[None], target[None], tol=br.tol, max_iter=40, max_step=0.3, plan=br.p)
-            if conv[0] and np.all(br.signs(qn, target[None])[0] == signs):
+            if not conv[0]:
+                # far from the guess: least squares first, Newton from its minimum
+                ql, gap = least_squares_gap(br.m, g[None], target[None])
+                if gap[0] > GAP:
+                    continue
+                qn, conv, _, _ = newton(br.m, ql, target[None], tol=br.tol, max_iter=40, plan=br.p)
+                if not conv[0]:
+                    continue
+            if np.all(br.signs(qn, target[None])[0] == signs):
                 return qn[0]
+            if target.size == 1:
+                # another mode of the same circuit: go round through a limit to ours
+                got = around(br.m, br.p, qn[0], target, signs, self.max_step, np.pi)
+                if got is not None:
+                    return got
         return None
 
 
@@ -235,26 +265,31 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     state = (model.q0, model.u0, chosen)
     limits = []  # (limit event, direction of the input that hit it)
     anchors = _anchors(model, U, max_step)
-    lo = -1
-    for i in anchors:
-        if _past_limit(limits, state[1], U[i]):
-            got = ("lost",)
-        else:
-            got = walk(state, i, lo)
+    lo, k = -1, 0
+    while k < anchors.size:
+        i = anchors[k]
+        got = ("lost",) if _past_limit(limits, state[1], U[i]) else walk(state, i, lo)
+        lo = i
         if _at_events(model, U[i : i + 1], events):
-            lo = i
+            k += 1
             continue  # a value on a singular position is no pose to go on from
         if got[0] == "ok":
             q[i], solved[i], signs[i] = got[1], True, got[2]
             state = (got[1], U[i], got[2])
-        else:
-            if got[0] == "limit":
-                state = (got[2][0], got[2][1], state[2])
-            qe = walker.enter([state[0], model.q0], chosen, U[i])
-            if qe is not None:
-                q[i], solved[i], signs[i] = qe, True, chosen
-                state = (qe, U[i], chosen)
-        lo = i
+            k += 1
+            continue
+        if got[0] == "limit":
+            state = (got[2][0], got[2][1], state[2])
+        # out of reach: the next anchor that assembles on the branch, by one batched search
+        found = walker.enter_any([state[0], model.q0], chosen, U[anchors[k:]])
+        if found is None:
+            break
+        c, qe = found
+        k += c
+        i = anchors[k]
+        q[i], solved[i], signs[i] = qe, True, chosen
+        state, lo = (qe, U[i], chosen), i
+        k += 1
 
     # 2. every other value from an anchor of its own stretch (no event in between)
     at_event = _at_events(model, U, events)

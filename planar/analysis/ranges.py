@@ -1,0 +1,120 @@
+"""Motion range of a one-input mechanism: every interval of the input where it assembles.
+
+The input is swept from the sketch over one turn (an angle) or over a travel both ways (a
+length). Each stretch of values that assembles on the chosen branch (the block assembly modes
+of the sketch) is an interval; its ends are limit positions, located by the sweep's arclength
+tracer where the branch runs into them, and by walking back from the first value of a stretch
+the sweep re-entered. Disjoint intervals stay apart (the seed's merged slider-crank ranges
+come out as the two intervals they are).
+
+>>> import numpy as np
+>>> from planar.mechanisms import four_bar
+>>> [np.round(np.degrees(iv), 6).tolist() for iv in motion_range(four_bar(4, 3, 3, 2.5))]
+[[-102.635625, 102.635625]]
+"""
+
+import numpy as np
+
+from planar.blocks import plan as block_plan
+from planar.errors import InputError
+from planar.results import POSED
+from planar.sweep import _Branch, _Walker
+
+TURN = 2 * np.pi
+
+
+def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.05):
+    """Intervals (lo, hi) of the one input where ``mechanism`` assembles on its sketched branch.
+
+    Parameters
+    ----------
+    mechanism : planar.Mechanism or planar.Model
+    travel : float, optional
+        For a length input: how far to look each way from the sketch (default: twice the sum
+        of the model's characteristic length over its bodies, beyond any reachable travel).
+    samples : int
+        Sweep values per turn (or per travel): intervals shorter than a sample step can be
+        missed.
+
+    Returns
+    -------
+    tuple of (float, float)
+        Sorted intervals; an angle interval starts in [-pi, pi) and may run past pi; a full
+        turn is ``((-pi, pi),)``. Ends are limit positions, to about 1e-12.
+    """
+    model = mechanism.compile() if hasattr(mechanism, "compile") else mechanism
+    if len(model.drivers) != 1:
+        raise InputError(f"motion_range needs exactly one input; {model.name!r} has {list(model.input_names)}")
+    u0 = float(model.u0[0])
+    if model.input_lengths[0]:
+        R = travel if travel is not None else 2.0 * model.L * len(model.body_names)
+        up = _stretches(model, u0 + np.linspace(0, R, samples + 1), tol, max_step)
+        down = _stretches(model, u0 - np.linspace(0, R, samples + 1), tol, max_step)
+        # the stretch through the sketch is the first of each sweep
+        first = (down[0][1], up[0][1])
+        out = [first] + [(lo, hi) for lo, hi in up[1:]] + [(hi, lo) for lo, hi in down[1:]]
+        return tuple(sorted((min(a, b), max(a, b)) for a, b in out))
+    runs = _stretches(model, u0 + np.linspace(0, TURN, samples + 1), tol, max_step)
+    if len(runs) == 1 and runs[0][1] is None:
+        return ((-np.pi, np.pi),)
+    first, rest = runs[0], runs[1:]
+    if rest and rest[-1][1] is None:  # the last stretch runs through the end of the turn into the first
+        first = (rest[-1][0] - TURN, first[1])
+        rest = rest[:-1]
+    elif first[1] is not None:
+        # the sketch's stretch started at u0 but did not come back around: find its lower end
+        first = (_lower_end(model, u0, tol, max_step), first[1])
+    return tuple(sorted(_turn(lo, hi) for lo, hi in [first] + rest))
+
+
+def _turn(lo, hi):
+    start = (lo + np.pi) % TURN - np.pi
+    return float(start), float(start + (hi - lo))
+
+
+def _stretches(model, grid, tol, max_step):
+    """Stretches of ``grid`` (from the sketch's input on) that assemble: [(lo, hi)], with hi
+    the limit that ends a stretch (None when it runs to the end of the grid) and lo the limit
+    that starts it (the grid's first value for the first stretch)."""
+    res = model.sweep(grid, tol=tol, max_step=max_step)
+    posed = POSED[res.status]
+    limits = [e for e in res.events if e.kind == "limit"]
+    edges = np.flatnonzero(np.diff(np.r_[0, posed.astype(int), 0]))
+    out = []
+    br = _Branch(model, block_plan(model), tol)
+    for a, b in zip(edges[::2], edges[1::2]):
+        hi = None
+        if b < len(grid):
+            ends = [e.input for e in limits if _between(e.input, grid[b - 1], grid[b])]
+            hi = ends[0] if ends else 0.5 * (grid[b - 1] + grid[b])
+        if a == 0:
+            lo = grid[0]
+        else:
+            # back towards the end of the stretch before: values just inside may have been
+            # missed by the sweep, the limit is met first
+            lo = _walk_back(model, br, res, a, out[-1][1] if out and out[-1][1] is not None else grid[a - 1],
+                            max_step)
+        out.append((float(lo), None if hi is None else float(hi)))
+    return out or [(grid[0], grid[0])]
+
+
+def _between(u, a, b):
+    return min(a, b) <= u <= max(a, b)
+
+
+def _walk_back(model, br, res, a, target, max_step):
+    """The limit met walking from the pose of value a back towards ``target``."""
+    walker = _Walker(br, max_step, False)
+    q, u = res.q[a], res.inputs[a]
+    signs = br.signs(q[None], u[None])[0]
+    got = walker.walk(q, u, signs, np.array([target]), a)
+    if got[0] == "limit":
+        return float(got[1].input)
+    return 0.5 * (u[0] + target)
+
+
+def _lower_end(model, u0, tol, max_step):
+    """The limit below the sketch's input (the sweep went up from it)."""
+    res = model.sweep(u0 - np.linspace(0, TURN, 361), tol=tol, max_step=max_step)
+    limits = [e.input for e in res.events if e.kind == "limit"]
+    return float(limits[0]) if limits else u0 - TURN

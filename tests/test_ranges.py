@@ -1,0 +1,34 @@
+"""Motion ranges: every interval of the one input where the mechanism assembles."""
+
+import numpy as np
+import pytest
+
+from planar.analysis.ranges import motion_range
+from planar.mechanisms import four_bar, slider_crank
+from tests import oracles
+
+REF = oracles.load_reference()
+LIMIT_CASES = sorted(k for k in REF if k.startswith("slider_limits_"))
+
+
+@pytest.mark.parametrize("case", LIMIT_CASES)
+def test_slider_crank_limits_of_the_reference(case):
+    i, expected = REF[case]["inputs"], REF[case]["expected"]
+    angle = i["driver"] != "slider"
+    want = expected["feasible_intervals_deg"] if angle else expected["feasible_intervals_r1"]
+    # sketch inside the first interval of the closed form (independent of the expected data)
+    first = oracles.slider_crank_limits(i["crank"], i["coupler"], i["offset"], i["driver"])[0]
+    m = slider_crank(i["crank"], i["coupler"], offset=i["offset"], driver=i["driver"], start=float(np.mean(first)))
+    got = motion_range(m)
+    if angle:
+        got = [tuple(np.degrees(g)) for g in got]
+    assert len(got) == len(want)  # the two seed prints that merge intervals come out as two
+    np.testing.assert_allclose(got, want, atol=1e-10 * (1 if angle else max(i["crank"], i["coupler"])))
+
+
+def test_four_bar_ranges_against_the_closed_form():
+    for dims in [(4, 3, 3, 2.5), (4, 3, 1, 3.5)]:  # triple rocker; Grashof double-rocker
+        want = oracles.four_bar_input_limits(*dims)
+        m = four_bar(*dims, start=float(np.mean(want[0])))
+        np.testing.assert_allclose(motion_range(m), want, atol=1e-10)
+    assert motion_range(four_bar(4, 2, 3, 4)) == ((-np.pi, np.pi),)  # crank-rocker: a full turn
