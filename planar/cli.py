@@ -170,11 +170,23 @@ def _length(v, units):
     return f"{_fmt(v)} {units.length}".rstrip()
 
 
-def _intervals(x, mask):
-    """[lo, hi] of x over each run of True in mask."""
+def motion_ranges(res, x, limits):
+    """[(lo, hi)] of the input over each stretch of the sweep that assembled; an end next to a
+    limit position the sweep located (``limits``: inputs, display units) is moved onto it."""
     from planar.draw import _runs
 
-    return [(x[a], x[b]) for a, b in _runs(mask)]
+    posed = np.all(np.isfinite(np.asarray(res.q)), axis=1)
+    out = []
+    for a, b in _runs(posed):
+        ends = []
+        for inside, outside in ((a, a - 1), (b, b + 1)):
+            end = x[inside]
+            if 0 <= outside < len(x):
+                lo, hi = sorted((x[inside], x[outside]))
+                end = next((u for u in limits if lo <= u <= hi), end)
+            ends.append(end)
+        out.append(tuple(ends))
+    return out
 
 
 def summary(res, units, settings):
@@ -187,9 +199,10 @@ def summary(res, units, settings):
     lines = [f"sweep: {xlabel} from {_fmt(settings.start[0])} to {_fmt(settings.stop[0])}, {len(res)} values"
              + (", there and back" if settings.rocking else "") + ": "
              + ", ".join(f"{c} {n}" for n, c in counts.items())]
-    posed = np.all(np.isfinite(np.asarray(res.q)), axis=1)
-    if not posed.all():
-        spans = "; ".join(f"{_fmt(a)} to {_fmt(b)}" for a, b in _intervals(x, posed))
+    is_len = bool(model.input_lengths[0])
+    limits = [float(units.input_from_internal(np.ravel(e.input)[0], is_len)) for e in res.events if e.kind == "limit"]
+    if not np.all(np.isfinite(np.asarray(res.q))):
+        spans = "; ".join(f"{_fmt(a)} to {_fmt(b)}" for a, b in motion_ranges(res, x, limits))
         lines.append(f"assembles over {spans} ({xlabel}) on the sketched branch")
     for b in model.body_names[1:]:
         a = units.angle_from_internal(res.angle(b))

@@ -75,7 +75,8 @@ def test_rocking_run_goes_there_and_back(here, capsys):
     code, out, err = run(capsys, "run", "rocker.json", "--start", "-150", "--stop", "150", "--num", "21",
                          "--rocking", "--frames", "6", "--dpi", "30", "--no-plot")
     assert code == 0, err
-    assert "there and back" in out and "limit position at crank = 117.28 deg" in out and "assembles over" in out
+    assert "there and back" in out and "limit position at crank = 117.28 deg" in out
+    assert "assembles over -117.28 to 117.28; 117.28 to -117.28 (input crank [deg])" in out
     assert (here / "rocker-out" / "four_bar.gif").exists()
     rows = list(csv.reader(open(here / "rocker-out" / "four_bar.csv")))
     assert len(rows) == 1 + 41
