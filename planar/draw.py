@@ -164,15 +164,10 @@ def _gear_centres(scene, j, P):
     ids = _ids(scene, j)
     if "s" in P:
         return [(ids[0], P["s"][0]), (ids[1], P["s"][1])]
-    # carrier gears: the centres are sketch points fixed on the carrier
-    c = ids[2]
+    # carrier gears keep no centres among their parameters: take the sketch centres into the
+    # gears' frames at the assembled sketch
     q0 = scene.model.q0
-    return [(ids[k], _local(q0, ids[k], _world(q0, c, _local(q0, c, np.asarray(j.data[key], float)))))
-            for k, key in ((0, "centre_a"), (1, "centre_b"))]
-
-
-def _gear_attach(scene, j, P):
-    return _gear_centres(scene, j, P)
+    return [(ids[k], _local(q0, ids[k], np.asarray(j.data[key], float))) for k, key in ((0, "centre_a"), (1, "centre_b"))]
 
 
 def _gear_draw(scene, j, P, q, ax):
@@ -210,8 +205,8 @@ def _rack_draw(scene, j, P, q, ax):
 PARTS = {
     Revolute: Part(_revolute_attach, _revolute_draw),
     Slot: Part(_slider_attach, _slider_draw, _line_of),  # Prismatic too (a subclass)
-    CarrierGear: Part(_gear_attach, _gear_draw, labelled=False),
-    Gear: Part(_gear_attach, _gear_draw, labelled=False),  # RollingContact too
+    CarrierGear: Part(_gear_centres, _gear_draw, labelled=False),
+    Gear: Part(_gear_centres, _gear_draw, labelled=False),  # RollingContact too
     RackPinion: Part(_rack_attach, _rack_draw, _rack_line, labelled=False),
 }
 

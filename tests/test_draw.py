@@ -9,7 +9,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-from matplotlib.collections import PathCollection  # noqa: E402,F401
 from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
 from matplotlib.quiver import Quiver  # noqa: E402
 
