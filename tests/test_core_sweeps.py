@@ -53,18 +53,20 @@ def angle_diff(a, b):
     return np.angle(np.exp(1j * (np.asarray(a) - np.asarray(b))))
 
 
-def fd_check(m, names, u0, w, a, h=1e-4):
-    """Velocity and acceleration of points against central differences of positions along
-    u(t) = u0 + w t + a t^2 / 2."""
-    t = np.array([-h, 0.0, h])
+def fd_check(m, names, u0, w, a):
+    """Velocity and acceleration of points against fourth-order central differences of
+    positions along u(t) = u0 + w t + a t^2 / 2."""
+    h = 1e-3 / (1 + abs(w) + np.sqrt(abs(a)))
+    t = h * np.arange(-2, 3)
     res = m.sweep(u0 + w * t + 0.5 * a * t**2, velocity=w + a * t, acceleration=a)
     assert res.ok.all()
     for name in names:
         p = res.position(name)
-        # truncation errors grow with the higher derivatives, which scale like (|a| + w^2)^2
-        scale = 1 + np.abs(res.acceleration(name)[1]).max() + (abs(a) + w**2) ** 2
-        np.testing.assert_allclose(res.velocity(name)[1], (p[2] - p[0]) / (2 * h), atol=1e-6 * scale)
-        np.testing.assert_allclose(res.acceleration(name)[1], (p[2] - 2 * p[1] + p[0]) / h**2, atol=1e-5 * scale)
+        vel = (p[0] - 8 * p[1] + 8 * p[3] - p[4]) / (12 * h)
+        acc = (-p[0] + 16 * p[1] - 30 * p[2] + 16 * p[3] - p[4]) / (12 * h**2)
+        scale = 1 + np.abs(res.acceleration(name)[2]).max()
+        np.testing.assert_allclose(res.velocity(name)[2], vel, atol=1e-6 * scale)
+        np.testing.assert_allclose(res.acceleration(name)[2], acc, atol=1e-5 * scale)
 
 
 lengths = st.floats(0.2, 5.0)
