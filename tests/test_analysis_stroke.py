@@ -4,7 +4,7 @@ coupler line up: |O2 B| = r3 + r2 or r3 - r2)."""
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings, strategies as st
+from hypothesis import assume, example, given, settings, strategies as st
 
 import planar
 from planar.analysis import stroke
@@ -18,6 +18,8 @@ FAST = {"max_step": 0.5}
 
 @STROKES
 @given(r2=st.floats(0.5, 3), extra=st.floats(0.5, 5), efrac=st.floats(-0.9, 0.9), th1=st.floats(-np.pi, np.pi))
+@example(r2=0.5, extra=1.0, efrac=0.0, th1=0.0)  # an extreme on the first sample
+@example(r2=0.5, extra=1.0, efrac=0.0, th1=7e-306)  # ... where the rate is a subnormal number
 def test_slider_crank_stroke_time_ratio_and_extremes(r2, extra, efrac, th1):
     r3 = r2 + extra
     e = efrac * (r3 - r2)

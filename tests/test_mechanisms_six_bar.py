@@ -69,7 +69,7 @@ BUILD = {"watt": watt_six_bar, "stephenson": stephenson_six_bar, "two_loop": two
 @given(family=st.sampled_from(sorted(BUILD)), r=st.tuples(length, length, length, length),
        frame=st.tuples(st.floats(-np.pi, np.pi), st.floats(-np.pi, np.pi), st.floats(-np.pi, np.pi)),
        modes=st.tuples(st.booleans(), st.booleans()), points=st.tuples(coord, coord, coord, coord),
-       extra=st.tuples(length, length), band=st.tuples(st.floats(0.05, 0.5), st.floats(0.05, 0.9)),
+       extra=st.tuples(length, length), band=st.tuples(st.floats(0, 1), st.floats(0.05, 0.95)),
        w2=rate, a2=rate, at=st.floats(0, 1))
 def test_six_bars_match_the_four_bar_and_dyad_closed_forms(family, r, frame, modes, points, extra, band, w2, a2, at):
     sigma, sigma2 = (-1 if modes[0] else 1), (-1 if modes[1] else 1)
@@ -82,14 +82,17 @@ def test_six_bars_match_the_four_bar_and_dyad_closed_forms(family, r, frame, mod
         dims.update(lengths=r + (extra[0], extra[1], 1.0, 1.0), frame_angle_2=frame[1], phase=frame[2])
     values = crank_range(r, dims["frame_angle"], sigma)
     assume(values is not None)
-    # the dyad's two links, chosen so that the distance between its end points stays inside
-    # (|r_p - r_q|, r_p + r_q) by a margin over the whole sweep: no limit position on the way
+    # the dyad's two links, chosen so that the angle between them at their middle joint stays
+    # within 20 .. 160 deg over the whole sweep: clear of its limit positions, where they line up
     o = fb_oracle(*r, values, w2, a2, th1=dims["frame_angle"], sigma=sigma)
     P, Q = second_loop(family, w2, a2, o, r, dims)[:2]
     d = np.abs(Q[0] - P[0])
-    assume(d.min() > 0.05)
-    total, diff = d.max() * (1 + band[0]), d.min() * (1 - band[1])
-    rp, rq = (total + diff) / 2, (total - diff) / 2
+    rho = 0.5 + 1.5 * band[0]  # r_q / r_p
+    c = 2 * rho * np.cos(np.radians(20))
+    lo, hi = d.max() ** 2 / (1 + rho**2 + c), d.min() ** 2 / (1 + rho**2 - c)  # bounds on r_p^2
+    assume(d.min() > 0.05 and lo < hi)
+    rp = np.sqrt(lo + band[1] * (hi - lo))
+    rq = rho * rp
     if family == "two_loop":
         dims["lengths"] = dims["lengths"][:6] + (rp, rq)
     else:

@@ -130,7 +130,7 @@ def stroke(source, output_name, *, samples=360, **options):
     n = len(u) - 1
     g[n], h[n] = g[0], h[0]  # one pose: rounding must not hide a root there from both sides
     at = np.flatnonzero(g[:n] == 0)
-    i = np.flatnonzero(g[:n] * g[1:] < 0)
+    i = np.flatnonzero(np.sign(g[:n]) * np.sign(g[1:]) < 0)  # signs: a product of tiny rates underflows
     if at.size + i.size == 0:
         raise InputError(f"output {output_name!r} has no extreme over the turn: it never turns back")
 
