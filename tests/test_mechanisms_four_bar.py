@@ -11,7 +11,7 @@ from tests.oracles import four_bar as fb_oracle
 SETTINGS = settings(max_examples=200, deadline=None)
 # a full sweep costs about 0.1 s (its continuation walk), so sweeping tests draw fewer examples
 # to keep this module within its time budget
-SWEEPS = settings(max_examples=40, deadline=None)
+SWEEPS = settings(max_examples=30, deadline=None)
 FAST = {"max_step": 0.5}  # continuation anchors every 0.5 rad: the walk dominates a sweep's time
 length = st.floats(0.5, 5.0)
 angle = st.floats(-np.pi, np.pi)
