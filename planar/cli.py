@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.analysis import grashof, mobility, output, stroke
+from planar.analysis import grashof, mobility, motion_range, output, stroke
 from planar.errors import InputError, PlanarError
 from planar.joints import Revolute, Slot
 from planar.results import Status
@@ -292,6 +292,21 @@ def stroke_lines(model, units):
     return ["strokes over one turn of the input:"] + lines if lines else []
 
 
+def range_lines(model, units):
+    """The motion range of a one-input mechanism on its sketched branch, ends located by the
+    solver (planar.analysis.motion_range)."""
+    if len(model.drivers) != 1:
+        return []
+    ranges = motion_range(model, samples=180)
+    name, is_len = model.input_names[0], bool(model.input_lengths[0])
+    unit = units.input_label(is_len)
+    if not is_len and len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 2 * math.pi:
+        return [f"motion range of {name}: a full turn"]
+    shown = "; ".join(f"{_fmt(units.input_from_internal(lo, is_len))} to {_fmt(units.input_from_internal(hi, is_len))}"
+                      for lo, hi in ranges)
+    return [f"motion range of {name}: {shown} {unit}".rstrip()]
+
+
 def info_lines(doc, path):
     model = doc.mechanism.compile()
     kinds = {}
@@ -396,7 +411,7 @@ def cmd_info(args):
     units = doc.units
     settings = doc.sweep or default_sweep(model, units)
     res = run_sweep(model, units, settings)
-    for line in lines + summary(res, units, settings) + stroke_lines(model, units):
+    for line in lines + range_lines(model, units) + summary(res, units, settings) + stroke_lines(model, units):
         print(line)
     return EXIT_OK
 

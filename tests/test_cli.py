@@ -88,6 +88,11 @@ def test_info_of_a_four_bar_names_its_grashof_class_and_strokes(here, capsys):
     assert code == 0, err
     assert "Grashof class: crank-rocker (links 4, 2, 3, 4: s + l - p - q = -1); the input turns fully" in out
     assert "rocker: stroke 63.0029 deg, time ratio 1.424266" in out
+    assert "motion range of crank: a full turn" in out
+    io.save(CATALOGUE["four_bar"](4, 3, 3, 3), here / "rocker.json")
+    code, out, err = run(capsys, "info", "rocker.json")
+    assert "Grashof class: triple-rocker" in out and "the input cannot turn fully" in out
+    assert "motion range of crank: -117.28 to 117.28 deg" in out
 
 
 @pytest.mark.parametrize("driver, role", [("crank", "crank"), ("rocker", "crank"), ("coupler", "coupler")])
