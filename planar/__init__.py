@@ -5,13 +5,13 @@ rolling joints; drive it; sweep the inputs. Positions come from a batched Newton
 velocities and accelerations from linear solves with the same Jacobian.
 """
 
-from planar.errors import (AssemblyError, ConnectivityError, InputError, MobilityError,
-                           ModelError, PlanarError, RedundancyError)
+from planar.errors import (AssemblyError, ConnectivityError, FileFormatError, InputError,
+                           MobilityError, ModelError, PlanarError, RedundancyError)
 from planar.model import Body, Mechanism, Model
 from planar.results import Status, Sweep
 
 __all__ = [
     "Mechanism", "Model", "Body", "Sweep", "Status",
     "PlanarError", "ModelError", "ConnectivityError", "MobilityError", "RedundancyError",
-    "AssemblyError", "InputError",
+    "AssemblyError", "InputError", "FileFormatError",
 ]
