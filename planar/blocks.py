@@ -26,7 +26,7 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import maximum_bipartite_matching
 
-from planar.errors import ModelError
+from planar.errors import MobilityError
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,6 +51,45 @@ class Block:
 
 
 @dataclass(frozen=True, eq=False)
+class Stage(Block):
+    """G blocks of the same size b whose upstream columns are all solved by earlier stages,
+    solved in one stacked operation: the :class:`Block` fields with a leading G axis (``up``
+    padded with the always-zero column n, ``coup`` with the structural zero) and ``index``
+    (G,), the blocks' positions in the plan."""
+
+    index: np.ndarray
+
+
+def _stages(blocks, n, zero):
+    """Group the blocks by (level, size): a block's level is one more than the highest level
+    among the blocks computing its upstream columns. One Python step per stage instead of per
+    block (a chain of k loops has ~3 stages per loop level, not 3k blocks)."""
+    level_of_col = {}
+    levels = []
+    for blk in blocks:
+        lv = 1 + max((level_of_col[int(c)] for c in blk.up), default=-1)
+        levels.append(lv)
+        for c in blk.cols:
+            level_of_col[int(c)] = lv
+    groups = {}
+    for k, (blk, lv) in enumerate(zip(blocks, levels)):
+        groups.setdefault((lv, blk.size), []).append(k)
+    stages = []
+    for (lv, b), ks in sorted(groups.items()):
+        w = max(blocks[k].up.size for k in ks)
+        up = np.full((len(ks), w), n, int)
+        coup = np.full((len(ks), b, w), zero, int)
+        for g, k in enumerate(ks):
+            blk = blocks[k]
+            up[g, : blk.up.size] = blk.up
+            coup[g, :, : blk.up.size] = blk.coup.reshape(b, blk.up.size)
+        stages.append(Stage(np.array([blocks[k].eqs for k in ks]), np.array([blocks[k].cols for k in ks]),
+                            np.array([blocks[k].diag for k in ks]), up, coup.reshape(len(ks), b * w),
+                            np.array([blocks[k].scale for k in ks]), np.array(ks)))
+    return tuple(stages)
+
+
+@dataclass(frozen=True, eq=False)
 class Plan:
     """Blocks of the square system restricted to what some columns need.
 
@@ -65,6 +104,7 @@ class Plan:
     cols: np.ndarray
     blocks: tuple
     n: int
+    stages: tuple
 
     def evaluate(self, q, u):
         """Phi of the kept rows (N, len(rows)), all rows (N, m) and the Jacobian values."""
@@ -73,18 +113,20 @@ class Plan:
 
     def solve(self, Jv, b):
         """x (N, n) with ``J x = b`` on the kept rows (``b`` (N, len(rows))), by forward
-        substitution through the blocks; columns not solved are 0, singular blocks give
-        non-finite values."""
+        substitution through the blocks, stage by stage; columns not solved are 0, singular
+        blocks give non-finite values."""
         N = b.shape[0]
-        x = np.zeros((N, self.n))
+        x = np.zeros((N, self.n + 1))  # the last column stays 0: the padding of ``up``
         with np.errstate(all="ignore"):
-            for blk in self.blocks:
-                rhs = b[:, blk.eqs]
-                if blk.up.size:
-                    C = Jv[:, blk.coup].reshape(N, blk.size, blk.up.size)
-                    rhs = rhs - np.einsum("nij,nj->ni", C, x[:, blk.up])
-                x[:, blk.cols] = small_solve(Jv[:, blk.diag].reshape(N, blk.size, blk.size), rhs)
-        return x
+            for st in self.stages:
+                G, k = st.cols.shape
+                rhs = b[:, st.eqs]
+                w = st.up.shape[1]
+                if w:
+                    C = Jv[:, st.coup].reshape(N, G, k, w)
+                    rhs = rhs - np.einsum("ngij,ngj->ngi", C, x[:, st.up])
+                x[:, st.cols] = small_solve(Jv[:, st.diag].reshape(N, G, k, k), rhs)
+        return x[:, : self.n]
 
     def modes(self, Jv):
         """Per block: the sign of its det (its assembly mode), and the smallest normalised
@@ -98,22 +140,30 @@ class Plan:
         N = Jv.shape[0]
         out = np.ones((N, len(self.blocks)))
         with np.errstate(all="ignore"):
-            for k, blk in enumerate(self.blocks):
-                A = (Jv[:, blk.diag] * blk.scale).reshape(N, blk.size, blk.size)
-                norms = np.prod(np.linalg.norm(A, axis=2), axis=1)
-                out[:, k] = np.where(norms > 0, small_det(A) / norms, 0.0)
+            for st in self.stages:
+                G, k = st.cols.shape
+                A = (Jv[:, st.diag] * st.scale).reshape(N, G, k, k)
+                if k == 1:
+                    # a / |a|: the norm of a 1x1 block is the entry itself
+                    a = A[..., 0, 0]
+                    out[:, st.index] = np.where(np.abs(a) > 0, a / np.abs(a), 0.0)
+                    continue
+                norms = np.prod(np.sqrt(np.einsum("ngij,ngij->ngi", A, A)), axis=2)
+                out[:, st.index] = np.where(norms > 0, small_det(A) / norms, 0.0)
         return out
 
 
 def small_solve(A, b):
-    """Stacked solve of small systems (N, k, k) x = (N, k): closed forms for k <= 2."""
-    k = b.shape[1]
+    """Stacked solve of small systems (..., k, k) x = (..., k): closed forms for k <= 2."""
+    k = b.shape[-1]
     if k == 1:
-        return b / A[:, 0]
+        return b / A[..., 0]
     if k == 2:
-        det = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
-        return np.stack((b[:, 0] * A[:, 1, 1] - A[:, 0, 1] * b[:, 1],
-                         A[:, 0, 0] * b[:, 1] - A[:, 1, 0] * b[:, 0]), axis=1) / det[:, None]
+        det = A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
+        x = np.empty(b.shape)
+        x[..., 0] = (b[..., 0] * A[..., 1, 1] - A[..., 0, 1] * b[..., 1]) / det
+        x[..., 1] = (A[..., 0, 0] * b[..., 1] - A[..., 1, 0] * b[..., 0]) / det
+        return x
     try:
         return np.linalg.solve(A, b[..., None])[..., 0]
     except np.linalg.LinAlgError:
@@ -125,12 +175,12 @@ def small_solve(A, b):
 
 
 def small_det(A):
-    """Stacked determinants of (N, k, k)."""
-    k = A.shape[1]
+    """Stacked determinants of (..., k, k)."""
+    k = A.shape[-1]
     if k == 1:
-        return A[:, 0, 0]
+        return A[..., 0, 0]
     if k == 2:
-        return A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+        return A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
     sign, logdet = np.linalg.slogdet(A)
     return sign * np.exp(logdet)
 
@@ -171,8 +221,12 @@ def _build(model, key):
             S[pos[int(r)], c] = True
     match = maximum_bipartite_matching(csr_matrix(S.astype(np.int8)), perm_type="column")
     if np.any(match < 0):
-        raise ModelError(f"model {model.name!r}: the driven system is structurally singular "
-                         f"(some coordinate is in no independent row); check the drivers")
+        c = min(set(range(n)) - set(match[match >= 0].tolist()))
+        body, coord = model.body_names[c // 3 + 1], ("x", "y", "angle")[c % 3]
+        raise MobilityError(f"model {model.name!r} cannot be driven: the {coord} of body {body!r} is in no "
+                            f"independent constraint row with the drivers (a link of zero length spins freely, "
+                            f"or the joints lock what a driver moves): give the link a length, or drive "
+                            f"another coordinate")
     # eq i computes column match[i]; eq i depends on eq j when it uses column match[j]
     owner = np.empty(n, int)
     owner[match] = np.arange(rows_all.size)
@@ -218,4 +272,4 @@ def _build(model, key):
     drivers = np.flatnonzero(np.isin(rows, rows_all[np.asarray(model.driver_rows_active)]))
     driver_inputs = np.searchsorted(rows_all[np.asarray(model.driver_rows_active)], rows[drivers])
     cols = np.sort(np.concatenate([blk.cols for blk in blocks])) if blocks else np.zeros(0, int)
-    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n)
+    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n, _stages(blocks, n, zero))

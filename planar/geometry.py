@@ -7,9 +7,12 @@ Arrays carry any leading batch axes and a last axis of length 2 for vectors.
 import numpy as np
 
 
+_PERP = np.array([-1.0, 1.0])
+
+
 def perp(v):
     """Rotate vectors by +90 degrees: (x, y) -> (-y, x)."""
-    return np.stack((-v[..., 1], v[..., 0]), axis=-1)
+    return v[..., ::-1] * _PERP
 
 
 def dot(a, b):
@@ -23,7 +26,8 @@ def cross(a, b):
 
 def rotate(c, s, v):
     """A(phi) v for cos ``c`` and sin ``s`` (broadcast against v[..., 0])."""
-    return np.stack((c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]), axis=-1)
+    # c v + s perp(v): three whole-array operations, no stacking copy
+    return c[..., None] * v + s[..., None] * perp(v)
 
 
 class Frames:
@@ -52,9 +56,11 @@ class Frames:
         return self.rd[..., k, :] + perp(S) * self.phid[..., k, None]
 
 
-def point_block(S, sign=1.0):
-    """Jacobian block (..., 2, 3) of sign * (r + S) with respect to (x, y, phi) of its body."""
-    out = np.zeros(S.shape[:-1] + (2, 3))
+def point_block(S, sign=1.0, out=None):
+    """Jacobian block (..., 2, 3) of sign * (r + S) with respect to (x, y, phi) of its body,
+    written into ``out`` (zeros elsewhere) when given."""
+    if out is None:
+        out = np.zeros(S.shape[:-1] + (2, 3))
     out[..., 0, 0] = out[..., 1, 1] = sign
     out[..., 0, 2] = -sign * S[..., 1]
     out[..., 1, 2] = sign * S[..., 0]

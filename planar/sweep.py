@@ -84,9 +84,10 @@ class _Branch:
 class _Walker:
     """Sequential continuation of one pose (batch of one), with events."""
 
-    def __init__(self, br, max_step, other):
+    def __init__(self, br, max_step, other, rounds=2):
         self.br, self.max_step, self.other = br, max_step, other
         self.events = []
+        self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
 
     def walk(self, q, u, signs, target, index):
         """Follow the branch from (q, u) to ``target``. Returns ("ok", q, signs),
@@ -168,8 +169,9 @@ class _Walker:
                     continue
             if np.all(br.signs(qn, target[None])[0] == signs):
                 return qn[0]
-            if target.size == 1:
+            if target.size == 1 and self.rounds > 0:
                 # another mode of the same circuit: go round through a limit to ours
+                self.rounds -= 1
                 got = around(br.m, br.p, qn[0], target, signs, self.max_step, np.pi)
                 if got is not None:
                     return got
@@ -177,9 +179,9 @@ class _Walker:
 
 
 def _anchors(model, U, max_step):
-    """Indices of the values where the sequential walk stops: the first, the last, each value
-    more than ``max_step`` from the previous anchor and (one input) each value where the input
-    turns back, so the walk covers every value."""
+    """Indices of the values where the sequential walk stops: the first, the last, the last
+    value within ``max_step`` of the previous anchor (so each is one walk step) and (one
+    input) each value where the input turns back, so the walk covers every value."""
     V = U * _scale(model)
     idx = _walk_anchors(V, max_step)
     turns = np.zeros(0, int)
@@ -196,7 +198,7 @@ def _walk_anchors(V, max_step):
     while True:
         far = np.flatnonzero(np.max(np.abs(V[i + 1 : i + 1 + span] - V[i]), axis=1) > max_step)
         if far.size:
-            i += 1 + int(far[0])
+            i += max(1, int(far[0]))
             idx.append(i)
         elif i + 1 + span >= len(V):
             return np.array(idx)
@@ -497,12 +499,19 @@ def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
             continue
         dist = np.abs(U[:, 0] - ev.input) * s[0]
         near = np.flatnonzero((dist < BRANCH_H / 4) & POSED_MASK[out.status])
-        if near.size == 0 or "other branch" in ev.note:
+        if near.size == 0 or "other branch" in ev.note or not ev.tangents:  # no tangent: no branch to follow
             continue
         got = _on_branch(model, br, ev, U[near, 0], Ud[near, 0], Udd[near, 0])
         if got is None:
             continue
-        q[near], out.qd[near], out.qdd[near] = got
+        # the interpolated pose replaces the direct solve only where it holds the constraints
+        # to tolerance (its residual is the one reported): never a valid status on a bad pose
+        Phi, _, _ = br.p.evaluate(got[0], U[near])
+        res = np.max(np.abs(Phi * model.row_scale[br.p.rows]), axis=1)
+        fits = res <= 1e2 * br.tol
+        near, res = near[fits], res[fits]
+        q[near], out.qd[near], out.qdd[near] = got[0][fits], got[1][fits], got[2][fits]
+        out.residual[near] = res
         on = dist[near] <= EVENT_TOL
         out.status[near[on]] = Status.BRANCH_EVENT
 

@@ -118,8 +118,8 @@ def scalar_blocks(g_ra, g_pa, g_rb, g_pb):
 def pair_blocks(Sa, Sb):
     """Jacobian (..., 2, 6) of d = P_b - P_a with respect to (x, y, phi) of slots a, b."""
     out = np.zeros(Sa.shape[:-1] + (2, 6))
-    out[..., :, :3] = point_block(Sa, -1.0)
-    out[..., :, 3:] = point_block(Sb, 1.0)
+    point_block(Sa, -1.0, out[..., :3])
+    point_block(Sb, 1.0, out[..., 3:])
     return out
 
 

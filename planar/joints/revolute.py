@@ -2,13 +2,13 @@
 
 import numpy as np
 
-from planar.joints.base import Joint, pair_blocks, pair_rates, point_pair
+from planar.joints.base import Joint, pair_blocks, point_pair
 
 
 class Revolute(Joint):
     """Pin at world point ``at`` of the sketch, between bodies a and b.
 
-    Rows ``P_b - P_a = 0`` (2 length rows); gamma = S_a w_a^2 - S_b w_b^2.
+    Rows ``P_b - P_a = 0`` (2 length rows); gamma = S_b w_b^2 - S_a w_a^2.
     Its coordinate is the relative angle phi_b - phi_a.
     """
 
@@ -28,13 +28,13 @@ class Revolute(Joint):
 
     @staticmethod
     def Phi_q(P, F):
-        _, Sa, Sb = point_pair(F, P["s"][..., 0, :], P["s"][..., 1, :])
-        return pair_blocks(Sa, Sb)
+        return pair_blocks(F.vec(0, P["s"][..., 0, :]), F.vec(1, P["s"][..., 1, :]))
 
     @staticmethod
     def gamma(P, F):
-        _, Sa, Sb = point_pair(F, P["s"][..., 0, :], P["s"][..., 1, :])
-        return -pair_rates(F, Sa, Sb)[1]
+        # the centripetal terms only: -(S_a w_a^2 - S_b w_b^2)
+        Sa, Sb = F.vec(0, P["s"][..., 0, :]), F.vec(1, P["s"][..., 1, :])
+        return Sb * F.phid[..., 1, None] ** 2 - Sa * F.phid[..., 0, None] ** 2
 
     def touch_points(self):
         return [(b, self.data["at"]) for b in self.bodies]
