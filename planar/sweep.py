@@ -319,7 +319,10 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         same_next = (pos + 1 < good.size) & (np.searchsorted(cuts, nxt, side="right") == seg)
         src = np.where(same_prev, prev, nxt)
         has = same_prev | same_next
-        rest, src = rest[has], src[has]
+        # between two consecutive anchors of one stretch: interpolate rather than extrapolate
+        span = U[nxt, 0] - U[prev, 0] if one else 0.0
+        both = same_prev & same_next & (np.searchsorted(anchors, nxt) - np.searchsorted(anchors, prev) == 1) & (span != 0)
+        rest, src, both = rest[has], src[has], both[has]
         if one:
             where = np.searchsorted(good, src)
         for a in range(0, rest.size, CHUNK):
@@ -328,6 +331,12 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             if one:
                 k = where[a : a + CHUNK]
                 qp = q[s_] + QU[k] * du + 0.5 * QUU[k] * du**2
+                b = both[a : a + CHUNK]
+                if b.any():
+                    kb = k[b]
+                    h = U[good[kb + 1], 0] - U[good[kb], 0]
+                    qp[b] = _hermite(q[good[kb]], QU[kb], QUU[kb], q[good[kb + 1]], QU[kb + 1], QUU[kb + 1],
+                                     h, du[b, 0] / h)
             else:
                 qp, _ = br.predict(q[s_], U[s_], du)
             r = _final(br, qp, U[i], Ud[i], Udd[i])
@@ -356,6 +365,27 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         q[i], solved[i], done[i] = ev.q, True, True
     events.sort(key=lambda e: e.index)
     return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event)
+
+
+def _hermite(q0, d0, dd0, q1, d1, dd1, h, t):
+    """Quintic Hermite interpolation between two poses with their first and second derivatives
+    in the input (``h`` = u1 - u0, ``t`` in [0, 1]): its error is O(h^6) where the one-sided
+    Taylor predictor's is O(h^3), so one Newton step lands at rounding level.
+
+    >>> x = np.array([[0.3]])
+    >>> q = _hermite(np.sin(0 * x), np.cos(0 * x), -np.sin(0 * x), np.sin(x), np.cos(x), -np.sin(x),
+    ...              np.array([0.3]), np.array([0.5]))
+    >>> bool(abs(q[0, 0] - np.sin(0.15)) < 1e-9)
+    True
+    """
+    t, h = t[:, None], h[:, None]
+    t3 = t**3
+    H1 = t - t3 * (6 - 8 * t + 3 * t**2)
+    H2 = 0.5 * t**2 - t3 * (1.5 - 1.5 * t + 0.5 * t**2)
+    H3 = t3 * (10 - 15 * t + 6 * t**2)
+    H4 = -t3 * (4 - 7 * t + 3 * t**2)
+    H5 = t3 * (0.5 - t + 0.5 * t**2)
+    return q0 + H3 * (q1 - q0) + h * (H1 * d0 + H4 * d1) + h**2 * (H2 * dd0 + H5 * dd1)
 
 
 def _event_index(U, lo, i, u_from, u_star):
