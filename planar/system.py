@@ -99,8 +99,7 @@ class System:
         for g in self.groups:
             F = self._frames(full, cs, g)
             P = self._params(g, u)
-            Phi[:, g.rows] = g.kind.Phi(P, F)
-            block = g.kind.Phi_q(P, F)
+            Phi[:, g.rows], block = g.kind.Phi_and_Phi_q(P, F)
             size = block[0].size
             Jv[:, at : at + size] = block.reshape(N, size)
             at += size

@@ -9,6 +9,9 @@ leading batch axes (configurations, designs):
 - ``gamma(P, F)``    -> (..., K, n_rows)             acceleration right-hand side,
   ``Phi_q qdd = gamma``, i.e. minus the part of the second time derivative free of qdd.
 
+``Phi_and_Phi_q(P, F)`` returns both of the first two; the base class calls them in turn, a
+class may override it to share the world vectors between them.
+
 ``P`` holds the group's stacked parameters (arrays with a leading K axis); ``F`` is a
 :class:`planar.geometry.Frames` of the bodies' poses and rates. Every class keeps its rows in
 the form ``f(q) - c`` with ``c = P["c"]`` (K, n_rows): for rows listed in ``sketch_rows`` the
@@ -48,6 +51,11 @@ class Joint:
 
     def local_params(self, sketch):
         raise NotImplementedError
+
+    @classmethod
+    def Phi_and_Phi_q(cls, P, F):
+        """(Phi, Phi_q) in one call; classes whose two kernels share work override it."""
+        return cls.Phi(P, F), cls.Phi_q(P, F)
 
     def params(self, sketch):
         """Body-fixed parameters with the constant ``c`` (zero until the model sets it)."""

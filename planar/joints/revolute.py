@@ -31,6 +31,11 @@ class Revolute(Joint):
         return pair_blocks(F.vec(0, P["s"][..., 0, :]), F.vec(1, P["s"][..., 1, :]))
 
     @staticmethod
+    def Phi_and_Phi_q(P, F):
+        d, Sa, Sb = point_pair(F, P["s"][..., 0, :], P["s"][..., 1, :])
+        return d - P["c"], pair_blocks(Sa, Sb)
+
+    @staticmethod
     def gamma(P, F):
         # the centripetal terms only: -(S_a w_a^2 - S_b w_b^2)
         Sa, Sb = F.vec(0, P["s"][..., 0, :]), F.vec(1, P["s"][..., 1, :])
