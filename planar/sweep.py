@@ -51,12 +51,25 @@ class _Branch:
     def __init__(self, model, plan, tol):
         self.m, self.p, self.tol = model, plan, tol
         self.cs = model.col_scale[plan.cols]
+        self._last = (None, None)
+
+    def _at(self, q, u):
+        """Jacobian values and block modes (Jv, signs, sing) at poses q. The walk asks twice
+        at each accepted pose (its modes, then the next prediction): for a batch of one the
+        last answer is kept."""
+        key = (q.tobytes(), u.tobytes()) if q.shape[0] == 1 else None
+        if key is not None and self._last[0] == key:
+            return self._last[1]
+        _, _, Jv = self.p.evaluate(q, u)
+        got = (Jv,) + tuple(self.p.modes(Jv))
+        if key is not None:
+            self._last = (key, got)
+        return got
 
     def state(self, q, u, ud, udd=None):
         """(qd, qdd, signs, sing) at solved poses for input rates ud (qdd for udd = 0)."""
         p = self.p
-        _, _, Jv = p.evaluate(q, u)
-        signs, sing = p.modes(Jv)
+        Jv, signs, sing = self._at(q, u)
         with np.errstate(all="ignore"):
             qd = velocity(self.m, p, Jv, ud)
             qdd = acceleration(self.m, p, q, qd, u, Jv, np.zeros_like(ud) if udd is None else udd)
@@ -70,8 +83,7 @@ class _Branch:
         return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p)
 
     def signs(self, q, u):
-        _, _, Jv = self.p.evaluate(q, u)
-        return self.p.modes(Jv)[0]
+        return self._at(q, u)[1]
 
     def accept(self, q, q_pred, q_from, conv, signs, signs_ref):
         c = self.p.cols
