@@ -65,8 +65,3 @@ def point_block(S, sign=1.0, out=None):
     out[..., 0, 2] = -sign * S[..., 1]
     out[..., 1, 2] = sign * S[..., 0]
     return out
-
-
-def row_block(n, n_dot_perp_S_extra):
-    """Jacobian row (..., 3) of a scalar whose gradient is ``n`` in r and the given value in phi."""
-    return np.stack((n[..., 0], n[..., 1], n_dot_perp_S_extra), axis=-1)

@@ -90,3 +90,13 @@ def test_kernels_broadcast_over_design_axis(cls):
     one = cls.Phi(P, frames(q))
     many = cls.Phi({k: np.broadcast_to(v, (N,) + v.shape) for k, v in P.items()}, frames(q))
     np.testing.assert_allclose(many, one, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
+def test_combined_kernel_equals_the_two_kernels(cls):
+    rng = np.random.default_rng(11)
+    P = group(cls, rng)
+    F = frames(rng.uniform(-2, 2, (N, K, cls.n_bodies, 3)))
+    Phi, J = cls.Phi_and_Phi_q(P, F)
+    np.testing.assert_allclose(Phi, cls.Phi(P, F), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(J, cls.Phi_q(P, F), rtol=0, atol=1e-15)
