@@ -25,6 +25,7 @@ import numpy as np
 
 NEAR = 1e-4  # normalised |det| below which a stretch is near-singular
 SINGULAR = 1e-10  # ... and below which a point sits on the singular position itself
+MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,6 +70,16 @@ class Crossing:
     events: list = field(default_factory=list)
 
 
+def _quiet(f):
+    """Run f with numpy floating-point warnings off: a correction that diverges reads
+    non-finite values, which the acceptance tests reject (the step is halved)."""
+    def run(*args, **kw):
+        with np.errstate(all="ignore"):
+            return f(*args, **kw)
+    run.__doc__, run.__name__ = f.__doc__, f.__name__
+    return run
+
+
 class Tracer:
     """Pseudo-arclength continuation of one pose along the input path from u_a towards u_b."""
 
@@ -99,24 +110,31 @@ class Tracer:
     def H(self, y):
         """Scaled residual (n,) and Jacobian (n, n+1) at y."""
         q, u = self.q_of(y)[None], self.u_of(y)[None]
-        Phi, J = self.p.system.evaluate(q, u)
-        A = J[0][self.p.rows][:, self.p.cols] * self.rs[:, None] * self.cs[None, :]
-        return Phi[0, self.p.rows] * self.rs, np.column_stack((A, self.dcol))
+        with np.errstate(all="ignore"):  # a diverged correction reads non-finite: callers check
+            Phi, J = self.p.system.evaluate(q, u)
+            A = J[0][self.p.rows][:, self.p.cols] * self.rs[:, None] * self.cs[None, :]
+            return Phi[0, self.p.rows] * self.rs, np.column_stack((A, self.dcol))
 
     def tangent(self, A, t_prev):
         """Unit tangent oriented along t_prev, and det of the augmented matrix [A; t]."""
         M = np.vstack((A, t_prev))
         e = np.zeros(M.shape[0])
         e[-1] = 1.0
-        t = np.linalg.solve(M, e)
-        t /= np.linalg.norm(t)
-        if t @ t_prev < 0:
-            t = -t
-        return t, float(np.linalg.det(np.vstack((A, t))))
+        with np.errstate(all="ignore"):  # non-finite tangents fail the step's acceptance test
+            try:
+                t = np.linalg.solve(M, e)
+            except np.linalg.LinAlgError:
+                t = _kernel(A)  # [A; t_prev] exactly singular: the curve's own null direction
+            t /= np.linalg.norm(t)
+            if t @ t_prev < 0:
+                t = -t
+            return t, float(np.linalg.det(np.vstack((A, t))))
 
+    @_quiet
     def correct(self, y_pred, t, iters=10):
         """Newton on [H(y); t.(y - y_pred)] = 0; returns (y, A at y) or None."""
         y = y_pred.copy()
+        prev, stalls = np.inf, 0
         for _ in range(iters):
             r, A = self.H(y)
             if not np.all(np.isfinite(r)):
@@ -127,8 +145,15 @@ class Tracer:
             except np.linalg.LinAlgError:
                 return None
             y = y - dy
-            if np.max(np.abs(dy)) <= 1e-13 and np.max(np.abs(r)) <= 1e-11:
+            step = np.max(np.abs(dy))
+            if step <= 1e-13 and np.max(np.abs(r)) <= 1e-11:
                 return y, self.H(y)[1]
+            # stop a correction that no longer converges (on degenerate sketches it would
+            # spend its whole budget): the residual test below decides, the caller halves h
+            stalls = stalls + 1 if step > 0.5 * prev else 0
+            if stalls >= 3:
+                break
+            prev = step
         r, A = self.H(y)
         return (y, A) if np.max(np.abs(r)) <= 1e-12 else None
 
@@ -143,13 +168,18 @@ class Tracer:
     def start(self, q):
         y = np.append(q[self.p.cols] / self.cs, 0.0)
         _, A = self.H(y)
-        # the driven tangent: J x_sigma = -dcol, direction of increasing sigma
-        x = np.linalg.solve(A[:, :-1], -A[:, -1])
-        t = np.append(x, 1.0)
+        # the driven tangent: J x_sigma = -dcol, direction of increasing sigma (at a singular
+        # start, the null direction of A oriented the same way)
+        try:
+            t = np.append(np.linalg.solve(A[:, :-1], -A[:, -1]), 1.0)
+        except np.linalg.LinAlgError:
+            t = _kernel(A)
+            t = -t if t[-1] < 0 else t
         t /= np.linalg.norm(t)
         t, det = self.tangent(A, t)
         return y, t, det
 
+    @_quiet
     def step(self, y, t, h):
         """One accepted step from (y, t) with step control; returns (y, t, det, h_used, h_next)."""
         while h > 1e-13:
@@ -281,7 +311,7 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
     sing_min, y_min = np.min(np.abs(dets)), y
     h = min(max_step, 0.1 * tr.d)
     last_regular = (q, np.array(u_a, float))
-    for _ in range(100000):
+    for _ in range(int(20 * tr.d / max_step) + 400):  # bounded: a degenerate curve is given up
         st = tr.step(y, t, h)
         if st is None:
             return out
@@ -345,6 +375,8 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
                                         tangents=(dq / per,),
                                         note="a singular position the branch passes smoothly: values there "
                                              "come from the branch around it"))
+        if len(out.events) > MAX_EVENTS:
+            return out  # a degenerate sketch singular all along the way: not followed (NaN, status)
         dets = dets1
         sing = np.min(np.abs(dets1))
         if sing < sing_min:
@@ -366,6 +398,11 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
     return out
 
 
+def _kernel(A):
+    """A unit vector of the null space of the (n, n+1) matrix A."""
+    return np.linalg.svd(A)[2][-1]
+
+
 def _scalar(u):
     u = np.asarray(u, float)
     return float(u[0]) if u.size == 1 else u
@@ -384,13 +421,15 @@ def around(model, plan, q, u, signs, max_step, reach):
     u = np.atleast_1d(np.asarray(u, float))
     s = 1.0 / model.L if model.input_lengths[0] else 1.0
     for way in (1.0, -1.0):
-        tr = Tracer(model, plan, q, u, u + way * reach / s, max_step)
+        # steps up to 4 max_step: the circuit is only being traced, the acceptance test of
+        # Tracer.step still keeps it from jumping to another one
+        tr = Tracer(model, plan, q, u, u + way * reach / s, 4 * max_step)
         try:
             y, t, _ = tr.start(q)
         except np.linalg.LinAlgError:
             return None
         h, turned = min(max_step, 0.1 * tr.d), False
-        for _ in range(int(8 * reach / max_step) + 50):
+        for _ in range(int(2 * reach / max_step) + 50):
             st = tr.step(y, t, h)
             if st is None:
                 break

@@ -29,6 +29,7 @@ from planar.errors import (AssemblyError, ConnectivityError, InputError, Mobilit
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic,
                            RackPinion, Revolute, RollingContact, Slot)
 from planar.joints.base import SketchFrames
+from planar.blocks import plan as block_plan
 from planar.system import build_system
 
 GROUND = "ground"
@@ -476,7 +477,7 @@ def _compile(mech):
     coord = [(j.name, j.coordinate()) for j in joints if j.coordinate() is not None]
     csys, _ = build_system([d for _, d in coord], [d.params(sketch) for _, d in coord], body_index,
                            len(bodies), [-1] * len(coord))
-    return Model(
+    model = Model(
         coordinates={name: (csys, k) for k, (name, _) in enumerate(coord)},
         name=mech.name, body_names=tuple(bodies), body_angles0=np.array([mech._bodies[b] for b in bodies]),
         points={k: (body_index[b], sketch.local_point(b, p)) for k, (b, p) in mech._points.items()},
@@ -485,6 +486,9 @@ def _compile(mech):
         driver_rows_active=np.arange(len(independent), len(active)), redundant_rows=redundant,
         input_lengths=np.array([d.length_rows[0] for d in drivers], bool), rank=rank,
         grubler=n - joint_rows.size, redundant_joints=redundant_joints)
+    if drivers:
+        block_plan(model)  # a model the drivers cannot drive is refused here, not at sweep time
+    return model
 
 
 def _char_length(mech):
@@ -496,7 +500,8 @@ def _char_length(mech):
                 pts.append(np.array([j.data[key], 0.0]))
     P = np.array(pts)
     L = float(np.max(np.ptp(P, axis=0))) if len(P) > 1 else 0.0
-    return L if L > 0 else 1.0
+    # an extent so small that 1/L or L**2 leave the float range is no length (all points coincide)
+    return L if L > np.sqrt(np.finfo(float).tiny) else 1.0
 
 
 def _check_connected(bodies, joints):

@@ -119,4 +119,6 @@ def least_squares_gap(model, q, u, *, iterations=40):
             better = cost_n < cost
             q[better], J[better], r[better], cost[better] = q_new[better], J_n[better], r_n[better], cost_n[better]
             lam = np.where(better, lam * 0.3, lam * 10.0)
+            if np.all((cost <= 1e-32) | (lam > 1e8)):
+                break  # every point assembled, or stuck (over ten rejected steps in a row): nothing to gain
     return q, np.max(np.abs(r), axis=1)

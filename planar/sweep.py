@@ -96,7 +96,7 @@ class _Branch:
 class _Walker:
     """Sequential continuation of one pose (batch of one), with events."""
 
-    def __init__(self, br, max_step, other, rounds=2):
+    def __init__(self, br, max_step, other, rounds=1):
         self.br, self.max_step, self.other = br, max_step, other
         self.events = []
         self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
