@@ -157,6 +157,7 @@ class Tracer:
         r, A = self.H(y)
         return (y, A) if np.max(np.abs(r)) <= 1e-12 else None
 
+    @_quiet
     def block_dets(self, y):
         """Normalised signed dets of the driven system's blocks at y."""
         q, u = self.q_of(y)[None], self.u_of(y)[None]
@@ -165,6 +166,7 @@ class Tracer:
 
     # ---- stepping and locating ---------------------------------------------------------
 
+    @_quiet
     def start(self, q):
         y = np.append(q[self.p.cols] / self.cs, 0.0)
         _, A = self.H(y)

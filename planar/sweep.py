@@ -60,8 +60,9 @@ class _Branch:
         key = (q.tobytes(), u.tobytes()) if q.shape[0] == 1 else None
         if key is not None and self._last[0] == key:
             return self._last[1]
-        _, _, Jv = self.p.evaluate(q, u)
-        got = (Jv,) + tuple(self.p.modes(Jv))
+        with np.errstate(all="ignore"):  # poses of failed solves read non-finite: rejected later
+            _, _, Jv = self.p.evaluate(q, u)
+            got = (Jv,) + tuple(self.p.modes(Jv))
         if key is not None:
             self._last = (key, got)
         return got
