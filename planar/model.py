@@ -583,7 +583,8 @@ def _check_drivers(system, q0, u0, active, n_joint_rows, drivers, rs, cs):
         Ak = Js[: n_joint_rows + k + 1]
         rk = np.linalg.matrix_rank(Ak, tol=1e-9 * max(1.0, np.abs(Js).max()))
         if rk <= rank:
-            raise MobilityError(f"driver {d.name!r} depends on the joints or on the drivers before it "
-                                f"(for example both gears of one mesh driven): drive a coordinate that moves "
-                                f"independently, or remove it")
+            raise MobilityError(f"driver {d.name!r} depends on the joints or on the drivers before it at the "
+                                f"sketch: either it cannot move independently (for example both gears of one "
+                                f"mesh driven: drive another coordinate, or remove it), or the sketch is a dead "
+                                f"centre of this driver (sketch the mechanism at another input value)")
         rank = rk
