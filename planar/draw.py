@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.errors import InputError
+from planar.geometry import cross
 from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Slot
 from planar.results import POSED, Status
 from planar.units import Units
@@ -505,7 +506,7 @@ def _hull(pts):
     def half(seq):
         out = []
         for p in seq:
-            while len(out) >= 2 and np.cross(np.subtract(out[-1], out[-2]), np.subtract(p, out[-2])) <= 0:
+            while len(out) >= 2 and cross(np.subtract(out[-1], out[-2]), np.subtract(p, out[-2])) <= 0:
                 out.pop()
             out.append(p)
         return out

@@ -555,7 +555,9 @@ def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
         near, res = near[fits], res[fits]
         q[near], out.qd[near], out.qdd[near] = got[0][fits], got[1][fits], got[2][fits]
         out.residual[near] = res
-        on = dist[near] <= EVENT_TOL
+        # a value on the event, or one the direct solve found singular, now has rates from
+        # the branch: valid, flagged as at a branch event
+        on = (dist[near] <= EVENT_TOL) | (out.status[near] == Status.SINGULAR)
         out.status[near[on]] = Status.BRANCH_EVENT
 
 

@@ -120,8 +120,9 @@ def four_bar(r1, r2, r3, r4, th2, w2=1.0, a2=0.0, th1=0.0, sigma=1, p=None, q=No
         pq = (0.0 if p is None else p) + 1j * (0.0 if q is None else q)
         C = A + pq * _e(th3)
         out["C"] = _xy(C)
-        out["C_vel"] = _xy(1j * w2 * A + 1j * w3 * pq * _e(th3))
-        out["C_acc"] = _xy((1j * a2 - w2**2) * A + (1j * a3 - w3**2) * pq * _e(th3))
+        with np.errstate(all="ignore"):  # infinite rates at a toggle, as above
+            out["C_vel"] = _xy(1j * w2 * A + 1j * w3 * pq * _e(th3))
+            out["C_acc"] = _xy((1j * a2 - w2**2) * A + (1j * a3 - w3**2) * pq * _e(th3))
     return out
 
 

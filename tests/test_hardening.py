@@ -8,7 +8,7 @@ scale and rename with the sketch.
 import warnings
 
 import numpy as np
-from hypothesis import assume, given
+from hypothesis import assume, example, given
 from hypothesis import strategies as st
 
 import planar
@@ -36,6 +36,11 @@ def compiled(desc, **kw):
 
 
 @given(desc=linkages(), du=offsets)
+@example(  # found by CI: a sketch on a singular pose got branch rates but kept status SINGULAR
+    desc={"pivot": (2.5, 2.0830435124069506), "crank_tip": (0.0, 0.0),
+          "dyads": [("RRP", 1, (0.0, 0.0), (1.0, 0.0), 0, (0.0, 0.0), 0.0),
+                    ("RRP", 3, (0.0, 0.0), (0.0, -2.8984375), 0, (0.0, 0.0), 1.0945403947470475e-17)]},
+    du=[0.0, 1.0])
 def test_random_linkages_never_return_garbage(desc, du):
     m, pins = compiled(desc)
     res = sweep(m, du, velocity=1.3, acceleration=-0.4)
