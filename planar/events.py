@@ -162,7 +162,7 @@ class Tracer:
         """Normalised signed dets of the driven system's blocks at y."""
         q, u = self.q_of(y)[None], self.u_of(y)[None]
         _, _, Jv = self.p.evaluate(q, u)
-        return self.p.dets(Jv)[0]
+        return self.p.factor(Jv).dets[0]
 
     # ---- stepping and locating ---------------------------------------------------------
 
@@ -441,7 +441,7 @@ def around(model, plan, q, u, signs, max_step, reach):
                 w = y[-1] / (y[-1] - y1[-1])
                 qn, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u[None], max_iter=30, plan=plan)
                 _, _, Jv = plan.evaluate(qn, u[None])
-                if conv[0] and np.all(plan.modes(Jv)[0][0] == signs):
+                if conv[0] and np.all(plan.factor(Jv).signs[0] == signs):
                     return qn[0]
                 break
             if y1[-1] >= tr.d:

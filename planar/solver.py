@@ -49,7 +49,7 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None
                 break
             Phi, _, Jv = p.evaluate(q[idx], u[idx])
             res[idx] = np.max(np.abs(Phi * rs), axis=1)
-            dq = p.solve(Jv, Phi)
+            dq = p.factor(Jv).solve(Phi)
             step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
             if max_step is not None:
                 dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
@@ -62,35 +62,19 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None
     return q, conv, res, iters
 
 
-def velocity(model, p, Jv, ud):
-    """qd (N, n) solving the kept rows with input rates ``ud`` (N, f)."""
-    nu = np.zeros((Jv.shape[0], p.rows.size))
+def velocity(p, lu, ud):
+    """qd (N, n) solving the kept rows of plan ``p`` (factored: ``lu``) with input rates
+    ``ud`` (N, f)."""
+    nu = np.zeros((ud.shape[0], p.rows.size))
     nu[:, p.drivers] = ud[:, p.driver_inputs]
-    return p.solve(Jv, nu)
+    return lu.solve(nu)
 
 
-def acceleration(model, p, q, qd, u, Jv, udd):
+def acceleration(p, lu, q, qd, u, udd):
     """qdd (N, n) from gamma at (q, qd) and input accelerations ``udd`` (N, f)."""
     gam = p.system.gamma(q, qd, u)[:, p.rows]
     gam[:, p.drivers] += udd[:, p.driver_inputs]
-    return p.solve(Jv, gam)
-
-
-def rates(model, q, u, ud, udd, plan=None):
-    """Velocities, accelerations and the singularity measure at solved positions q.
-
-    ``ud`` and ``udd`` (N, f) are the input rates. Returns (qd, qdd, sing, sign): ``sing`` is
-    the smallest normalised |det| of the scaled diagonal blocks (|det| over the product of its
-    row norms, in [0, 1], 0 at a singular position), ``sign`` the sign of det (the assembly
-    mode: the product of the block signs).
-    """
-    p = block_plan(model) if plan is None else plan
-    _, _, Jv = p.evaluate(q, u)
-    signs, sing = p.modes(Jv)
-    with np.errstate(all="ignore"):
-        qd = velocity(model, p, Jv, ud)
-        qdd = acceleration(model, p, q, qd, u, Jv, udd)
-    return qd, qdd, sing, np.prod(signs, axis=1)
+    return lu.solve(gam)
 
 
 def least_squares_gap(model, q, u, *, iterations=40):

@@ -35,6 +35,7 @@ JUMP = 0.2  # accepted distance from the predictor, as a fraction of the predict
 HALVINGS = 5  # natural-parameter step halvings before the arclength tracer takes over
 EVENT_TOL = 1e-9  # scaled input distance within which a value is on a located event
 BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
+ROUND = 1e-13  # scaled Newton correction below which a guess is at rounding level
 
 
 def _scale(model):
@@ -54,27 +55,24 @@ class _Branch:
         self._last = (None, None)
 
     def _at(self, q, u):
-        """Jacobian values and block modes (Jv, signs, sing) at poses q. The walk asks twice
-        at each accepted pose (its modes, then the next prediction): for a batch of one the
-        last answer is kept."""
+        """The factored blocks (:class:`planar.blocks.Factors`) at poses q. The walk asks
+        twice at each accepted pose (its modes, then the next prediction): for a batch of one
+        the last answer is kept."""
         key = (q.tobytes(), u.tobytes()) if q.shape[0] == 1 else None
         if key is not None and self._last[0] == key:
             return self._last[1]
         with np.errstate(all="ignore"):  # poses of failed solves read non-finite: rejected later
             _, _, Jv = self.p.evaluate(q, u)
-            got = (Jv,) + tuple(self.p.modes(Jv))
+            lu = self.p.factor(Jv)
         if key is not None:
-            self._last = (key, got)
-        return got
+            self._last = (key, lu)
+        return lu
 
     def state(self, q, u, ud, udd=None):
         """(qd, qdd, signs, sing) at solved poses for input rates ud (qdd for udd = 0)."""
-        p = self.p
-        Jv, signs, sing = self._at(q, u)
-        with np.errstate(all="ignore"):
-            qd = velocity(self.m, p, Jv, ud)
-            qdd = acceleration(self.m, p, q, qd, u, Jv, np.zeros_like(ud) if udd is None else udd)
-        return qd, qdd, signs, sing
+        lu = self._at(q, u)
+        qd, qdd = _rates(self.p, lu, q, u, ud, np.zeros_like(ud) if udd is None else udd)
+        return qd, qdd, lu.signs, lu.sing
 
     def predict(self, q, u, du):
         qd, qdd, signs, _ = self.state(q, u, du)
@@ -84,7 +82,7 @@ class _Branch:
         return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p)
 
     def signs(self, q, u):
-        return self._at(q, u)[1]
+        return self._at(q, u).signs
 
     def accept(self, q, q_pred, q_from, conv, signs, signs_ref):
         c = self.p.cols
@@ -452,36 +450,42 @@ class _Out:
         self.sing[i], self.branch[i], self.status[i] = r["sing"][sel], r["branch"][sel], r["status"][sel]
 
 
+def _rates(p, lu, q, U, Ud, Udd):
+    with np.errstate(all="ignore"):
+        qd = velocity(p, lu, Ud)
+        return qd, acceleration(p, lu, q, qd, U, Udd)
+
+
 def _final(br, q, U, Ud, Udd):
-    """Newton from good guesses q to the final poses, with their rates and statuses, in two
-    evaluations: the step at the guess, then at the new pose the residual (the certificate),
-    a last correction and the Jacobian the rates use. Points whose last correction is too
-    large take the general Newton first."""
+    """Final poses from good guesses q, with their rates and statuses. One evaluation and one
+    factorisation serve a Newton step, its certificate (the residual at the guess and the size
+    of the correction) and, where the correction is at rounding level (ROUND, scaled), the
+    velocity and acceleration solves: the Jacobian at the guess differs from the one at the
+    final pose by that little. The other points take the general Newton and are factored anew."""
     m, p, tol = br.m, br.p, br.tol
     rs, cs = m.row_scale[p.rows], m.col_scale[p.cols]
     q = q.copy()
     iters = np.ones(q.shape[0], int)
     with np.errstate(all="ignore"):
-        Phi, _, Jv = p.evaluate(q, U)
-        q -= p.solve(Jv, Phi)
         Phi, full, Jv = p.evaluate(q, U)
+        lu = p.factor(Jv)
+        dq = lu.solve(Phi)
         res = np.max(np.abs(Phi * rs), axis=1)
-        dq = p.solve(Jv, Phi)
         step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
-        conv = (res <= tol) & (step <= 1e-10)
         q -= np.where(np.isfinite(dq), dq, 0.0)
-        # the rates need the Jacobian at the final pose: re-evaluate where the correction
-        # was not negligible
-        slow = np.flatnonzero(~conv | (step > 1e-13))
-        if slow.size:
-            qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p)
-            q[slow], conv[slow], iters[slow] = qs, cv, it + 1
-            Phi_s, full_s, Jv_s = p.evaluate(q[slow], U[slow])
+    conv = (res <= tol) & (step <= ROUND)
+    signs, sing = lu.signs, lu.sing
+    qd, qdd = _rates(p, lu, q, U, Ud, Udd)
+    slow = np.flatnonzero(~conv)
+    if slow.size:
+        qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p)
+        q[slow], conv[slow], iters[slow] = qs, cv, it + 1
+        with np.errstate(all="ignore"):
+            Phi_s, full[slow], Jv_s = p.evaluate(qs, U[slow])
             res[slow] = np.max(np.abs(Phi_s * rs), axis=1)
-            full[slow], Jv[slow] = full_s, Jv_s
-        signs, sing = p.modes(Jv)
-        qd = velocity(m, p, Jv, Ud)
-        qdd = acceleration(m, p, q, qd, U, Jv, Udd)
+            lu_s = p.factor(Jv_s)
+        signs[slow], sing[slow] = lu_s.signs, lu_s.sing
+        qd[slow], qdd[slow] = _rates(p, lu_s, qs, U[slow], Ud[slow], Udd[slow])
     st = np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
     st = np.where(sing < SINGULAR, Status.SINGULAR, st)
     red = m.redundant_rows  # rows of constraints outside the plan read 0

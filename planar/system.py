@@ -87,21 +87,22 @@ class System:
         return np.concatenate(rows), np.concatenate(cols)
 
     def values(self, q, u=None):
-        """Phi (N, m) and the Jacobian as its non-zero pattern: (N, nnz + 1) values in the order
-        of :attr:`entries`, then a zero (the slot of every structurally absent entry)."""
+        """Phi (N, m) and the Jacobian as its non-zero pattern: (nnz + 1, N) values, entry first
+        in the order of :attr:`entries` (so that the block solves read contiguous rows over the
+        configurations), then a row of zeros (the slot of every structurally absent entry)."""
         N = q.shape[0]
         full = self._full(q)
         cs = (np.cos(full[..., 2]), np.sin(full[..., 2]))
         Phi = np.zeros((N, self.m))
-        Jv = np.empty((N, self.entries[0].size + 1))
-        Jv[:, -1] = 0.0
+        Jv = np.empty((self.entries[0].size + 1, N))
+        Jv[-1] = 0.0
         at = 0
         for g in self.groups:
             F = self._frames(full, cs, g)
             P = self._params(g, u)
             Phi[:, g.rows], block = g.kind.Phi_and_Phi_q(P, F)
             size = block[0].size
-            Jv[:, at : at + size] = block.reshape(N, size)
+            Jv[at : at + size] = block.reshape(N, size).T
             at += size
         return Phi, Jv
 
