@@ -298,6 +298,11 @@ class Mechanism:
         :meth:`Model.sweep`."""
         return self.compile().sweep(values, velocity, acceleration, **options)
 
+    def circuit(self, samples=361, velocity=1.0, acceleration=0.0, **options):
+        """The whole circuit through the sketch, the input reversing at each limit; see
+        :meth:`Model.circuit`."""
+        return self.compile().circuit(samples, velocity, acceleration, **options)
+
 
 # ---- the compiled model ---------------------------------------------------------------------
 
@@ -387,6 +392,31 @@ class Model:
         Ud = np.broadcast_to(self._inputs(velocity, "velocity", N), U.shape)
         Udd = np.broadcast_to(self._inputs(acceleration, "acceleration", N), U.shape)
         return run_sweep(self, U, Ud, Udd, **options)
+
+    def circuit(self, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_step=0.05):
+        """The whole circuit through the assembled sketch of a one-input model, in one sweep.
+
+        The input starts at the sketch and rises; where it cannot go further (a limit
+        position) it turns back, and the mechanism goes on in the other assembly mode, until
+        it is back at the sketch's pose: for an input that turns fully, one turn (or the
+        whole turns it takes to come back); for a triple rocker, up to one limit, down to the
+        other and back up. ``samples`` values in all, evenly spaced in the input within each
+        stretch between limits; both ends and the limits are among them (status LIMIT:
+        positions valid, rates NaN). ``velocity`` and ``acceleration`` (scalars) are the
+        input's rate and acceleration along its motion: their sign follows the input's
+        direction on each stretch. ``events`` lists the limits (kind "limit", with the index
+        of their value) and any bifurcation met (the circuit keeps to the smooth branch).
+        Returns a frozen :class:`planar.results.Sweep`; see :mod:`planar.circuit`.
+
+        >>> import numpy as np
+        >>> from planar.mechanisms import four_bar
+        >>> res = four_bar(4, 3, 3, 3).circuit(samples=101)   # a triple rocker: +-117.28 deg
+        >>> np.degrees([e.input for e in res.events]).round(6).tolist()
+        [117.279613, -117.279613]
+        """
+        from planar.circuit import circuit
+
+        return circuit(self, samples, velocity, acceleration, tol=tol, max_step=max_step)
 
     def _inputs(self, values, what, N=None):
         f = len(self.drivers)
