@@ -11,21 +11,24 @@ complete coupler curve:
    component (to ~1e-15); where branches cross (a bifurcation) the trace keeps to the smooth
    branch; it ends where the curve is back at the sketch's pose (angles modulo a turn, so an
    input that turns fully ends one turn on).
-2. **Stretches**: the limits split the circuit into stretches, each monotone in the input.
-   Samples are evenly spaced in the input within each stretch, the stretches sharing them in
-   proportion to their input span; both ends and each limit are samples.
-3. **Solve**: all other samples at once, by Newton from the traced curve (cubic Hermite in
-   arclength, O(h^4) off) with the test that each stays on the traced curve (near its guess,
-   same assembly mode); rates from the linear solves, with input rate ``+velocity`` where the
-   input rises and ``-velocity`` where it falls (``acceleration`` likewise).
+2. **Samples**: evenly spaced in arclength along the circuit (in the tracer's scaled
+   coordinates: lengths / L, radians and the input), so the coupler curve is as fine at a
+   limit as anywhere (evenly spaced inputs would leave a gap there: the pose moves like the
+   square root of the input's distance from the limit). The limits split the circuit into
+   stretches, each monotone in the input; both ends and each limit are samples.
+3. **Solve**: all other samples at once, by Newton from the traced curve (cubic Hermite,
+   O(h^4) off) across the curve (well posed next to a limit, where a solve at a fixed input
+   is not), each checked to stay near its guess; the ends are solved at the sketch's input.
+   Rates come from the linear solves, with input rate ``+velocity`` where the input rises
+   and ``-velocity`` where it falls (``acceleration`` likewise).
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
 >>> res = circuit(four_bar(4, 3, 3, 3).compile(), samples=9)   # a triple rocker
->>> np.degrees(res.inputs[:, 0]).round(2).tolist()
-[0.0, 58.64, 117.28, 58.64, 0.0, -58.64, -117.28, -58.64, 0.0]
->>> [(e.kind, e.index) for e in res.events], res.branch.tolist()
-([('limit', 2), ('limit', 6)], [-1.0, -1.0, 0.0, 1.0, 1.0, 1.0, 0.0, -1.0, -1.0])
+>>> [(e.kind, e.index, round(float(np.degrees(e.input)), 6)) for e in res.events]
+[('limit', 2, 117.279613), ('limit', 6, -117.279613)]
+>>> res.branch.tolist(), res.input_rates[:, 0].tolist()
+([-1.0, -1.0, 0.0, 1.0, 1.0, 1.0, 0.0, -1.0, -1.0], [1.0, 1.0, -1.0, -1.0, -1.0, -1.0, 1.0, 1.0, 1.0])
 """
 
 import numpy as np
@@ -60,34 +63,32 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
     if samples < bounds.size:
         raise InputError(f"circuit samples must be at least {bounds.size} for {model.name!r} (both ends and its "
                          f"{len(limits)} limit position(s)), got {samples}")
-    # travel: the input distance covered along the circuit (monotone, unlike the input)
-    travel = np.r_[0.0, np.cumsum(np.abs(np.diff(Y[:, -1])))]
-    per = _share(np.diff(travel[bounds]), samples - 1)
+    # arclength along the trace (chords), in the tracer's scaled coordinates
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(Y, axis=0), axis=1))]
+    per = _share(np.diff(arc[bounds]), samples - 1)
     stretch = np.repeat(np.arange(per.size), per)
     first = np.r_[0, np.cumsum(per)[:-1]]  # sample index of each stretch's start
     frac = (np.arange(samples - 1) - first[stretch]) / per[stretch]
-    tau = np.r_[travel[bounds[stretch]] + frac * np.diff(travel[bounds])[stretch], travel[-1]]
+    s = np.r_[arc[bounds[stretch]] + frac * np.diff(arc[bounds])[stretch], arc[-1]]
     stretch = np.r_[stretch, per.size - 1]
     rising = np.sign(np.diff(Y[bounds, -1]))[stretch]
     on_limit = np.zeros(samples, bool)
     on_limit[first[1:]] = True
 
-    # guesses on the traced curve; limits as located
-    k = np.clip(np.searchsorted(travel, tau, side="right") - 1, 0, len(Y) - 2)
-    y = _hermite(Y, T, travel, k, tau)
-    y[on_limit] = Y[limits]
-    y[0], y[-1] = Y[0], Y[-1]
-    guess = _poses(tr, y)
-    U = model.u0 + y[:, -1:] / _scale(model)
+    # guesses on the traced curve, each corrected onto it across the curve; limits as located
+    k = np.clip(np.searchsorted(arc, s, side="right") - 1, 0, len(Y) - 2)
+    y, t = _hermite(Y[k], T[k], Y[k + 1], T[k + 1], (s - arc[k]) / (arc[k + 1] - arc[k]))
+    y[on_limit], t[on_limit] = Y[limits], T[limits]
+    # the ends at the sketch's input exactly: corrected at that input
+    y[[0, -1]], t[[0, -1]] = Y[[0, -1]], np.eye(len(y[0]))[-1]
     Ud, Udd = (rising * v)[:, None], (rising * a)[:, None]
-    out = _solve(model, p, guess, U, Ud, Udd, tol, max_step, on_limit)
+    U, out = _solve(model, tr, y, t, Ud, Udd, tol, max_step, on_limit)
 
     events = [Event("limit", float(U[i, 0]), int(i), out[0][i],
                     note="the input turns back here: the circuit goes on in the other assembly mode")
               for i in np.flatnonzero(on_limit)]
     for kind, kk, ym, note in marks:
-        t_m = travel[kk] + abs(ym[-1] - Y[kk, -1])
-        i = int(np.searchsorted(tau, t_m - 1e-12))
+        i = int(np.searchsorted(s, arc[kk] + np.linalg.norm(ym - Y[kk]) - 1e-12))
         events.append(Event(kind, float(tr.u_of(ym)[0]), min(i, samples - 1), tr.q_of(ym), note=note))
     events.sort(key=lambda e: e.index)
     return Sweep(model, U, Ud, Udd, *out, np.full(samples, np.nan), tuple(events))
@@ -126,28 +127,16 @@ def _poses(tr, y):
     return q
 
 
-def _hermite(Y, T, travel, k, tau):
-    """Points of the traced curve at travel ``tau``: the cubic Hermite in arclength between
-    trace points k and k+1 (chord length, unit tangents), its input component matched to the
-    target by bisection (it is monotone between two trace points)."""
-    y0, y1, t0, t1 = Y[k], Y[k + 1], T[k], T[k + 1]
+def _hermite(y0, t0, y1, t1, x):
+    """Cubic Hermite between curve points y0 and y1 (M, n+1) with unit tangents t0, t1, at
+    x in [0, 1] (with the chord as the length scale, x is close to the arclength fraction):
+    the points and their unit tangents."""
     ds = np.linalg.norm(y1 - y0, axis=1)[:, None]
-    m0, m1 = ds * t0, ds * t1
-    # the input component, measured as travel from trace point k
-    sgn = np.sign(y1[:, -1] - y0[:, -1])
-    target = tau - travel[k]
-
-    def at(s):
-        s = s[:, None]
-        s2, s3 = s * s, s * s * s
-        return (2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * m0 + (3 * s2 - 2 * s3) * y1 + (s3 - s2) * m1
-
-    lo, hi = np.zeros(k.size), np.ones(k.size)
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        below = sgn * (at(mid)[:, -1] - y0[:, -1]) < target
-        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-    return at(0.5 * (lo + hi))
+    x = x[:, None]
+    x2, x3 = x * x, x * x * x
+    y = (2 * x3 - 3 * x2 + 1) * y0 + (x3 - 2 * x2 + x) * ds * t0 + (3 * x2 - 2 * x3) * y1 + (x3 - x2) * ds * t1
+    t = (6 * x2 - 6 * x) * y0 + (3 * x2 - 4 * x + 1) * ds * t0 + (6 * x - 6 * x2) * y1 + (3 * x2 - 2 * x) * ds * t1
+    return y, t / np.linalg.norm(t, axis=1)[:, None]
 
 
 def _trace(model, p, tr, max_step, tol):
@@ -230,31 +219,74 @@ def _back_at_start(model, p, tr, y, y1, t1, phi, tol):
     return np.append(q[0][p.cols] / tr.cs, s)
 
 
-def _solve(model, p, guess, U, Ud, Udd, tol, max_step, on_limit):
-    """Final poses, rates and statuses: Newton from the guesses except on limits (their
-    located poses stand, rates NaN), each pose checked to stay near its guess and on its
-    assembly mode. Returns (q, qd, qdd, status, residual, iterations, singularity, branch)."""
-    N, n = guess.shape
-    br = _Branch(model, p, tol)
-    q, qd, qdd = guess.copy(), np.full((N, n), np.nan), np.full((N, n), np.nan)
+def _project(model, tr, y0, t, tol, max_iter=10):
+    """Newton onto the curve from guesses y0 (M, n+1), across it: Phi(y) = 0 and
+    t.(y - y0) = 0 (the tracer's corrector, batched). Unlike a solve at a fixed input, this
+    is well posed at and next to a limit. Returns (y, converged, iterations)."""
+    rows, cs, rs = model.active_rows, tr.cs, model.row_scale[model.active_rows]
+    dcol = np.zeros(rows.size)
+    dcol[model.driver_rows_active] = -float(tr.du[0]) / tr.d * rs[model.driver_rows_active]
+    y = y0.copy()
+    M = len(y)
+    conv, iters = np.zeros(M, bool), np.zeros(M, int)
+    live = np.arange(M)
+    with np.errstate(all="ignore"):
+        for it in range(max_iter):
+            if live.size == 0:
+                break
+            yl = y[live]
+            Phi, J = model.system.evaluate(_poses(tr, yl), tr.u_a + (yl[:, -1:] / tr.d) * tr.du)
+            r = Phi[:, rows] * rs
+            A = np.concatenate((J[:, rows] * rs[:, None] * cs, np.broadcast_to(dcol[:, None], (live.size, rows.size, 1))), 2)
+            A = np.concatenate((A, t[live][:, None, :]), 1)
+            b = np.concatenate((r, np.einsum("mi,mi->m", t[live], yl - y0[live])[:, None]), 1)
+            dy = _stacked_solve(A, b)
+            y[live] = yl - dy
+            iters[live] = it + 1
+            done = (np.max(np.abs(r), axis=1) <= tol) & (np.max(np.abs(dy), axis=1) <= 1e-10)
+            conv[live[done]] = True
+            live = live[~done & np.all(np.isfinite(dy), axis=1)]
+    return y, conv, iters
+
+
+def _stacked_solve(A, b):
+    """Solves of the stacked systems A x = b; NaN for an exactly singular member."""
+    try:
+        return np.linalg.solve(A, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        ok = np.linalg.slogdet(A)[0] != 0
+        x = np.full(b.shape, np.nan)
+        x[ok] = np.linalg.solve(A[ok], b[ok][..., None])[..., 0]
+        return x
+
+
+def _solve(model, tr, y, t, Ud, Udd, tol, max_step, on_limit):
+    """Final poses, rates and statuses of the curve points near y (tangents t): each corrected
+    onto the curve and checked to stay near its guess; on limits the located poses stand
+    (rates NaN). Returns the inputs U (N, 1) and (q, qd, qdd, status, residual, iterations,
+    singularity, branch)."""
+    N, n = len(y), model.n
+    br = _Branch(model, tr.p, tol)
+    qd, qdd = np.full((N, n), np.nan), np.full((N, n), np.nan)
     sing, branch, iters = np.zeros(N), np.zeros(N), np.zeros(N, int)
     status = np.full(N, Status.LIMIT, np.int8)
     free = np.flatnonzero(~on_limit)
-    cs = model.col_scale
+    y = y.copy()
     for lo in range(0, free.size, CHUNK):
         i = free[lo : lo + CHUNK]
+        yc, conv, iters[i] = _project(model, tr, y[i], t[i], tol)
+        near = np.max(np.abs(yc - y[i]), axis=1) <= 0.1 * max_step
+        y[i] = yc
         with np.errstate(all="ignore"):
-            qn, conv, _, it = br.solve(guess[i], U[i], max_iter=20)
-            mode = br.signs(guess[i], U[i])
-            qd_i, qdd_i, signs, sg = br.state(qn, U[i], Ud[i], Udd[i])
-        near = np.max(np.abs(qn - guess[i]) / cs, axis=1) <= 0.1 * max_step
-        good = conv & near & np.all(signs == mode, axis=1)
+            qd_i, qdd_i, signs, sg = br.state(_poses(tr, yc), tr.u_a + (yc[:, -1:] / tr.d) * tr.du, Ud[i], Udd[i])
         st = np.where(sg < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
         st = np.where(sg < SINGULAR, Status.SINGULAR, st)
+        good = conv & near
         status[i] = np.where(good, st, Status.NOT_CONVERGED)
-        q[i], iters[i], sing[i], branch[i] = qn, it, sg, np.prod(signs, axis=1)
+        sing[i], branch[i] = sg, np.prod(signs, axis=1)
         rate_ok = (good & (st <= Status.BRANCH_EVENT))[:, None]
         qd[i], qdd[i] = np.where(rate_ok, qd_i, np.nan), np.where(rate_ok, qdd_i, np.nan)
+    q, U = _poses(tr, y), tr.u_a + (y[:, -1:] / tr.d) * tr.du
     with np.errstate(all="ignore"):
         Phi, _ = model.system.evaluate(q, U, jacobian=False)
     residual = np.max(np.abs(Phi[:, model.active_rows] * model.row_scale[model.active_rows]), axis=1)
@@ -267,4 +299,4 @@ def _solve(model, p, guess, U, Ud, Udd, tol, max_step, on_limit):
     sing[on_limit] = 0.0
     lost = (status == Status.NOT_CONVERGED) | (status == Status.INCONSISTENT)
     q[lost], qd[lost], qdd[lost], residual[lost] = np.nan, np.nan, np.nan, np.nan
-    return q, qd, qdd, status, residual, iters, sing, branch
+    return U, (q, qd, qdd, status, residual, iters, sing, branch)

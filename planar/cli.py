@@ -138,6 +138,8 @@ def _settings(doc, args):
         changes["speed"] = tuple(float(units.rate_from_internal(s)) for s in speed)
     if getattr(args, "rocking", False):
         changes["rocking"] = True
+    if getattr(args, "circuit", False):
+        changes["rocking"] = False  # the circuit reverses by itself, at the limits
     return model, units, replace(sweep, **changes)
 
 
@@ -154,8 +156,12 @@ def _restate(sweep, model, old, new):
     return replace(sweep, start=conv(sweep.start, 0), stop=conv(sweep.stop, 0))
 
 
-def run_sweep(model, units, settings):
+def run_sweep(model, units, settings, circuit=False):
+    """The sweep the settings ask for; with ``circuit``, the whole circuit through the sketch
+    instead (``num`` values, the settings' speed and acceleration along the motion)."""
     U, Ud, Udd = settings.values(model, units)
+    if circuit:
+        return model.circuit(samples=settings.num, velocity=abs(float(Ud[0, 0])), acceleration=float(Udd[0, 0]))
     return model.sweep(U, velocity=Ud, acceleration=Udd)
 
 
@@ -189,15 +195,18 @@ def motion_ranges(res, x, limits):
     return out
 
 
-def summary(res, units, settings):
-    """Lines describing a sweep: statuses, motion ranges met, output ranges, events."""
+def summary(res, units, settings, circuit=False):
+    """Lines describing a sweep (or a ``circuit``): statuses, motion ranges met, output
+    ranges, events."""
     from planar.draw import input_axis
 
     model = res.model
     x, xlabel = input_axis(res, units)
     counts = {Status(s).name.lower().replace("_", " "): int(c) for s, c in zip(*np.unique(res.status, return_counts=True))}
-    lines = [f"sweep: {xlabel} from {_fmt(settings.start[0])} to {_fmt(settings.stop[0])}, {len(res)} values"
-             + (", there and back" if settings.rocking else "") + ": "
+    turns = sum(e.kind == "limit" for e in res.events)
+    head = (f"circuit: {xlabel} from {_fmt(x[0])} to {_fmt(x[-1])} turning back at {turns} limit(s)" if circuit else
+            f"sweep: {xlabel} from {_fmt(settings.start[0])} to {_fmt(settings.stop[0])}")
+    lines = [f"{head}, {len(res)} values" + (", there and back" if settings.rocking else "") + ": "
              + ", ".join(f"{c} {n}" for n, c in counts.items())]
     is_len = bool(model.input_lengths[0])
     limits = [float(units.input_from_internal(np.ravel(e.input)[0], is_len)) for e in res.events if e.kind == "limit"]
@@ -346,11 +355,12 @@ def _run(doc, source, args, out):
     from planar import animate, draw
 
     model, units, settings = _settings(doc, args)
-    res = run_sweep(model, units, settings)
+    circuit = getattr(args, "circuit", False)
+    res = run_sweep(model, units, settings, circuit)
     _, lines = info_lines(doc, source)
     for line in lines[1:]:
         print(line)
-    for line in summary(res, units, settings) + stroke_lines(model, units):
+    for line in summary(res, units, settings, circuit) + stroke_lines(model, units):
         print(line)
     _write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
     stem = _stem(model.name)
@@ -397,6 +407,10 @@ def _stem(name):
 def cmd_run(args):
     from planar import io
 
+    if args.circuit and (args.start is not None or args.stop is not None):
+        print("planar: error: --circuit starts at the sketch and ends back there: drop --start and --stop",
+              file=sys.stderr)
+        return EXIT_USAGE
     doc = io.load(args.file)
     out = Path(args.out) if args.out else Path(f"{Path(args.file).stem}-out")
     _run(doc, args.file, args, out)
@@ -518,7 +532,11 @@ def parser():
     r.add_argument("--speed", help="input speed: a number in the file's rate unit, or with a unit: "
                                    "10rad/s, 90deg/s, 120rpm (length/s for sliding inputs)")
     r.add_argument("--acceleration", type=float, nargs="+", help="input acceleration(s)")
-    r.add_argument("--rocking", action="store_true", help="sweep start -> stop -> start")
+    motion = r.add_mutually_exclusive_group()
+    motion.add_argument("--rocking", action="store_true", help="sweep start -> stop -> start")
+    motion.add_argument("--circuit", action="store_true",
+                        help="the whole circuit from the sketch, the input turning back at each limit position "
+                             "(--num values in all; no --start or --stop)")
     r.add_argument("--angle-unit", choices=("deg", "rad"), help="angle unit of the outputs and of --start/--stop")
     r.add_argument("--rate-unit", choices=tuple(RATE_UNITS), help="unit of angular rates in the outputs")
     _outputs(r)

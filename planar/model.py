@@ -400,9 +400,9 @@ class Model:
         position) it turns back, and the mechanism goes on in the other assembly mode, until
         it is back at the sketch's pose: for an input that turns fully, one turn (or the
         whole turns it takes to come back); for a triple rocker, up to one limit, down to the
-        other and back up. ``samples`` values in all, evenly spaced in the input within each
-        stretch between limits; both ends and the limits are among them (status LIMIT:
-        positions valid, rates NaN). ``velocity`` and ``acceleration`` (scalars) are the
+        other and back up. ``samples`` values in all, evenly spaced along the circuit (so the
+        coupler curve is as fine at a limit as elsewhere); both ends and the limits are among
+        them (status LIMIT: positions valid, rates NaN). ``velocity`` and ``acceleration`` (scalars) are the
         input's rate and acceleration along its motion: their sign follows the input's
         direction on each stretch. ``events`` lists the limits (kind "limit", with the index
         of their value) and any bifurcation met (the circuit keeps to the smooth branch).

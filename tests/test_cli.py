@@ -82,6 +82,30 @@ def test_rocking_run_goes_there_and_back(here, capsys):
     assert len(rows) == 1 + 41
 
 
+def test_circuit_run_traces_the_whole_circuit_from_the_sketch(here, capsys):
+    io.save(CATALOGUE["four_bar"](4, 3, 3, 3), here / "rocker.json")  # a triple rocker, sketched at 0
+    code, out, err = run(capsys, "run", "rocker.json", "--circuit", "--num", "41", "--speed", "2",
+                         "--frames", "6", "--dpi", "30", "--no-plot")
+    assert code == 0, err
+    assert "circuit: input crank [deg] from 0 to 0 turning back at 2 limit(s), 41 values: 39 solved, 2 limit" in out
+    assert "limit position at crank = 117.28 deg" in out and "limit position at crank = -117.28 deg" in out
+    assert (here / "rocker-out" / "four_bar.gif").exists()
+    rows = list(csv.reader(open(here / "rocker-out" / "four_bar.csv")))
+    head, rows = rows[0], [dict(zip(rows[0], r)) for r in rows[1:]]
+    crank = [float(r["input:crank [deg]"]) for r in rows]
+    # up to one limit, down to the other, back to the sketch; the rate follows the motion
+    assert len(rows) == 41 and crank[0] == crank[-1] == 0.0
+    assert max(crank) == pytest.approx(117.27961273597809, abs=1e-9) and min(crank) == pytest.approx(-max(crank))
+    assert [r["status"] for r in rows].count("LIMIT") == 2
+    assert {r["omega:crank [rad/s]"] for r in rows if r["status"] == "SOLVED"} == {"2.0", "-2.0"}
+    # the circuit starts at the sketch: start and stop do not apply, nor does rocking
+    code, _, err = run(capsys, "run", "rocker.json", "--circuit", "--start", "10")
+    assert code == 2 and "drop --start and --stop" in err
+    with pytest.raises(SystemExit) as e:
+        cli.main(["run", "rocker.json", "--circuit", "--rocking"])
+    assert e.value.code == 2 and "not allowed with argument" in capsys.readouterr().err
+
+
 def test_info_of_a_four_bar_names_its_grashof_class_and_strokes(here, capsys):
     io.save(CATALOGUE["four_bar"](4, 2, 3, 4), here / "fb.json")
     code, out, err = run(capsys, "info", "fb.json")
