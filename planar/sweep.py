@@ -36,6 +36,8 @@ HALVINGS = 5  # natural-parameter step halvings before the arclength tracer take
 EVENT_TOL = 1e-9  # scaled input distance within which a value is on a located event
 BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
 ROUND = 1e-13  # scaled Newton correction below which a guess is at rounding level
+FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
+WAVE, MAX_WAVE = 4, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
 
 
 def _scale(model):
@@ -278,8 +280,17 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     state = (model.q0, model.u0, chosen)
     limits = []  # (limit event, direction of the input that hit it)
     anchors = _anchors(model, U, max_step)
-    lo, k = -1, 0
+    lo, k, wave = -1, 0, WAVE
     while k < anchors.size:
+        idx = anchors[k : k + wave]
+        stop = [j for j, i in enumerate(idx) if _past_limit(limits, state[1], U[i]) or _at_events(model, U[i : i + 1], events)]
+        a, qa, sa = _wave(br, state, U, idx[: stop[0] if stop else idx.size])
+        if a:
+            q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
+            state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
+        wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
+        if k >= anchors.size or a == idx.size:
+            continue
         i = anchors[k]
         got = ("lost",) if _past_limit(limits, state[1], U[i]) else walk(state, i, lo)
         lo = i
@@ -304,57 +315,23 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         state, lo = (qe, U[i], chosen), i
         k += 1
 
-    # 2. every other value from an anchor of its own stretch (no event in between)
+    # 2. every other value from an anchor of its own stretch (no event in between): first a
+    # finer set of anchors, so that the interpolation is at rounding level for the rest
     at_event = _at_events(model, U, events)
     solved[list(at_event)] = False
-    good = anchors[solved[anchors]]
-    one = U.shape[1] == 1
-    if one and good.size:  # kinematic coefficients at the anchors, once; singular ones are no source
-        QU, QUU, sg = np.empty((good.size, n)), np.empty((good.size, n)), np.empty(good.size)
-        for a in range(0, good.size, CHUNK):
-            g = good[a : a + CHUNK]
-            QU[a : a + CHUNK], QUU[a : a + CHUNK], _, sg[a : a + CHUNK] = br.state(q[g], U[g], np.ones((g.size, 1)))
-        regular = sg >= NEAR
-        good, QU, QUU = good[regular], QU[regular], QUU[regular]
+    out = _Out(N, n)
     q_pred = np.full((N, n), np.nan)
     done = np.zeros(N, bool)
-    out = _Out(N, n)
     rest = np.setdiff1d(np.arange(N), np.r_[anchors[solved[anchors]], list(at_event)]).astype(int)
     cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}), int)
-    if good.size and rest.size:
-        pos = np.searchsorted(good, rest) - 1
-        prev = good[np.maximum(pos, 0)]
-        nxt = good[np.minimum(pos + 1, good.size - 1)]
-        seg = np.searchsorted(cuts, rest, side="right")
-        same_prev = (pos >= 0) & (np.searchsorted(cuts, prev, side="right") == seg)
-        same_next = (pos + 1 < good.size) & (np.searchsorted(cuts, nxt, side="right") == seg)
-        src = np.where(same_prev, prev, nxt)
-        has = same_prev | same_next
-        # between two consecutive anchors of one stretch: interpolate rather than extrapolate
-        span = U[nxt, 0] - U[prev, 0] if one else 0.0
-        both = same_prev & same_next & (np.searchsorted(anchors, nxt) - np.searchsorted(anchors, prev) == 1) & (span != 0)
-        rest, src, both = rest[has], src[has], both[has]
-        if one:
-            where = np.searchsorted(good, src)
-        for a in range(0, rest.size, CHUNK):
-            i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
-            du = U[i] - U[s_]
-            if one:
-                k = where[a : a + CHUNK]
-                qp = q[s_] + QU[k] * du + 0.5 * QUU[k] * du**2
-                b = both[a : a + CHUNK]
-                if b.any():
-                    kb = k[b]
-                    h = U[good[kb + 1], 0] - U[good[kb], 0]
-                    qp[b] = _hermite(q[good[kb]], QU[kb], QUU[kb], q[good[kb + 1]], QU[kb + 1], QUU[kb + 1],
-                                     h, du[b, 0] / h)
-            else:
-                qp, _ = br.predict(q[s_], U[s_], du)
-            r = _final(br, qp, U[i], Ud[i], Udd[i])
-            ok = br.accept(r["q"], qp, q[s_], r["conv"], r["signs"], signs[s_])
-            out.put(i[ok], r, ok)
-            q[i[ok]], solved[i[ok]], signs[i[ok]], done[i[ok]] = r["q"][ok], True, r["signs"][ok], True
-            q_pred[i] = qp
+    fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
+                cuts=cuts)
+    if U.shape[1] == 1 and rest.size:
+        finer = rest[_walk_anchors(U[rest] * _scale(model), max_step / FINER)]
+        _from_anchors(anchors=anchors, targets=finer, **fill)
+        anchors = np.union1d(anchors, finer[solved[finer]])
+        rest = rest[~solved[rest]]
+    _from_anchors(anchors=anchors, targets=rest, **fill)
 
     # 3. the rest one by one, from the solved point before each
     failed_from = None
@@ -376,6 +353,79 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         q[i], solved[i], done[i] = ev.q, True, True
     events.sort(key=lambda e: e.index)
     return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event)
+
+
+def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anchors, targets):
+    """Solve ``targets`` in batch from the solved anchors of their own stretch (no event in
+    between): one input interpolates between two consecutive anchors (quintic Hermite in the
+    kinematic coefficients), or extrapolates from the nearer one (second-order Taylor); the
+    result passes the walk's acceptance test or is left for the sequential walk."""
+    n = q.shape[1]
+    one = U.shape[1] == 1
+    good = anchors[solved[anchors]]
+    rest = targets
+    if one and good.size:  # kinematic coefficients at the anchors, once; singular ones are no source
+        QU, QUU, sg = np.empty((good.size, n)), np.empty((good.size, n)), np.empty(good.size)
+        for a in range(0, good.size, CHUNK):
+            g = good[a : a + CHUNK]
+            QU[a : a + CHUNK], QUU[a : a + CHUNK], _, sg[a : a + CHUNK] = br.state(q[g], U[g], np.ones((g.size, 1)))
+        regular = sg >= NEAR
+        good, QU, QUU = good[regular], QU[regular], QUU[regular]
+    if not (good.size and rest.size):
+        return
+    pos = np.searchsorted(good, rest) - 1
+    prev = good[np.maximum(pos, 0)]
+    nxt = good[np.minimum(pos + 1, good.size - 1)]
+    seg = np.searchsorted(cuts, rest, side="right")
+    same_prev = (pos >= 0) & (np.searchsorted(cuts, prev, side="right") == seg)
+    same_next = (pos + 1 < good.size) & (np.searchsorted(cuts, nxt, side="right") == seg)
+    src = np.where(same_prev, prev, nxt)
+    has = same_prev | same_next
+    # between two consecutive anchors of one stretch: interpolate rather than extrapolate
+    span = U[nxt, 0] - U[prev, 0] if one else 0.0
+    both = same_prev & same_next & (np.searchsorted(anchors, nxt) - np.searchsorted(anchors, prev) == 1) & (span != 0)
+    rest, src, both = rest[has], src[has], both[has]
+    if one:
+        where = np.searchsorted(good, src)
+    for a in range(0, rest.size, CHUNK):
+        i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
+        du = U[i] - U[s_]
+        if one:
+            k = where[a : a + CHUNK]
+            qp = q[s_] + QU[k] * du + 0.5 * QUU[k] * du**2
+            b = both[a : a + CHUNK]
+            if b.any():
+                kb = k[b]
+                h = U[good[kb + 1], 0] - U[good[kb], 0]
+                qp[b] = _hermite(q[good[kb]], QU[kb], QUU[kb], q[good[kb + 1]], QU[kb + 1], QUU[kb + 1],
+                                 h, du[b, 0] / h)
+        else:
+            qp, _ = br.predict(q[s_], U[s_], du)
+        r = _final(br, qp, U[i], Ud[i], Udd[i])
+        ok = br.accept(r["q"], qp, q[s_], r["conv"], r["signs"], signs[s_])
+        out.put(i[ok], r, ok)
+        q[i[ok]], solved[i[ok]], signs[i[ok]], done[i[ok]] = r["q"][ok], True, r["signs"][ok], True
+        q_pred[i] = qp
+
+
+def _wave(br, state, U, idx):
+    """Anchors ``idx`` solved in one batch from ``state`` (q, u, signs), each from the Taylor
+    predictor at the state, then checked as the sequential walk checks a step: against the
+    predictor from the anchor before it, with the same modes. Returns (a, poses, signs) for
+    the accepted prefix idx[:a]: a batch of M costs about one sequential step."""
+    if idx.size == 0:
+        return 0, None, None
+    q0, u0, s0 = state
+    M = idx.size
+    Ut = U[idx]
+    q_pred, _ = br.predict(np.repeat(q0[None], M, 0), np.repeat(u0[None], M, 0), Ut - u0)
+    qn, conv, _, _ = br.solve(q_pred, Ut)
+    q_from = np.vstack((q0[None], qn[:-1]))
+    u_from = np.vstack((u0[None], Ut[:-1]))
+    q_step, _ = br.predict(q_from, u_from, Ut - u_from)
+    ok = br.accept(qn, q_step, q_from, conv, br.signs(qn, Ut), s0[None])
+    a = M if ok.all() else int(np.argmin(ok))
+    return a, qn[:a], s0
 
 
 def _hermite(q0, d0, dd0, q1, d1, dd1, h, t):
