@@ -1,15 +1,21 @@
 """Sweeps: continuation along the branch drawn in the sketch, batched where it can be.
 
-1. Anchors: a sequential predictor-corrector walk from the assembled sketch through the input
-   values in order, in steps no longer than ``max_step`` (scaled input units), halving a step
-   whose solution changes assembly mode (the sign of a block det) or lands far from its
-   predictor. Where that fails a singular position lies ahead: :func:`planar.events.cross`
-   follows the branch by arclength, locates it and says what it is (a limit stops the branch;
-   at a bifurcation the sweep goes on along the smooth branch, or the other one if asked).
-2. Every other value is solved in one batch from the anchor before it (after it when an event
-   lies between) with the second-order Taylor predictor ``q + q_u du + 1/2 q_uu du^2`` (the
-   velocity and acceleration solutions at unit input rate) and passes the same acceptance
-   test; failures are walked to one by one.
+1. Anchors: a predictor-corrector walk from the assembled sketch through the input values in
+   order, in steps no longer than ``max_step`` (scaled input units). Anchors are tried in
+   batched waves (each solved from the Taylor predictor at the wave's start, then checked as
+   one walk step from the anchor before it); where a wave stops, the walk goes step by step,
+   halving a step whose solution changes assembly mode (the sign of a block det) or lands far
+   from its predictor. Where that fails a singular position lies ahead:
+   :func:`planar.events.cross` follows the branch by arclength, locates it and says what it is
+   (a limit stops the branch; at a bifurcation the sweep goes on along the smooth branch, or
+   the other one if asked).
+2. Every other value is solved in batch from the anchors of its own stretch (no event in
+   between): by quintic Hermite interpolation between two anchors in the kinematic
+   coefficients ``q_u``, ``q_uu`` (the velocity and acceleration solutions at unit input rate),
+   or the Taylor predictor ``q + q_u du + 1/2 q_uu du^2`` from the nearer one, and passes the
+   same acceptance test; failures are walked to one by one. A finer level of anchors
+   (``FINER`` per interval) comes first, so that for the rest the interpolation is at rounding
+   level and one evaluation and one factorisation give the pose, its certificate and its rates.
 3. Velocities and accelerations by forward substitution through the blocks with the final
    Jacobian. Points on a limit position keep their positions (status LIMIT, rates NaN); points
    on a bifurcation get their values from the smooth branch around them; points that cannot
@@ -29,7 +35,7 @@ from planar.results import POSED as POSED_MASK
 from planar.results import Status, Sweep
 from planar.solver import least_squares_gap, newton, velocity, acceleration
 
-CHUNK = 4096
+CHUNK = 16384
 GAP = 1e-8  # scaled residual above which a least-squares minimum is not an assembly
 JUMP = 0.2  # accepted distance from the predictor, as a fraction of the predicted move
 HALVINGS = 5  # natural-parameter step halvings before the arclength tracer takes over
@@ -322,7 +328,9 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     out = _Out(N, n)
     q_pred = np.full((N, n), np.nan)
     done = np.zeros(N, bool)
-    rest = np.setdiff1d(np.arange(N), np.r_[anchors[solved[anchors]], list(at_event)]).astype(int)
+    todo = np.ones(N, bool)
+    todo[anchors[solved[anchors]]] = todo[list(at_event)] = False
+    rest = np.flatnonzero(todo)
     cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}), int)
     fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
                 cuts=cuts)
@@ -391,14 +399,16 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
         du = U[i] - U[s_]
         if one:
-            k = where[a : a + CHUNK]
-            qp = q[s_] + QU[k] * du + 0.5 * QUU[k] * du**2
-            b = both[a : a + CHUNK]
+            k, b = where[a : a + CHUNK], both[a : a + CHUNK]
+            qp = np.empty((i.size, n))
             if b.any():
                 kb = k[b]
                 h = U[good[kb + 1], 0] - U[good[kb], 0]
                 qp[b] = _hermite(q[good[kb]], QU[kb], QUU[kb], q[good[kb + 1]], QU[kb + 1], QUU[kb + 1],
                                  h, du[b, 0] / h)
+            if not b.all():
+                k, s1, d1 = k[~b], s_[~b], du[~b]
+                qp[~b] = q[s1] + QU[k] * d1 + 0.5 * QUU[k] * d1**2
         else:
             qp, _ = br.predict(q[s_], U[s_], du)
         r = _final(br, qp, U[i], Ud[i], Udd[i])
@@ -544,8 +554,8 @@ def _final(br, q, U, Ud, Udd):
         st = np.where(bad, Status.INCONSISTENT, st)
     # a point on a singular position converges only linearly: its position still holds
     st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
-    rate_ok = (st <= Status.BRANCH_EVENT)[:, None]
-    return dict(q=q, qd=np.where(rate_ok, qd, np.nan), qdd=np.where(rate_ok, qdd, np.nan), conv=conv,
+    qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
+    return dict(q=q, qd=qd, qdd=qdd, conv=conv,
                 res=res, iters=iters, signs=signs, sing=sing, branch=np.prod(signs, axis=1), status=st)
 
 
