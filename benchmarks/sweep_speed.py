@@ -25,9 +25,9 @@ import planar  # noqa: E402
 from planar.mechanisms import four_bar, geared_five_bar, slider_crank, watt_six_bar  # noqa: E402
 from tests import oracles  # noqa: E402
 
-
-def _ang(a, b):
-    return np.abs(np.angle(np.exp(1j * (a - b))))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import peers  # noqa: E402
+from peers import error  # noqa: E402
 
 
 def circle(c1, r1, c2, r2, left=True):
@@ -114,25 +114,18 @@ def timed(f, repeat=3):
     return best, out
 
 
-def error(ref, got, L):
-    errs = {}
-    for k in ref:
-        a, b = np.asarray(ref[k]), np.asarray(got[k])
-        d = _ang(a, b) if k.startswith("th") else np.abs(a - b)
-        scale = L if not k[:1] in "wa" and not k.endswith(("vel", "acc")) else 1 + np.nanmax(np.abs(a))
-        errs[k] = float(np.nanmax(d)) / scale
-    return errs
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="N = 1e3 only")
+    ap.add_argument("--quick", action="store_true", help="N = 1e3 only, best of one run, a short chain (a smoke run)")
     ap.add_argument("--sizes", type=int, nargs="+", default=[1000, 10_000, 100_000, 1_000_000])
+    ap.add_argument("--no-peers", action="store_true", help="skip the peer libraries")
     args = ap.parse_args(argv)
     sizes = [1000] if args.quick else args.sizes
+    repeat = 1 if args.quick else 3
     print(f"planar sweep benchmark, numpy {np.__version__}")
     print(f"{'mechanism':26s} {'N':>8s} {'tol':>6s} {'planar us/pos':>13s} {'closed us/pos':>13s} "
           f"{'ratio':>6s}  max error (pos | vel | acc, relative)")
+    four_bar_runs = {}  # N -> (planar s, closed s, errors) at the default tolerance
     for name, build in CASES.items():
         m, closed, ours, L = build()
         model = m.compile()
@@ -140,20 +133,22 @@ def main(argv=None):
             th = model.u0[0] + np.linspace(0, 2 * np.pi, N, endpoint=False)
             if name == "geared five-bar":
                 th = np.linspace(0, np.radians(200), N)  # inside the range of its sketched branch
-            tc, ref = timed(lambda: closed(th), 1 if name == "geared five-bar" else 3)
+            tc, ref = timed(lambda: closed(th), 1 if name == "geared five-bar" else repeat)
             for tol in ([1e-12] if N > 1000 else [1e-8, 1e-10, 1e-12]):
-                tp, res = timed(lambda: model.sweep(th, tol=tol), 1 if N >= 100_000 else 3)
+                tp, res = timed(lambda: model.sweep(th, tol=tol), 1 if N >= 100_000 else repeat)
                 errs = error(ref, ours(res), L)
                 print(f"{name:26s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
                       f"{tp / tc:6.1f}  " + " | ".join(f"{v:.1e}" for v in errs.values()))
-    # scaling with the number of loops: a chain of k four-bars, each driven by the one before
-    print("\nchain of k four-bar loops, N = 2000 positions:")
-    for k in (1, 10, 30, 100):
-        m = chain(k)
-        model = m.compile()
-        th = np.linspace(0, 2 * np.pi, 2000)
+                if case_four_bar is build and tol == 1e-12:
+                    four_bar_runs[N] = (tp, tc, errs)
+    # scaling with the number of loops: a chain of k drag-link loops, each driven by the one before
+    ks, n_chain = ((1, 10), 100) if args.quick else ((1, 10, 30, 100), 2000)
+    print(f"\nchain of k drag-link four-bar loops (every loop turns a full turn), N = {n_chain} positions:")
+    for k in ks:
+        model = chain(k).compile()
+        th = np.linspace(0, 2 * np.pi, n_chain)
         t, res = timed(lambda: model.sweep(th), 1)
-        print(f"  k = {k:3d}: {t / 2000 * 1e6:9.1f} us per position, {t / 2000 / k * 1e6:7.2f} us per loop,"
+        print(f"  k = {k:3d}: {t / n_chain * 1e6:9.1f} us per position, {t / n_chain / k * 1e6:7.2f} us per loop,"
               f" all solved: {bool(res.ok.all())}")
     if not args.quick and max(sizes) >= 1_000_000:
         model = four_bar(4, 2, 3.5, 3, coupler_point=(1.0, 0.8)).compile()
@@ -163,40 +158,95 @@ def main(argv=None):
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
         print(f"\npeak memory of a four-bar sweep at N = 1e6: {peak / 2**20:.0f} MiB (numpy allocations)")
-    peers()
+    if not args.no_peers:
+        side_by_side(sizes, args.quick, repeat, four_bar_runs)
+
+
+def side_by_side(sizes, quick, repeat, four_bar_runs):
+    """The four-bar with a coupler point in planar, the closed form and each installed peer."""
+    rows = peers.rows(sizes, quick)
+    print("\nfour-bar + coupler point side by side (crank 0 .. 2 pi at unit rate; errors relative as above;"
+          " full = positions, velocities, accelerations):")
+    print(f"{'library':48s} {'outputs':9s} {'N':>8s} {'us/pos':>9s} {'/closed':>8s}  max error (pos | vel | acc)")
+    m, closed, ours, L = case_four_bar()
+    model = m.compile()
+    by_n = {}
+    for r in rows:
+        by_n.setdefault(r["N"], []).append(r)
+    for N in sorted(set(sizes) | set(by_n)):
+        th = np.linspace(0, 2 * np.pi, N, endpoint=False)
+        if N in four_bar_runs:
+            tp, tc, errs = four_bar_runs[N]
+        else:  # a peer's own (smaller) N: time planar there too
+            tc, ref = timed(lambda: closed(th), repeat)
+            tp, res = timed(lambda: model.sweep(th), repeat)
+            errs = error(ref, ours(res), L)
+        line = "{:48s} {:9s} {:8d} {:9.3f} {:8.1f}  {}"
+        print(line.format("closed form (numpy, tests/oracles.py)", "full", N, tc / N * 1e6, 1.0, "reference"))
+        print(line.format("planar Model.sweep", "full", N, tp / N * 1e6, tp / tc, _errs(errs.values())))
+        for r in by_n.get(N, []):
+            what = "full" if len(r["errors"]) == 3 else "positions"
+            print(line.format(r["label"], what, N, r["seconds"] / N * 1e6, r["seconds"] / tc, _errs(r["errors"].values()))
+                  + (f"  [{r['note']}]" if r["note"] else ""))
+    slow = sorted({f"{p.label} (N <= {p.quick_n if quick else p.max_n})" for p in peers.PEERS
+                   if p.max_n is not None and peers.installed(p)})
+    if slow:
+        print("timed at smaller N only (a Python loop per position): " + "; ".join(slow))
+    for line in peers.NOT_COMPARABLE:
+        print("not comparable: " + line)
+    missing = peers.not_installed()
+    if missing:
+        print("not installed (pip install -e '.[bench]'): " + ", ".join(missing))
+    targets(four_bar_runs, rows)
+
+
+def targets(four_bar_runs, rows):
+    """The issue's speed targets for the four-bar at N >= 1e5, measured in this run."""
+    big = [N for N in four_bar_runs if N >= 100_000]
+    if not big:
+        return
+    print("\ntargets (four-bar, full kinematics; planar has no positions-only sweep, so its full sweep is"
+          " compared with step_fast):")
+    for N in sorted(big):
+        tp, tc, _ = four_bar_runs[N]
+        peer = {r["label"]: r["seconds"] for r in rows if r["N"] == N}
+        print(f"  N = {N:.0e}: planar / closed form = {tp / tc:.1f} (target <= 2)", end="")
+        for label, goal in (("pylinkage+numba step_fast_with_kinematics", "< 1"), ("pylinkage+numba step_fast", "<= 1")):
+            if label in peer:
+                print(f"; planar / {label} = {tp / peer[label]:.1f} (target {goal})", end="")
+        print()
+
+
+def _errs(values):
+    return " | ".join(f"{v:.1e}" for v in values)
 
 
 def chain(k):
-    """k parallelogram-free four-bar loops in a row: loop j's rocker drives loop j+1 as crank."""
+    """k drag-link four-bar loops in a row: loop j's output crank drives loop j+1.
+
+    Each loop (ground 1, crank 2.5, coupler 3, output 2.8: the ground is the shortest link, so
+    both cranks turn fully) turns its output once per input turn, so every loop of the chain
+    moves, with rates within 2.5x of the input's. (A chain of crank-rockers would not do: each
+    rocker swings less than the crank driving it, and past ~30 loops nothing moves.)
+    """
     m = planar.Mechanism(f"chain{k}")
-    prev, pivot = m.ground, np.zeros(2)
+    pivot = np.zeros(2)
     crank = m.add_body("crank0", angle=np.pi / 3)
     m.add_revolute("O0", m.ground, crank, at=pivot)
-    A = pivot + 2 * np.array([np.cos(np.pi / 3), np.sin(np.pi / 3)])
+    A = pivot + 2.5 * np.array([np.cos(np.pi / 3), np.sin(np.pi / 3)])
     for j in range(k):
-        O4 = pivot + np.array([4.0, 0.0])
-        B = circle(A, 3.5, O4, 3.0, left=True)
+        O4 = pivot + np.array([1.0, 0.0])
+        B = circle(A, 3.0, O4, 2.8, left=True)
         co = m.add_body(f"coupler{j}")
         ro = m.add_body(f"rocker{j}")
         m.add_revolute(f"A{j}", crank if j == 0 else f"rocker{j - 1}", co, at=A)
         m.add_revolute(f"B{j}", co, ro, at=B)
         m.add_revolute(f"O4{j}", ro, m.ground, at=O4)
-        # the next crank pin: the rocker's point 2 long from O4 along O4 -> B
-        A = O4 + 2 * (B - O4) / np.linalg.norm(B - O4)
+        # the next crank pin: the output's point 2.5 from O4 along O4 -> B
+        A = O4 + 2.5 * (B - O4) / np.linalg.norm(B - O4)
         pivot = O4
     m.drive(body="crank0")
     return m
-
-
-def peers():
-    found = []
-    for mod in ("pylinkage", "numba", "kinepy", "kimech", "mechanism", "python_solvespace"):
-        try:
-            __import__(mod)
-            found.append(mod)
-        except ImportError:
-            pass
-    print("\npeer libraries installed:", ", ".join(found) if found else "none (pip install -e '.[bench]')")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,44 @@
+"""The benchmark's ``--quick`` path runs end to end and its numbers are sane; peers that are not
+installed are skipped by the benchmark itself (the ``bench`` extra is optional)."""
+
+import importlib.util
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, BENCH / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_quick_run_prints_every_section_with_small_errors(capsys):
+    sweep_speed = _load("sweep_speed")
+    sweep_speed.main(["--quick"])
+    out = capsys.readouterr().out
+    for name in sweep_speed.CASES:
+        assert re.search(rf"^{re.escape(name)}\s+1000\s", out, re.M), name
+    assert re.search(r"k =  10: .* all solved: True", out)
+    rows = re.findall(r"^planar Model\.sweep\s+full\s+(\d+)\s+([\d.]+)\s+[\d.]+\s+(.*)$", out, re.M)
+    assert rows
+    for _, us, errs in rows:
+        assert float(us) > 0
+        assert max(float(e) for e in errs.split("|")) < 1e-12
+    for peer in sweep_speed.peers.PEERS:
+        assert (peer.label in out) == sweep_speed.peers.installed(peer), peer.label
+
+
+def test_peer_errors_show_failed_points():
+    peers = _load("peers")
+    ref = {"C": np.zeros((3, 2)), "C_vel": np.ones((3, 2))}
+    got = {"C": np.array([[0.0, 0.0], [np.nan, 0.0], [0.0, 0.0]]), "C_vel": np.full((3, 2), 1.5)}
+    errs = peers.error(ref, got)
+    assert np.isnan(errs["C"])
+    assert errs["C_vel"] == 0.5 / 2
