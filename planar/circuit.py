@@ -100,14 +100,15 @@ def _scale(model):
 
 
 def _rate(x, what):
+    """One finite number: the input's rate (or acceleration) along its motion."""
     try:
-        x = float(x)
+        ok = np.ndim(x) == 0 and not isinstance(x, (str, bool)) and np.isfinite(float(x))
     except (TypeError, ValueError):
-        raise InputError(f"circuit {what} must be one number (the input's {what} along its motion: its sign "
-                         f"follows the input at each reversal), got {x!r}") from None
-    if not np.isfinite(x):
-        raise InputError(f"circuit {what} must be finite, got {x!r}")
-    return x
+        ok = False
+    if not ok:
+        raise InputError(f"circuit {what} must be one finite number (the input's {what} along its motion: its "
+                         f"sign follows the input at each reversal), got {x!r}")
+    return float(x)
 
 
 def _share(spans, intervals):

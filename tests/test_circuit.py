@@ -227,7 +227,9 @@ def test_circuit_refuses_what_it_cannot_do():
         four_bar(4, 3, 3, 3).circuit(samples=3)
     with pytest.raises(InputError, match="whole number"):
         four_bar(4, 3, 3, 3).circuit(samples=10.5)
-    with pytest.raises(InputError, match="velocity must be one number"):
+    with pytest.raises(InputError, match="velocity must be one finite number"):
         four_bar(4, 2, 3, 4).circuit(velocity=[1.0, 2.0])
+    with pytest.raises(InputError, match="acceleration must be one finite number"):
+        four_bar(4, 2, 3, 4).circuit(acceleration=np.nan)
     res = four_bar(4, 3, 3, 3).circuit(samples=4)  # the ends and the limits, nothing between
     assert res.status.tolist() == [Status.SOLVED, Status.LIMIT, Status.LIMIT, Status.SOLVED]
