@@ -82,7 +82,12 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
     # the ends at the sketch's input exactly: corrected at that input
     y[[0, -1]], t[[0, -1]] = Y[[0, -1]], np.eye(len(y[0]))[-1]
     Ud, Udd = (rising * v)[:, None], (rising * a)[:, None]
-    U, out = _solve(model, tr, y, t, Ud, Udd, tol, max_step, on_limit)
+    # the assembly mode each value must keep: that of the trace points around it, where
+    # they agree (not across a limit or a singular position)
+    br = _Branch(model, p, tol)
+    signs = br.signs(_poses(tr, Y), _inputs(tr, Y))
+    mode = np.where(np.all(signs[k] == signs[k + 1], axis=1)[:, None], signs[k], np.nan)
+    U, out = _solve(br, tr, y, t, mode, Ud, Udd, max_step, on_limit)
 
     events = [Event("limit", float(U[i, 0]), int(i), out[0][i],
                     note="the input turns back here: the circuit goes on in the other assembly mode")
@@ -126,6 +131,11 @@ def _poses(tr, y):
     q = np.repeat(tr.q_full[None], y.shape[0], axis=0)
     q[:, tr.p.cols] = y[:, :-1] * tr.cs
     return q
+
+
+def _inputs(tr, y):
+    """Inputs (M, 1) of curve points y (M, n+1)."""
+    return tr.u_a + (y[:, -1:] / tr.d) * tr.du
 
 
 def _hermite(y0, t0, y1, t1, x):
@@ -236,7 +246,7 @@ def _project(model, tr, y0, t, tol, max_iter=10):
             if live.size == 0:
                 break
             yl = y[live]
-            Phi, J = model.system.evaluate(_poses(tr, yl), tr.u_a + (yl[:, -1:] / tr.d) * tr.du)
+            Phi, J = model.system.evaluate(_poses(tr, yl), _inputs(tr, yl))
             r = Phi[:, rows] * rs
             A = np.concatenate((J[:, rows] * rs[:, None] * cs, np.broadcast_to(dcol[:, None], (live.size, rows.size, 1))), 2)
             A = np.concatenate((A, t[live][:, None, :]), 1)
@@ -261,33 +271,48 @@ def _stacked_solve(A, b):
         return x
 
 
-def _solve(model, tr, y, t, Ud, Udd, tol, max_step, on_limit):
-    """Final poses, rates and statuses of the curve points near y (tangents t): each corrected
-    onto the curve and checked to stay near its guess; on limits the located poses stand
-    (rates NaN). Returns the inputs U (N, 1) and (q, qd, qdd, status, residual, iterations,
-    singularity, branch)."""
+def _solve(br, tr, y, t, mode, Ud, Udd, max_step, on_limit):
+    """Final poses, rates and statuses of the curve points near y (tangents t), each checked
+    to stay near its guess and on its block assembly ``mode`` (NaN: not checked). Where the
+    mode is known (away from limits) Newton at the guess's input, through the blocks; the
+    rest, and any that fails, corrected onto the curve across it. On limits the located
+    poses stand (rates NaN). Returns the inputs U (N, 1) and (q, qd, qdd, status, residual,
+    iterations, singularity, branch)."""
+    model, tol = br.m, br.tol
     N, n = len(y), model.n
-    br = _Branch(model, tr.p, tol)
     qd, qdd = np.full((N, n), np.nan), np.full((N, n), np.nan)
     sing, branch, iters = np.zeros(N), np.zeros(N), np.zeros(N, int)
     status = np.full(N, Status.LIMIT, np.int8)
     free = np.flatnonzero(~on_limit)
     y = y.copy()
-    for lo in range(0, free.size, CHUNK):
-        i = free[lo : lo + CHUNK]
-        yc, conv, iters[i] = _project(model, tr, y[i], t[i], tol)
-        near = np.max(np.abs(yc - y[i]), axis=1) <= 0.1 * max_step
-        y[i] = yc
+
+    def settle(i, yi, conv):
+        """Rates and statuses of the points i at their final yi."""
         with np.errstate(all="ignore"):
-            qd_i, qdd_i, signs, sg = br.state(_poses(tr, yc), tr.u_a + (yc[:, -1:] / tr.d) * tr.du, Ud[i], Udd[i])
+            qd_i, qdd_i, signs, sg = br.state(_poses(tr, yi), _inputs(tr, yi), Ud[i], Udd[i])
+        good = conv & (np.max(np.abs(yi - y[i]), axis=1) <= 0.1 * max_step)
+        good &= np.all((signs == mode[i]) | np.isnan(mode[i]), axis=1)
         st = np.where(sg < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
         st = np.where(sg < SINGULAR, Status.SINGULAR, st)
-        good = conv & near
         status[i] = np.where(good, st, Status.NOT_CONVERGED)
         sing[i], branch[i] = sg, np.prod(signs, axis=1)
         rate_ok = (good & (st <= Status.BRANCH_EVENT))[:, None]
         qd[i], qdd[i] = np.where(rate_ok, qd_i, np.nan), np.where(rate_ok, qdd_i, np.nan)
-    q, U = _poses(tr, y), tr.u_a + (y[:, -1:] / tr.d) * tr.du
+        return good
+
+    for lo in range(0, free.size, CHUNK):
+        i = free[lo : lo + CHUNK]
+        known = np.all(np.isfinite(mode[i]), axis=1)
+        yi = y[i]
+        qn, conv, _, iters[i] = br.solve(_poses(tr, yi), _inputs(tr, yi), max_iter=10)
+        yi[:, :-1] = qn[:, tr.p.cols] / tr.cs
+        good = settle(i, yi, conv & known)
+        redo = np.flatnonzero(~good)
+        if redo.size:
+            yi[redo], conv, iters[i[redo]] = _project(model, tr, y[i[redo]], t[i[redo]], tol)
+            settle(i[redo], yi[redo], conv)
+        y[i] = yi
+    q, U = _poses(tr, y), _inputs(tr, y)
     with np.errstate(all="ignore"):
         Phi, _ = model.system.evaluate(q, U, jacobian=False)
     residual = np.max(np.abs(Phi[:, model.active_rows] * model.row_scale[model.active_rows]), axis=1)
