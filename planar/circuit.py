@@ -16,9 +16,10 @@ complete coupler curve:
    limit as anywhere (evenly spaced inputs would leave a gap there: the pose moves like the
    square root of the input's distance from the limit). The limits split the circuit into
    stretches, each monotone in the input; both ends and each limit are samples.
-3. **Solve**: all other samples at once, by Newton from the traced curve (cubic Hermite,
-   O(h^4) off) across the curve (well posed next to a limit, where a solve at a fixed input
-   is not), each checked to stay near its guess; the ends are solved at the sketch's input.
+3. **Solve**: all other samples at once from the traced curve (cubic Hermite, O(h^4) off):
+   by Newton at the guess's input through the blocks, checked to stay near the guess and on
+   the assembly mode of the trace around it; next to a limit (where a solve at a fixed input
+   is ill posed) by Newton across the curve instead. The ends are solved at the sketch's input.
    Rates come from the linear solves, with input rate ``+velocity`` where the input rises
    and ``-velocity`` where it falls (``acceleration`` likewise).
 
