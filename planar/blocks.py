@@ -128,8 +128,9 @@ class Factors:
 
     ``solve(b)`` forward-substitutes through the stages; ``signs`` (N, blocks) are the signs
     of the blocks' dets (the assembly mode) and ``sing`` (N,) the smallest normalised |det|
-    (|det| of a scaled block over the product of its row norms, in [0, 1]; 0 at a singular
-    position). A singular block gives non-finite solutions, never an exception.
+    (|det| of a block over the product of its column norms and of the row norms of the block
+    with unit columns, in [0, 1]; 0 at a singular position). A singular block gives
+    non-finite solutions, never an exception.
     """
 
     def __init__(self, plan, Jv):
@@ -170,7 +171,12 @@ def _lu(Jv, st):
     N = Jv.shape[1]
     A = Jv[st.diag.T].reshape(k, k, G, N)
     A *= (st.rscale.T[:, None, :] * st.cscale.T[None, :, :])[..., None]
-    norms = np.prod(np.sqrt(np.einsum("ijgn,ijgn->ign", A, A)), axis=0)
+    # |det| over the product of the column norms, then of the row norms of the block with
+    # unit columns: invariant to the scaling of rows and of columns alike (a global length
+    # scale that suits one loop of a long chain must not make it look singular)
+    cn = np.sqrt(np.einsum("ijgn,ijgn->jgn", A, A))
+    rn = np.sqrt(np.einsum("ijgn,jgn->ign", A * A, 1.0 / np.where(cn > 0, cn, 1.0) ** 2))
+    norms = np.prod(cn, axis=0) * np.prod(rn, axis=0)
     perm = None
     sign = np.ones((G, N))
     for j in range(k - 1):
