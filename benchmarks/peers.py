@@ -287,14 +287,18 @@ def inputs(N):
 
 
 def measure(peer, N, repeat):
-    """Best time over ``repeat`` runs (the building outside the timing) and the errors."""
+    """Best time (the building outside the timing) and the errors: up to ``repeat`` runs, no
+    more once one second has been spent."""
     th = inputs(N)
-    best, out = np.inf, None
+    best, out, spent = np.inf, None, 0.0
     for _ in range(repeat):
         run = peer.prepare(th, peer.kinematics)
         t = time.perf_counter()
         out = run()
-        best = min(best, time.perf_counter() - t)
+        t = time.perf_counter() - t
+        best, spent = min(best, t), spent + t
+        if spent > 1.0:
+            break
     return best, error(closed_form(th), out)
 
 
@@ -322,8 +326,7 @@ def rows(sizes, quick=False, child=False):
             warm = warm_up()
             warmed = True
         for N in sizes_for(peer, sizes, quick):
-            repeat = 1 if peer.max_n is not None and N > 1000 else 3
-            t, errs = measure(peer, N, repeat)
+            t, errs = measure(peer, N, 3)
             note = peer.note + (f" ({warm:.1f} s)" if "warm-up" in peer.note else "")
             out.append(dict(label=peer.label, N=N, seconds=t, errors=errs, note=note))
     return out

@@ -138,7 +138,7 @@ def main(argv=None):
                 tp, res = timed(lambda: model.sweep(th, tol=tol), 1 if N >= 100_000 else repeat)
                 errs = error(ref, ours(res), L)
                 print(f"{name:26s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
-                      f"{tp / tc:6.1f}  " + " | ".join(f"{v:.1e}" for v in errs.values()))
+                      f"{tp / tc:6.3g}  " + " | ".join(f"{v:.1e}" for v in errs.values()))
                 if case_four_bar is build and tol == 1e-12:
                     four_bar_runs[N] = (tp, tc, errs)
     # scaling with the number of loops: a chain of k drag-link loops, each driven by the one before
@@ -181,7 +181,7 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
             tc, ref = timed(lambda: closed(th), repeat)
             tp, res = timed(lambda: model.sweep(th), repeat)
             errs = error(ref, ours(res), L)
-        line = "{:48s} {:9s} {:8d} {:9.3f} {:8.1f}  {}"
+        line = "{:48s} {:9s} {:8d} {:9.3f} {:8.3g}  {}"
         print(line.format("closed form (numpy, tests/oracles.py)", "full", N, tc / N * 1e6, 1.0, "reference"))
         print(line.format("planar Model.sweep", "full", N, tp / N * 1e6, tp / tc, _errs(errs.values())))
         for r in by_n.get(N, []):
