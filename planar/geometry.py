@@ -1,7 +1,17 @@
 """Batched planar vector helpers: the "markers" every joint is built from.
 
-Arrays carry any leading batch axes and a last axis of length 2 for vectors.
+Two layouts. Results, analyses and drawing hold vectors as (..., 2) arrays: ``perp``, ``dot``
+and ``cross`` work on those. The joint kernels hold them *components first, configurations
+last* (structure of arrays): a vector is (2, ..., N), so that every operation is one numpy
+call over whole contiguous rows of N configurations, never an inner loop of 2 elements;
+``perp_cf``, ``dot_cf``, ``cross_cf`` and ``rotate_cf`` work on those, and :class:`Frames`
+holds the body poses in that layout.
+
 ``perp(v)`` is the rotation by +90 degrees, so ``d(A(phi) s)/dphi = perp(A(phi) s)``.
+
+>>> import numpy as np
+>>> perp(np.array([1.0, 2.0])), perp_cf(np.array([[1.0], [2.0]])).ravel()
+(array([-2.,  1.]), array([-2.,  1.]))
 """
 
 import numpy as np
@@ -11,7 +21,7 @@ _PERP = np.array([-1.0, 1.0])
 
 
 def perp(v):
-    """Rotate vectors by +90 degrees: (x, y) -> (-y, x)."""
+    """Rotate (..., 2) vectors by +90 degrees: (x, y) -> (-y, x)."""
     return v[..., ::-1] * _PERP
 
 
@@ -20,21 +30,63 @@ def dot(a, b):
 
 
 def cross(a, b):
-    """Scalar cross product a_x b_y - a_y b_x."""
+    """Scalar cross product a_x b_y - a_y b_x of (..., 2) vectors."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
-def rotate(c, s, v):
-    """A(phi) v for cos ``c`` and sin ``s`` (broadcast against v[..., 0])."""
-    # c v + s perp(v): three whole-array operations, no stacking copy
-    return c[..., None] * v + s[..., None] * perp(v)
+# ---- components first: (2, ...) ------------------------------------------------------------
+
+_PERP_CF = tuple(_PERP.reshape((2,) + (1,) * k) for k in range(8))
+
+
+def perp_cf(v):
+    """Rotate (2, ...) vectors by +90 degrees: one multiply of the swapped components."""
+    return v[::-1] * _PERP_CF[v.ndim - 1]
+
+
+def dot_cf(a, b):
+    return a[0] * b[0] + a[1] * b[1]
+
+
+def cross_cf(a, b):
+    """Scalar cross product a_x b_y - a_y b_x of (2, ...) vectors."""
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def rotate_cf(c, s, v):
+    """A(phi) v = c v + s perp(v) for cos ``c`` and sin ``s`` (broadcast against v[0]): with v
+    a body-fixed parameter (2, K, 1), three whole-array operations."""
+    return c * v + s * perp_cf(v)
+
+
+def cos_sin(phi, c, s):
+    """Write cos ``phi`` into ``c`` and sin ``phi`` into ``s`` through the half-angle tangent
+    t = tan(phi / 2): cos = 2 / (1 + t^2) - 1, sin = t 2 / (1 + t^2).
+
+    numpy's float64 ``tan`` is vectorised (SIMD) where ``cos`` and ``sin`` are not: this is
+    ~4x faster than calling both, and within 4e-16 of them (absolute; at phi = pi, t is large
+    but finite, 1.6e16, so no inf arises).
+
+    >>> c, s = np.empty(3), np.empty(3)
+    >>> cos_sin(np.array([0.0, np.pi / 2, np.pi]), c, s)
+    >>> np.allclose(c, [1, 0, -1], atol=1e-15), np.allclose(s, [0, 1, 0], atol=1e-15)
+    (True, True)
+    """
+    t = np.multiply(phi, 0.5)
+    np.tan(t, out=t)
+    w = np.multiply(t, t)
+    w += 1.0
+    np.divide(2.0, w, out=w)
+    np.subtract(w, 1.0, out=c)
+    np.multiply(t, w, out=s)
 
 
 class Frames:
-    """Poses (and optionally rates) of the body slots of one joint group.
+    """Poses (and optionally rates) of the body slots of one joint group, components first.
 
-    ``r`` is (..., K, nb, 2), ``phi``, ``c``, ``s`` are (..., K, nb); ``rd`` and ``phid`` the
-    same shapes for the rates. Slot ``k`` of a joint is its k-th body.
+    ``r`` is (2, nb, K, ...), ``phi``, ``c``, ``s`` are (nb, K, ...) with the configurations on
+    the trailing axes; ``rd`` and ``phid`` the same shapes for the rates. Slot ``k`` of a joint
+    is its k-th body: ``r[:, k]`` is (2, K, ...).
     """
 
     __slots__ = ("r", "phi", "c", "s", "rd", "phid")
@@ -42,26 +94,31 @@ class Frames:
     def __init__(self, r, phi, c, s, rd=None, phid=None):
         self.r, self.phi, self.c, self.s, self.rd, self.phid = r, phi, c, s, rd, phid
 
+    @property
+    def shape(self):
+        """(K, ...): the joints and configurations of one row."""
+        return self.phi.shape[1:]
+
     def vec(self, k, s_local):
-        """World vector A_k s' of a body-fixed vector ``s_local`` (K, 2) on slot k."""
-        return rotate(self.c[..., k], self.s[..., k], s_local)
+        """World vector A_k s' (2, K, ...) of a body-fixed vector ``s_local`` (2, K, 1) on slot k."""
+        return rotate_cf(self.c[k], self.s[k], s_local)
+
+    def vecs(self, s_local):
+        """World vectors A s' (2, nb, K, ...) of one body-fixed vector per slot, ``s_local``
+        (2, nb, K, 1): all slots in one pass."""
+        return rotate_cf(self.c, self.s, s_local)
+
+    def points(self, s_local):
+        """World positions r + A s' and vectors S = A s' of one body-fixed point per slot
+        (as :meth:`vecs`)."""
+        S = self.vecs(s_local)
+        return self.r + S, S
 
     def point(self, k, s_local):
-        """World position r_k + A_k s' and the vector S = A_k s'."""
+        """World position r_k + A_k s' and the vector S = A_k s' on slot k."""
         S = self.vec(k, s_local)
-        return self.r[..., k, :] + S, S
+        return self.r[:, k] + S, S
 
     def point_rate(self, k, S):
-        """Velocity of the body point whose world vector is S."""
-        return self.rd[..., k, :] + perp(S) * self.phid[..., k, None]
-
-
-def point_block(S, sign=1.0, out=None):
-    """Jacobian block (..., 2, 3) of sign * (r + S) with respect to (x, y, phi) of its body,
-    written into ``out`` (zeros elsewhere) when given."""
-    if out is None:
-        out = np.zeros(S.shape[:-1] + (2, 3))
-    out[..., 0, 0] = out[..., 1, 1] = sign
-    out[..., 0, 2] = -sign * S[..., 1]
-    out[..., 1, 2] = sign * S[..., 0]
-    return out
+        """Velocity of the body point of slot k whose world vector is S."""
+        return self.rd[:, k] + perp_cf(S) * self.phid[k]

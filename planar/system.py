@@ -14,7 +14,8 @@ from functools import cached_property
 
 import numpy as np
 
-from planar.geometry import Frames
+from planar.geometry import Frames, cos_sin
+from planar.joints.base import kernel_params
 
 
 @dataclass(frozen=True, eq=False)
@@ -22,10 +23,36 @@ class Group:
     kind: type  # the joint class: supplies Phi, Phi_q, gamma
     members: np.ndarray  # (K,) constraint indices
     bodies: np.ndarray  # (K, nb) body ids (0 = ground)
-    P: dict  # stacked parameters, (K, ...) arrays
+    P: dict  # stacked parameters, (K, ...) arrays, one joint per row
     rows: np.ndarray  # (K, n_rows) global row ids
     cols: np.ndarray  # (K, 3 nb) global column ids, ground columns -> n (dumped)
     inputs: np.ndarray  # (K,) input column of each driver, -1 for joints
+
+    @cached_property
+    def kernel_P(self):
+        """``P`` as the kernels take it (views: the model's sketch constants reach them)."""
+        return kernel_params(self.P)
+
+    @cached_property
+    def slots(self):
+        """(nb, K) body ids, slot first: the gather of the group's frames."""
+        return np.ascontiguousarray(self.bodies.T)
+
+    def params(self, u, sl=slice(None)):
+        """Kernel parameters at the configurations ``sl`` of the inputs ``u`` (N, f)."""
+        if self.inputs[0] < 0 or u is None:
+            return self.kernel_P
+        # a driver row is g(q) - u: the input values (1, K, N) stand in the constant c
+        return dict(self.kernel_P, c=u[sl, self.inputs].T[None])
+
+    def frames(self, full):
+        """The group's :class:`Frames` from the bodies' (x, y, phi, cos, sin[, rates]) rows."""
+        G = full[:, self.slots]
+        return Frames(G[:2], G[2], G[3], G[4], *((G[5:7], G[7]) if len(G) > 5 else ()))
+
+
+# a body's rows in the full array: x, y, phi, cos phi, sin phi, and the rates xd, yd, phid
+_GROUND = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])[:, None]
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,73 +65,78 @@ class System:
     def n(self):
         return 3 * (self.n_bodies - 1)
 
-    def _full(self, q):
+    def _full(self, q, qd=None):
+        """(5, n_bodies, N) rows x, y, phi, cos, sin of every body, configurations last (8
+        with the rates xd, yd, phid): one transposing copy of q, so the groups' gathers and
+        all kernel operations run over contiguous rows of configurations."""
         N = q.shape[0]
-        full = np.zeros((N, self.n_bodies, 3))
-        full[:, 1:, :] = q.reshape(N, self.n_bodies - 1, 3)
+        full = np.empty((5 if qd is None else 8, self.n_bodies, N))
+        full[:, 0] = _GROUND[: len(full)]
+        full[:3, 1:] = q.reshape(N, self.n_bodies - 1, 3).T
+        cos_sin(full[2, 1:], full[3, 1:], full[4, 1:])
+        if qd is not None:
+            full[5:, 1:] = qd.reshape(N, self.n_bodies - 1, 3).T
         return full
 
-    def _frames(self, full, cs, g, fulld=None):
-        B = g.bodies
-        F = Frames(full[:, B, :2], full[:, B, 2], cs[0][:, B], cs[1][:, B])
-        if fulld is not None:
-            F.rd, F.phid = fulld[:, B, :2], fulld[:, B, 2]
-        return F
+    @cached_property
+    def _complete(self):
+        """True when the groups write every row (a restricted system leaves some at zero)."""
+        return sum(g.rows.size for g in self.groups) == self.m
 
-    @staticmethod
-    def _params(g, u):
-        if g.inputs[0] < 0 or u is None:
-            return g.P
-        # a driver row is g(q) - u: the input values stand in the constant c
-        return dict(g.P, c=u[:, g.inputs][..., None])
+    def _rows(self, N):
+        return np.empty((self.m, N)) if self._complete else np.zeros((self.m, N))
 
     def evaluate(self, q, u=None, jacobian=True, groups=None):
         """Phi (N, m) and, if asked, Phi_q (N, m, n) at configurations q (N, n)."""
         N = q.shape[0]
         full = self._full(q)
-        cs = (np.cos(full[..., 2]), np.sin(full[..., 2]))
-        Phi = np.zeros((N, self.m))
+        Phi = np.zeros((self.m, N))
         J = np.zeros((N, self.m, self.n + 1)) if jacobian else None
         for g in self.groups if groups is None else groups:
-            F = self._frames(full, cs, g)
-            P = self._params(g, u)
-            Phi[:, g.rows] = g.kind.Phi(P, F)
+            F, P = g.frames(full), g.params(u)
+            Phi[g.rows.T] = g.kind.Phi(P, F)
             if jacobian:
-                J[:, g.rows[:, :, None], g.cols[:, None, :]] = g.kind.Phi_q(P, F)
-        return Phi, (J[:, :, : self.n] if jacobian else None)
+                J[:, g.rows.T[:, None, :], g.cols.T[None, :, :]] = np.moveaxis(g.kind.Phi_q(P, F), -1, 0)
+        return Phi.T, (J[:, :, : self.n] if jacobian else None)
 
     @cached_property
     def entries(self):
-        """(rows, cols) of every value :meth:`values` returns, group by group (cols = n for the
-        ground: a dump column)."""
+        """(rows, cols) of every value :meth:`values` returns, group by group, each group's in
+        the kernels' block order (row, column, joint) (cols = n for the ground: a dump column)."""
         rows, cols = [], []
         for g in self.groups:
             K, nr, nc = g.rows.shape[0], g.rows.shape[1], g.cols.shape[1]
-            rows.append(np.broadcast_to(g.rows[:, :, None], (K, nr, nc)).ravel())
-            cols.append(np.broadcast_to(g.cols[:, None, :], (K, nr, nc)).ravel())
+            rows.append(np.broadcast_to(g.rows.T[:, None, :], (nr, nc, K)).ravel())
+            cols.append(np.broadcast_to(g.cols.T[None, :, :], (nr, nc, K)).ravel())
         if not rows:
             return np.zeros(0, int), np.zeros(0, int)
         return np.concatenate(rows), np.concatenate(cols)
 
+    @cached_property
+    def _blocks(self):
+        """(start, end, shape) of each group's Jacobian block in the values: (n_rows, 3 nb, K)."""
+        out, at = [], 0
+        for g in self.groups:
+            shape = (g.kind.n_rows, g.cols.shape[1], g.rows.shape[0])
+            out.append((at, at + shape[0] * shape[1] * shape[2], shape))
+            at = out[-1][1]
+        return out
+
     def values(self, q, u=None):
         """Phi (N, m) and the Jacobian as its non-zero pattern: (nnz + 1, N) values, entry first
         in the order of :attr:`entries` (so that the block solves read contiguous rows over the
-        configurations), then a row of zeros (the slot of every structurally absent entry)."""
+        configurations), then a row of zeros (the slot of every structurally absent entry).
+        The kernels write their blocks straight into it."""
         N = q.shape[0]
-        full = self._full(q)
-        cs = (np.cos(full[..., 2]), np.sin(full[..., 2]))
-        Phi = np.zeros((N, self.m))
+        Phi = self._rows(N)
         Jv = np.empty((self.entries[0].size + 1, N))
         Jv[-1] = 0.0
-        at = 0
-        for g in self.groups:
-            F = self._frames(full, cs, g)
-            P = self._params(g, u)
-            Phi[:, g.rows], block = g.kind.Phi_and_Phi_q(P, F)
-            size = block[0].size
-            Jv[at : at + size] = block.reshape(N, size).T
-            at += size
-        return Phi, Jv
+        blocks = [Jv[a:b].reshape(shape + (N,)) for a, b, shape in self._blocks]
+        for sl in _chunks(N):
+            full = self._full(q[sl])
+            for g, block in zip(self.groups, blocks):
+                Phi[g.rows.T, sl], _ = g.kind.Phi_and_Phi_q(g.params(u, sl), g.frames(full), block[..., sl])
+        return Phi.T, Jv
 
     def restrict(self, rows):
         """The system of only the constraints that own one of ``rows`` (global ids kept)."""
@@ -120,13 +152,21 @@ class System:
 
     def gamma(self, q, qd, u=None):
         """gamma (N, m) with Phi_q qdd = gamma, at configurations q and rates qd."""
-        full, fulld = self._full(q), self._full(qd)
-        cs = (np.cos(full[..., 2]), np.sin(full[..., 2]))
-        out = np.zeros((q.shape[0], self.m))
-        for g in self.groups:
-            F = self._frames(full, cs, g, fulld)
-            out[:, g.rows] = g.kind.gamma(self._params(g, u), F)
-        return out
+        out = self._rows(q.shape[0])
+        for sl in _chunks(q.shape[0]):
+            full = self._full(q[sl], qd[sl])
+            for g in self.groups:
+                out[g.rows.T, sl] = g.kind.gamma(g.params(u, sl), g.frames(full))
+        return out.T
+
+
+# configurations per pass: a group's temporaries stay in the core's cache (1 MB L2) instead
+# of streaming through memory; one pass for the sequential walk's batches of one
+_CHUNK = 4096
+
+
+def _chunks(N):
+    return [slice(a, a + _CHUNK) for a in range(0, N, _CHUNK)] or [slice(0, 0)]
 
 
 def build_system(constraints, params, body_index, n_bodies, driver_inputs):

@@ -1,6 +1,7 @@
 """Every joint type against finite differences: Phi_q and gamma, at random configurations.
 
 gamma is checked against -d2/dt2 Phi(q + qd t) at t = 0 (Phi_q qdd = gamma along any motion).
+Kernels take and give arrays components first, configurations last (planar.joints.base).
 """
 
 import numpy as np
@@ -8,7 +9,7 @@ import pytest
 
 from planar.geometry import Frames
 from planar.joints import JOINT_TYPES
-from planar.joints.base import SketchFrames
+from planar.joints.base import SketchFrames, kernel_params
 
 N = 5  # configurations
 K = 3  # joints per group
@@ -41,14 +42,14 @@ def group(cls, rng):
     sketch = SketchFrames({b: rng.uniform(-1, 1, 2) for b in names}, {b: rng.uniform(-3, 3) for b in names})
     joints = [cls(f"j{k}", names, **random_data(cls, rng)) for k in range(K)]
     params = [j.params(sketch) for j in joints]
-    return {key: np.stack([P[key] for P in params]) for key in params[0]}
+    return kernel_params({key: np.stack([P[key] for P in params]) for key in params[0]})
 
 
 def frames(q, qd=None):
-    """q (N, K, nb, 3) -> Frames."""
-    F = Frames(q[..., :2], q[..., 2], np.cos(q[..., 2]), np.sin(q[..., 2]))
+    """q (3, nb, K, N): (x, y, phi) of each body slot of each joint -> Frames."""
+    F = Frames(q[:2], q[2], np.cos(q[2]), np.sin(q[2]))
     if qd is not None:
-        F.rd, F.phid = qd[..., :2], qd[..., 2]
+        F.rd, F.phid = qd[:2], qd[2]
     return F
 
 
@@ -57,46 +58,52 @@ def test_jacobian_and_gamma_match_finite_differences(cls):
     rng = np.random.default_rng(7)
     P = group(cls, rng)
     nb = cls.n_bodies
-    q = rng.uniform(-2, 2, (N, K, nb, 3))
-    qd = rng.uniform(-2, 2, (N, K, nb, 3))
+    q = rng.uniform(-2, 2, (3, nb, K, N))
+    qd = rng.uniform(-2, 2, (3, nb, K, N))
     # constants taken at q, so every row holds there (the wrapped gear row is smooth near 0)
     P["c"] = cls.Phi(dict(P, c=np.zeros_like(P["c"])), frames(q))
 
     J = cls.Phi_q(P, frames(q))
-    assert J.shape == (N, K, cls.n_rows, 3 * nb)
+    assert J.shape == (cls.n_rows, 3 * nb, K, N)
     h = 1e-6
-    flat = q.reshape(N, K, 3 * nb)
     for col in range(3 * nb):
-        e = np.zeros(3 * nb)
-        e[col] = h
-        up = cls.Phi(P, frames((flat + e).reshape(q.shape)))
-        dn = cls.Phi(P, frames((flat - e).reshape(q.shape)))
-        np.testing.assert_allclose(J[..., col], (up - dn) / (2 * h), atol=1e-7, rtol=1e-6)
+        e = np.zeros((3, nb, 1, 1))
+        e[col % 3, col // 3] = h  # columns are (x, y, phi) per body slot
+        up = cls.Phi(P, frames(q + e))
+        dn = cls.Phi(P, frames(q - e))
+        np.testing.assert_allclose(J[:, col], (up - dn) / (2 * h), atol=1e-7, rtol=1e-6)
 
     t = 1e-4
     phi = [cls.Phi(P, frames(q + k * t * qd)) for k in (-1, 0, 1)]
     fd = -(phi[2] - 2 * phi[1] + phi[0]) / t**2
     gamma = cls.gamma(P, frames(q, qd))
-    assert gamma.shape == (N, K, cls.n_rows)
+    assert gamma.shape == (cls.n_rows, K, N)
     np.testing.assert_allclose(gamma, fd, atol=2e-5 * (1 + np.abs(gamma).max()))
 
 
 @pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
 def test_kernels_broadcast_over_design_axis(cls):
-    """Parameters with a leading batch axis (one design per configuration) give the same rows."""
+    """Parameters with a trailing configuration axis (one design per configuration) give the
+    same rows, Jacobians and gamma."""
     rng = np.random.default_rng(3)
     P = group(cls, rng)
-    q = rng.uniform(-2, 2, (N, K, cls.n_bodies, 3))
-    one = cls.Phi(P, frames(q))
-    many = cls.Phi({k: np.broadcast_to(v, (N,) + v.shape) for k, v in P.items()}, frames(q))
-    np.testing.assert_allclose(many, one, rtol=0, atol=1e-15)
+    q, qd = rng.uniform(-2, 2, (2, 3, cls.n_bodies, K, N))
+    many = {k: np.broadcast_to(v, v.shape[:-1] + (N,)) for k, v in P.items()}
+    for kernel in (cls.Phi, cls.Phi_q):
+        np.testing.assert_allclose(kernel(many, frames(q)), kernel(P, frames(q)), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(cls.gamma(many, frames(q, qd)), cls.gamma(P, frames(q, qd)), rtol=0, atol=1e-15)
 
 
 @pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
 def test_combined_kernel_equals_the_two_kernels(cls):
+    """... and writes every entry of the array it is given (the system's are not zeroed)."""
     rng = np.random.default_rng(11)
     P = group(cls, rng)
-    F = frames(rng.uniform(-2, 2, (N, K, cls.n_bodies, 3)))
-    Phi, J = cls.Phi_and_Phi_q(P, F)
+    F = frames(rng.uniform(-2, 2, (3, cls.n_bodies, K, N)))
+    out = np.full((cls.n_rows, 3 * cls.n_bodies, K, N), np.nan)
+    Phi, J = cls.Phi_and_Phi_q(P, F, out)
+    assert J is out
     np.testing.assert_allclose(Phi, cls.Phi(P, F), rtol=0, atol=1e-15)
     np.testing.assert_allclose(J, cls.Phi_q(P, F), rtol=0, atol=1e-15)
+    out[:] = np.nan
+    np.testing.assert_allclose(cls.Phi_q(P, F, out), J, rtol=0, atol=1e-15)

@@ -2,19 +2,27 @@
 
 A joint class couples ``n_bodies`` bodies and adds ``n_rows`` rows to the constraint system.
 Its three kernels work on a whole *group* of K joints of that class at once, over any
-leading batch axes (configurations, designs):
+trailing batch axes (configurations, ...). Arrays are *components first, configurations
+last* (structure of arrays), so that every numpy operation runs over whole rows of
+configurations, never an inner loop over the 2 components of a vector or a few joints:
 
-- ``Phi(P, F)``      -> (..., K, n_rows)             residual rows
-- ``Phi_q(P, F)``    -> (..., K, n_rows, 3*n_bodies)  Jacobian blocks, (x, y, phi) per body slot
-- ``gamma(P, F)``    -> (..., K, n_rows)             acceleration right-hand side,
+- ``Phi(P, F)``            -> (n_rows, K, ...)              residual rows
+- ``Phi_q(P, F, out=None)`` -> (n_rows, 3*n_bodies, K, ...)  Jacobian blocks, (x, y, phi) per
+  body slot; written into ``out`` (every entry of it) when given, so that the system writes
+  the blocks straight into its array of Jacobian values
+- ``gamma(P, F)``          -> (n_rows, K, ...)              acceleration right-hand side,
   ``Phi_q qdd = gamma``, i.e. minus the part of the second time derivative free of qdd.
 
-``Phi_and_Phi_q(P, F)`` returns both of the first two; the base class calls them in turn, a
-class may override it to share the world vectors between them.
+``Phi_and_Phi_q(P, F, out=None)`` returns both of the first two; a class implements either it
+or ``Phi_q`` and the base class derives the other.
 
-``P`` holds the group's stacked parameters (arrays with a leading K axis); ``F`` is a
-:class:`planar.geometry.Frames` of the bodies' poses and rates. Every class keeps its rows in
-the form ``f(q) - c`` with ``c = P["c"]`` (K, n_rows): for rows listed in ``sketch_rows`` the
+``F`` is a :class:`planar.geometry.Frames` of the bodies' poses and rates (slot axis before
+K). ``P`` holds the group's parameters as :func:`kernel_params` lays them out: a parameter
+of per-joint shape (a, b) (as ``local_params`` returns it, e.g. the body-fixed points
+``s`` (slots, 2)) comes as (b, a, K, 1): vector components first, and a trailing axis of
+length 1 that broadcasts over the configurations (or of length N for parameters that vary
+per configuration, e.g. a batch of designs). Every class keeps its rows in the form
+``f(q) - c`` with ``c = P["c"]`` (n_rows, K, 1): for rows listed in ``sketch_rows`` the
 model sets ``c`` so the row holds at the assembled sketch (rolling contacts, locked relative
 angles), and for a driver the solver puts the input values there. The solver never asks a
 joint's type; it only calls these kernels.
@@ -24,7 +32,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from planar.geometry import cross, dot, perp, point_block
+from planar.geometry import cross_cf, dot_cf, perp_cf
 
 
 class Joint:
@@ -53,9 +61,19 @@ class Joint:
         raise NotImplementedError
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F):
-        """(Phi, Phi_q) in one call; classes whose two kernels share work override it."""
-        return cls.Phi(P, F), cls.Phi_q(P, F)
+    def Phi_and_Phi_q(cls, P, F, out=None):
+        """(Phi, Phi_q) in one call. A class implements this or :meth:`Phi_q` (the other
+        follows): this when the two share their world vectors."""
+        return cls.Phi(P, F), cls.Phi_q(P, F, out)
+
+    @classmethod
+    def Phi_q(cls, P, F, out=None):
+        return cls.Phi_and_Phi_q(P, F, out)[1]
+
+    @classmethod
+    def block(cls, F, out=None):
+        """``out``, or a new array for the Jacobian blocks (n_rows, 3*n_bodies, K, ...)."""
+        return np.empty((cls.n_rows, 3 * cls.n_bodies) + F.shape) if out is None else out
 
     def params(self, sketch):
         """Body-fixed parameters with the constant ``c`` (zero until the model sets it)."""
@@ -99,76 +117,95 @@ class SketchFrames:
         return np.array([c * v[0] + s * v[1], -s * v[0] + c * v[1]])
 
 
+def kernel_params(P):
+    """The kernels' layout of stacked parameters ``P`` (K, a, b): (b, a, K, 1), as views, so
+    that a change to ``P`` (the model setting the sketch constants) reaches the kernels.
+
+    >>> kernel_params({"s": np.zeros((4, 2, 2))})["s"].shape
+    (2, 2, 4, 1)
+    """
+    return {key: v.T[..., None] for key, v in P.items()}
+
+
 # ---- shared pieces: two body points, and a point against a line ------------------------
 
-
-def point_pair(F, s_a, s_b, a=0, b=1):
-    """d = P_b - P_a between points s_a on slot a and s_b on slot b: (d, S_a, S_b)."""
-    Pa, Sa = F.point(a, s_a)
-    Pb, Sb = F.point(b, s_b)
-    return Pb - Pa, Sa, Sb
+# d(P_b - P_a)/d(x, y) of slots a, b: -I and +I; d/dphi of slot k is sign_k perp(S_k), i.e.
+# the swapped components of S_k times _PAIR_PHI[component, slot]
+_PAIR_R = np.array([[[-1.0], [0.0]], [[0.0], [-1.0]]])[..., None]  # (2, 2, 1, 1)
+_PAIR_PHI = np.array([[1.0, -1.0], [-1.0, 1.0]])[..., None, None]
 
 
-def pair_rates(F, Sa, Sb, a=0, b=1):
-    """(d_dot, d_ddot without the qdd terms) for d = P_b - P_a."""
-    dd = F.point_rate(b, Sb) - F.point_rate(a, Sa)
-    wa, wb = F.phid[..., a, None], F.phid[..., b, None]
-    return dd, Sa * wa**2 - Sb * wb**2
+def point_pair(F, s):
+    """d = P_b - P_a (2, K, ...) between body-fixed points s (2, 2, K, 1) of slots 0 and 1,
+    and the world vectors S (2, 2, K, ...) of both (S[:, 0] = S_a, S[:, 1] = S_b)."""
+    Pw, S = F.points(s)
+    return Pw[:, 1] - Pw[:, 0], S
 
 
-def scalar_blocks(g_ra, g_pa, g_rb, g_pb):
-    """Stack the gradient of a scalar row into (..., 6) for slots (a, b)."""
-    return np.concatenate(
-        (g_ra, g_pa[..., None], g_rb, g_pb[..., None]), axis=-1
-    )
+def pair_rates(F, S):
+    """(d_dot, d_ddot without the qdd terms) for d = P_b - P_a, S as :func:`point_pair` gives."""
+    V = F.rd + perp_cf(S) * F.phid
+    Sw2 = S * F.phid**2
+    return V[:, 1] - V[:, 0], Sw2[:, 0] - Sw2[:, 1]
 
 
-def pair_blocks(Sa, Sb):
-    """Jacobian (..., 2, 6) of d = P_b - P_a with respect to (x, y, phi) of slots a, b."""
-    out = np.zeros(Sa.shape[:-1] + (2, 6))
-    point_block(Sa, -1.0, out[..., :3])
-    point_block(Sb, 1.0, out[..., 3:])
+def pair_blocks(S, out):
+    """Write the Jacobian (2, 6, K, ...) of d = P_b - P_a w.r.t. (x, y, phi) of slots a, b."""
+    out[:, 0:2] = _PAIR_R
+    np.negative(_PAIR_R, out=out[:, 3:5])
+    np.multiply(S[::-1], _PAIR_PHI, out=out[:, 2::3])
+    return out
+
+
+def pair_row(out, g, g_pa, g_pb):
+    """Write the gradient (6, K, ...) of a scalar function of d = P_b - P_a (and the angles):
+    -g and g on the positions of slots a and b, g_pa and g_pb on their angles."""
+    np.negative(g, out=out[0:2])
+    out[3:5] = g
+    out[2] = g_pa
+    out[5] = g_pb
     return out
 
 
 class Line:
-    """A point (slot b) against a line fixed in slot a: through s_a with direction u'.
+    """A point (slot 1) against a line fixed in slot 0: through s[:, 0] with direction u'.
 
     ``h = n.d`` is the signed normal distance (n = perp(u), left of the direction positive),
-    ``t = u.d`` the travel along the line from s_a.
+    ``t = u.d`` the travel along the line from s[:, 0].
     """
 
-    def __init__(self, F, s_a, u_local, s_b, a=0, b=1, rates=False):
-        self.d, self.Sa, self.Sb = point_pair(F, s_a, s_b, a, b)
-        self.u = F.vec(a, u_local)
-        self.n = perp(self.u)
+    def __init__(self, F, s, u_local, rates=False):
+        self.d, S = point_pair(F, s)
+        self.Sa, self.Sb = S[:, 0], S[:, 1]
+        self.u = F.vec(0, u_local)
+        self.n = perp_cf(self.u)
         if rates:
-            self.dd, self.ddq = pair_rates(F, self.Sa, self.Sb, a, b)
-            self.wa = F.phid[..., a]
+            self.dd, self.ddq = pair_rates(F, S)
+            self.wa = F.phid[0]
 
     @property
     def h(self):
-        return dot(self.n, self.d)
+        return dot_cf(self.n, self.d)
 
     @property
     def t(self):
-        return dot(self.u, self.d)
+        return dot_cf(self.u, self.d)
 
-    def h_grad(self):
-        n, u, d = self.n, self.u, self.d
-        return scalar_blocks(-n, -dot(u, d) - dot(n, perp(self.Sa)), n, dot(n, perp(self.Sb)))
+    def h_grad(self, out):
+        # dn/dphi_a = -u, and n.perp(S) = u.S
+        return pair_row(out, self.n, -dot_cf(self.u, self.d + self.Sa), dot_cf(self.u, self.Sb))
 
-    def t_grad(self):
-        n, u, d = self.n, self.u, self.d
-        return scalar_blocks(-u, dot(n, d) - dot(u, perp(self.Sa)), u, dot(u, perp(self.Sb)))
+    def t_grad(self, out):
+        # du/dphi_a = n, n.d = u x d, and u.perp(S) = -(u x S)
+        return pair_row(out, self.u, cross_cf(self.u, self.d + self.Sa), cross_cf(self.Sb, self.u))
 
     def h_gamma(self):
         w = self.wa
-        return w**2 * dot(self.n, self.d) + 2 * w * dot(self.u, self.dd) - dot(self.n, self.ddq)
+        return w**2 * dot_cf(self.n, self.d) + 2 * w * dot_cf(self.u, self.dd) - dot_cf(self.n, self.ddq)
 
     def t_gamma(self):
         w = self.wa
-        return w**2 * dot(self.u, self.d) - 2 * w * dot(self.n, self.dd) - dot(self.u, self.ddq)
+        return w**2 * dot_cf(self.u, self.d) - 2 * w * dot_cf(self.n, self.dd) - dot_cf(self.u, self.ddq)
 
 
 def wrap(a):
@@ -176,5 +213,5 @@ def wrap(a):
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
-__all__ = ["Joint", "SketchFrames", "Line", "point_pair", "pair_rates", "pair_blocks",
-           "scalar_blocks", "wrap", "cross", "dot", "perp"]
+__all__ = ["Joint", "SketchFrames", "Line", "kernel_params", "point_pair", "pair_rates", "pair_blocks",
+           "pair_row", "wrap"]

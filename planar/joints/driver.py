@@ -6,8 +6,9 @@ driver row is the input rate, and its gamma gets the input acceleration added.
 
 import numpy as np
 
-from planar.joints.base import Joint, Line
-from planar.joints.prismatic import _line, _line_params
+from planar.geometry import cross_cf, dot_cf
+from planar.joints.base import Joint
+from planar.joints.prismatic import _LOCK, _line, _line_params
 
 
 class AngleDriver(Joint):
@@ -23,18 +24,17 @@ class AngleDriver(Joint):
 
     @staticmethod
     def Phi(P, F):
-        return (F.phi[..., 1] - F.phi[..., 0])[..., None] - P["c"]
+        return F.phi[1] - F.phi[0] - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        g = np.zeros(F.phi.shape[:-1] + (1, 6))
-        g[..., 0, 2] = -1.0
-        g[..., 0, 5] = 1.0
-        return g
+    @classmethod
+    def Phi_q(cls, P, F, out=None):
+        out = cls.block(F, out)
+        out[0] = _LOCK
+        return out
 
     @staticmethod
     def gamma(P, F):
-        return np.zeros(F.phi.shape[:-1] + (1,))
+        return np.zeros((1,) + F.shape)
 
 
 class TravelDriver(Joint):
@@ -49,15 +49,17 @@ class TravelDriver(Joint):
 
     @staticmethod
     def Phi(P, F):
-        return _line(P, F).t[..., None] - P["c"]
+        return _line(P, F).t - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        return _line(P, F).t_grad()[..., None, :]
+    @classmethod
+    def Phi_q(cls, P, F, out=None):
+        out = cls.block(F, out)
+        _line(P, F).t_grad(out[0])
+        return out
 
     @staticmethod
     def gamma(P, F):
-        return _line(P, F, rates=True).t_gamma()[..., None]
+        return _line(P, F, rates=True).t_gamma()[None]
 
 
 class CoordinateDriver(Joint):
@@ -75,22 +77,19 @@ class CoordinateDriver(Joint):
     @staticmethod
     def Phi(P, F):
         p, _ = F.point(0, P["s"])
-        return (p[..., 0] * P["e"][..., 0] + p[..., 1] * P["e"][..., 1])[..., None] - P["c"]
+        return dot_cf(p, P["e"]) - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        from planar.geometry import perp
-
-        S = F.vec(0, P["s"])
-        e = np.broadcast_to(P["e"], S.shape)
-        g = np.stack((e[..., 0], e[..., 1], e[..., 0] * perp(S)[..., 0] + e[..., 1] * perp(S)[..., 1]), -1)
-        return g[..., None, :]
+    @classmethod
+    def Phi_q(cls, P, F, out=None):
+        out = cls.block(F, out)
+        out[0, 0:2] = P["e"]
+        # e.perp(S) = S x e
+        out[0, 2] = cross_cf(F.vec(0, P["s"]), P["e"])
+        return out
 
     @staticmethod
     def gamma(P, F):
-        S = F.vec(0, P["s"])
-        w2 = F.phid[..., 0] ** 2
-        return ((S[..., 0] * P["e"][..., 0] + S[..., 1] * P["e"][..., 1]) * w2)[..., None]
+        return (dot_cf(F.vec(0, P["s"]), P["e"]) * F.phid[0] ** 2)[None]
 
 
-__all__ = ["AngleDriver", "TravelDriver", "CoordinateDriver", "Line"]
+__all__ = ["AngleDriver", "TravelDriver", "CoordinateDriver"]

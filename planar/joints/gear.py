@@ -5,8 +5,8 @@ All rows are linear in the unwrapped body angles, so angles are never reduced mo
 
 import numpy as np
 
-from planar.geometry import cross, dot, perp
-from planar.joints.base import Joint, pair_rates, point_pair, wrap
+from planar.geometry import cross_cf, dot_cf, perp_cf
+from planar.joints.base import Joint, pair_rates, pair_row, point_pair, wrap
 
 
 class CarrierGear(Joint):
@@ -27,22 +27,23 @@ class CarrierGear(Joint):
 
     @staticmethod
     def Phi(P, F):
-        Ri, Rj = P["R"][..., 0], P["R"][..., 1]
-        pa = F.phi[..., 2]
-        return (Ri * (F.phi[..., 0] - pa) + Rj * (F.phi[..., 1] - pa))[..., None] - P["c"]
+        Ri, Rj = P["R"]
+        pa = F.phi[2]
+        return Ri * (F.phi[0] - pa) + Rj * (F.phi[1] - pa) - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        g = np.zeros(F.phi.shape[:-1] + (1, 9))
-        Ri, Rj = P["R"][..., 0], P["R"][..., 1]
-        g[..., 0, 2] = Ri
-        g[..., 0, 5] = Rj
-        g[..., 0, 8] = -(Ri + Rj)
-        return g
+    @classmethod
+    def Phi_q(cls, P, F, out=None):
+        out = cls.block(F, out)
+        Ri, Rj = P["R"]
+        out[0] = 0.0
+        out[0, 2] = Ri
+        out[0, 5] = Rj
+        out[0, 8] = -(Ri + Rj)
+        return out
 
     @staticmethod
     def gamma(P, F):
-        return np.zeros(F.phi.shape[:-1] + (1,))
+        return np.zeros((1,) + F.shape)
 
     def touch_points(self):
         return [(self.bodies[0], self.data["centre_a"]), (self.bodies[1], self.data["centre_b"])]
@@ -52,33 +53,32 @@ class CarrierGear(Joint):
 
 
 def _rolling(P, F, rates=False):
-    """Rolling row pieces for centres s_i on slot 0 and s_j on slot 1."""
-    d, Si, Sj = point_pair(F, P["s"][..., 0, :], P["s"][..., 1, :])
-    Ri, Rj = P["R"][..., 0], P["R"][..., 1]
+    """Rolling row pieces for centres s[:, 0] on slot 0 and s[:, 1] on slot 1."""
+    d, S = point_pair(F, P["s"])
+    Si, Sj = S[:, 0], S[:, 1]
+    Ri, Rj = P["R"]
     K = Ri + Rj
-    L2 = dot(d, d)
-    theta = np.arctan2(d[..., 1], d[..., 0])
+    L2 = dot_cf(d, d)
+    theta = np.arctan2(d[1], d[0])
     # the line-of-centres angle is taken on the 2 pi branch nearest the one the row predicts
     # from the (unwrapped) gear angles, so no state is needed to unwrap it
-    theta_est = (Ri * F.phi[..., 0] + Rj * F.phi[..., 1] - P["c"][..., -1]) / K
-    phi = -K * wrap(theta - theta_est)
-    g = perp(d) / L2[..., None]
-    grad = np.concatenate(
-        (
-            K[..., None] * g,
-            (Ri + K * dot(g, perp(Si)))[..., None],
-            -K[..., None] * g,
-            (Rj - K * dot(g, perp(Sj)))[..., None],
-        ),
-        axis=-1,
-    )
-    out = {"d": d, "Si": Si, "Sj": Sj, "K": K, "L2": L2, "Phi": phi, "grad": grad}
+    theta_est = (Ri * F.phi[0] + Rj * F.phi[1] - P["c"][-1]) / K
+    out = {"d": d, "Si": Si, "Sj": Sj, "K": K, "L2": L2, "Phi": -K * wrap(theta - theta_est)}
     if rates:
-        dd, ddq = pair_rates(F, Si, Sj)
-        theta_dot = cross(d, dd) / L2
+        dd, ddq = pair_rates(F, S)
+        theta_dot = cross_cf(d, dd) / L2
         out["dd"], out["ddq"] = dd, ddq
-        out["gamma"] = K * (cross(d, ddq) / L2 - 2 * theta_dot * dot(d, dd) / L2)
+        out["gamma"] = K * (cross_cf(d, ddq) / L2 - 2 * theta_dot * dot_cf(d, dd) / L2)
     return out
+
+
+def _rolling_grad(r, P, out):
+    """Write the gradient (6, K, ...) of the rolling row: d theta/d d = perp(d) / L2, and
+    perp(d).perp(S) = d.S."""
+    Ri, Rj = P["R"]
+    KL = r["K"] / r["L2"]
+    return pair_row(out, -KL * perp_cf(r["d"]), Ri + KL * dot_cf(r["d"], r["Si"]),
+                    Rj - KL * dot_cf(r["d"], r["Sj"]))
 
 
 def _gear_params(joint, sketch):
@@ -106,15 +106,17 @@ class Gear(Joint):
 
     @staticmethod
     def Phi(P, F):
-        return _rolling(P, F)["Phi"][..., None]
+        return _rolling(P, F)["Phi"][None]
 
-    @staticmethod
-    def Phi_q(P, F):
-        return _rolling(P, F)["grad"][..., None, :]
+    @classmethod
+    def Phi_and_Phi_q(cls, P, F, out=None):
+        r, out = _rolling(P, F), cls.block(F, out)
+        _rolling_grad(r, P, out[0])
+        return r["Phi"][None], out
 
     @staticmethod
     def gamma(P, F):
-        return _rolling(P, F, rates=True)["gamma"][..., None]
+        return _rolling(P, F, rates=True)["gamma"][None]
 
     def touch_points(self):
         return [(self.bodies[0], self.data["centre_a"]), (self.bodies[1], self.data["centre_b"])]
@@ -133,28 +135,27 @@ class RollingContact(Gear):
 
     @staticmethod
     def _D(P):
-        return np.abs(P["R"][..., 0] + P["R"][..., 1])
+        return np.abs(P["R"][0] + P["R"][1])
 
     @staticmethod
     def Phi(P, F):
         r = _rolling(P, F)
         D = RollingContact._D(P)
-        return np.stack(((r["L2"] - D**2) / (2 * D) - P["c"][..., 0], r["Phi"]), axis=-1)
+        return np.stack(((r["L2"] - D**2) / (2 * D) - P["c"][0], r["Phi"]))
 
-    @staticmethod
-    def Phi_q(P, F):
-        r = _rolling(P, F)
-        D = RollingContact._D(P)[..., None]
-        d, Si, Sj = r["d"], r["Si"], r["Sj"]
-        dist = np.concatenate(
-            (-d / D, (-dot(d, perp(Si)))[..., None] / D, d / D, dot(d, perp(Sj))[..., None] / D),
-            axis=-1,
-        )
-        return np.stack((dist, r["grad"]), axis=-2)
+    @classmethod
+    def Phi_and_Phi_q(cls, P, F, out=None):
+        r, out = _rolling(P, F), cls.block(F, out)
+        D = RollingContact._D(P)
+        d = r["d"]
+        # d dist/d d = d / D, and d.perp(S) = S x d
+        pair_row(out[0], d / D, cross_cf(d, r["Si"]) / D, cross_cf(r["Sj"], d) / D)
+        _rolling_grad(r, P, out[1])
+        return np.stack(((r["L2"] - D**2) / (2 * D) - P["c"][0], r["Phi"])), out
 
     @staticmethod
     def gamma(P, F):
         r = _rolling(P, F, rates=True)
         D = RollingContact._D(P)
-        dist = -(dot(r["dd"], r["dd"]) + dot(r["d"], r["ddq"])) / D
-        return np.stack((dist, r["gamma"]), axis=-1)
+        dist = -(dot_cf(r["dd"], r["dd"]) + dot_cf(r["d"], r["ddq"])) / D
+        return np.stack((dist, r["gamma"]))

@@ -15,7 +15,11 @@ def _line_params(joint, sketch):
 
 
 def _line(P, F, rates=False):
-    return Line(F, P["s"][..., 0, :], P["u"], P["s"][..., 1, :], rates=rates)
+    return Line(F, P["s"], P["u"], rates=rates)
+
+
+# the locked relative angle phi_b - phi_a: its constant gradient row (6, 1, 1)
+_LOCK = np.array([0.0, 0.0, -1.0, 0.0, 0.0, 1.0])[:, None, None]
 
 
 class Slot(Joint):
@@ -32,15 +36,17 @@ class Slot(Joint):
 
     @staticmethod
     def Phi(P, F):
-        return _line(P, F).h[..., None] - P["c"]
+        return _line(P, F).h - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        return _line(P, F).h_grad()[..., None, :]
+    @classmethod
+    def Phi_and_Phi_q(cls, P, F, out=None):
+        ln, out = _line(P, F), cls.block(F, out)
+        ln.h_grad(out[0])
+        return ln.h - P["c"], out
 
     @staticmethod
     def gamma(P, F):
-        return _line(P, F, rates=True).h_gamma()[..., None]
+        return _line(P, F, rates=True).h_gamma()[None]
 
     def touch_points(self):
         return [(self.bodies[0], self.data["origin"]), (self.bodies[1], self.data["at"])]
@@ -64,19 +70,16 @@ class Prismatic(Slot):
 
     @staticmethod
     def Phi(P, F):
-        h = _line(P, F).h
-        rel = F.phi[..., 1] - F.phi[..., 0]
-        return np.stack((h, rel), axis=-1) - P["c"]
+        return np.stack((_line(P, F).h, F.phi[1] - F.phi[0])) - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        g = _line(P, F).h_grad()
-        lock = np.zeros_like(g)
-        lock[..., 2] = -1.0
-        lock[..., 5] = 1.0
-        return np.stack((g, lock), axis=-2)
+    @classmethod
+    def Phi_and_Phi_q(cls, P, F, out=None):
+        ln, out = _line(P, F), cls.block(F, out)
+        ln.h_grad(out[0])
+        out[1] = _LOCK
+        return np.stack((ln.h, F.phi[1] - F.phi[0])) - P["c"], out
 
     @staticmethod
     def gamma(P, F):
         h = _line(P, F, rates=True).h_gamma()
-        return np.stack((h, np.zeros_like(h)), axis=-1)
+        return np.stack((h, np.zeros_like(h)))

@@ -2,7 +2,8 @@
 
 import numpy as np
 
-from planar.joints.base import Joint, Line
+from planar.joints.base import Joint
+from planar.joints.prismatic import _line
 
 
 class RackPinion(Joint):
@@ -31,27 +32,23 @@ class RackPinion(Joint):
         }
 
     @staticmethod
-    def _line(P, F, rates=False):
-        return Line(F, P["s"][..., 0, :], P["u"], P["s"][..., 1, :], rates=rates)
-
-    @staticmethod
     def Phi(P, F):
-        ln = RackPinion._line(P, F)
-        roll = ln.t + P["sR"] * (F.phi[..., 1] - F.phi[..., 0])
-        return np.stack((ln.h, roll), axis=-1) - P["c"]
+        ln = _line(P, F)
+        return np.stack((ln.h, ln.t + P["sR"] * (F.phi[1] - F.phi[0]))) - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        ln = RackPinion._line(P, F)
-        roll = ln.t_grad()
-        roll[..., 2] -= P["sR"]
-        roll[..., 5] += P["sR"]
-        return np.stack((ln.h_grad(), roll), axis=-2)
+    @classmethod
+    def Phi_and_Phi_q(cls, P, F, out=None):
+        ln, out = _line(P, F), cls.block(F, out)
+        ln.h_grad(out[0])
+        ln.t_grad(out[1])
+        out[1, 2] -= P["sR"]
+        out[1, 5] += P["sR"]
+        return np.stack((ln.h, ln.t + P["sR"] * (F.phi[1] - F.phi[0]))) - P["c"], out
 
     @staticmethod
     def gamma(P, F):
-        ln = RackPinion._line(P, F, rates=True)
-        return np.stack((ln.h_gamma(), ln.t_gamma()), axis=-1)
+        ln = _line(P, F, rates=True)
+        return np.stack((ln.h_gamma(), ln.t_gamma()))
 
     def touch_points(self):
         return [(self.bodies[0], self.data["through"]), (self.bodies[1], self.data["centre"])]

@@ -23,23 +23,23 @@ class Revolute(Joint):
 
     @staticmethod
     def Phi(P, F):
-        d, _, _ = point_pair(F, P["s"][..., 0, :], P["s"][..., 1, :])
+        d, _ = point_pair(F, P["s"])
         return d - P["c"]
 
-    @staticmethod
-    def Phi_q(P, F):
-        return pair_blocks(F.vec(0, P["s"][..., 0, :]), F.vec(1, P["s"][..., 1, :]))
+    @classmethod
+    def Phi_q(cls, P, F, out=None):
+        return pair_blocks(F.vecs(P["s"]), cls.block(F, out))
 
-    @staticmethod
-    def Phi_and_Phi_q(P, F):
-        d, Sa, Sb = point_pair(F, P["s"][..., 0, :], P["s"][..., 1, :])
-        return d - P["c"], pair_blocks(Sa, Sb)
+    @classmethod
+    def Phi_and_Phi_q(cls, P, F, out=None):
+        d, S = point_pair(F, P["s"])
+        return d - P["c"], pair_blocks(S, cls.block(F, out))
 
     @staticmethod
     def gamma(P, F):
         # the centripetal terms only: -(S_a w_a^2 - S_b w_b^2)
-        Sa, Sb = F.vec(0, P["s"][..., 0, :]), F.vec(1, P["s"][..., 1, :])
-        return Sb * F.phid[..., 1, None] ** 2 - Sa * F.phid[..., 0, None] ** 2
+        Sw2 = F.vecs(P["s"]) * F.phid**2
+        return Sw2[:, 1] - Sw2[:, 0]
 
     def touch_points(self):
         return [(b, self.data["at"]) for b in self.bodies]
