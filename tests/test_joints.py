@@ -2,14 +2,17 @@
 
 gamma is checked against -d2/dt2 Phi(q + qd t) at t = 0 (Phi_q qdd = gamma along any motion).
 Kernels take and give arrays components first, configurations last (planar.joints.base).
+Then the compiled system that runs them: its sparse values against its dense evaluation.
 """
 
 import numpy as np
 import pytest
 
-from planar.geometry import Frames
+from planar import system
+from planar.geometry import Frames, cos_sin
 from planar.joints import JOINT_TYPES
 from planar.joints.base import SketchFrames, kernel_params
+from planar.mechanisms import CATALOGUE
 
 N = 5  # configurations
 K = 3  # joints per group
@@ -107,3 +110,35 @@ def test_combined_kernel_equals_the_two_kernels(cls):
     np.testing.assert_allclose(J, cls.Phi_q(P, F), rtol=0, atol=1e-15)
     out[:] = np.nan
     np.testing.assert_allclose(cls.Phi_q(P, F, out), J, rtol=0, atol=1e-15)
+
+
+def test_cos_sin_through_the_half_angle_tangent_is_at_rounding_level():
+    phi = np.concatenate((np.linspace(-20, 20, 100001), np.pi * np.arange(-5, 6), [np.pi / 2, 1e6, -1e8]))
+    c, s = np.empty_like(phi), np.empty_like(phi)
+    cos_sin(phi, c, s)
+    assert np.abs(c - np.cos(phi)).max() <= 4e-16
+    assert np.abs(s - np.sin(phi)).max() <= 4e-16
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "rack_and_pinion", "planetary_gear_train", "open_chain"])
+def test_system_values_and_gamma_agree_with_the_dense_evaluation(name):
+    """Over more configurations than one pass holds: the values scattered by ``entries`` are
+    the dense Jacobian, and a configuration's gamma does not depend on its batch."""
+    model = CATALOGUE[name]().compile()
+    sysm = model.system
+    rng = np.random.default_rng(5)
+    N = system._CHUNK + 3
+    q = model.q0 + rng.normal(size=(N, model.n))
+    qd = rng.normal(size=(N, model.n))
+    u = model.u0 + rng.normal(size=(N, model.u0.size))
+    Phi, Jv = sysm.values(q, u)
+    Phi_dense, J = sysm.evaluate(q, u)
+    np.testing.assert_allclose(Phi, Phi_dense, rtol=0, atol=1e-14)
+    rows, cols = sysm.entries
+    assert Jv.shape == (rows.size + 1, N) and not Jv[-1].any()
+    scattered = np.zeros((N, sysm.m, sysm.n + 1))
+    scattered[:, rows, cols] = Jv[:-1].T  # the dump column n may repeat: it is dropped
+    np.testing.assert_allclose(scattered[:, :, : sysm.n], J, rtol=0, atol=1e-14)
+    gamma = sysm.gamma(q, qd, u)
+    for i in (0, N - 1):
+        np.testing.assert_allclose(gamma[i], sysm.gamma(q[i : i + 1], qd[i : i + 1], u[i : i + 1])[0], rtol=0, atol=1e-13)
