@@ -1,14 +1,16 @@
-"""Sweep speed against error: planar's generic solver beside vectorised numpy closed forms.
+"""Sweep speed against error: planar's generic solver beside vectorised numpy closed forms and
+peer libraries.
 
 Prints, in one run, the time per position and the maximum error against the closed form for
 the four-bar with a coupler point, the offset slider-crank, the Watt six-bar and the geared
 five-bar at N from 1e3 up, for several solver tolerances; the scaling with the number of loops
-(a chain of k four-bar loops); and the peak memory of one sweep. Peer libraries are timed when
-installed (the optional ``bench`` extra).
+(a chain of k drag-link loops, k up to 100); the peak memory of one sweep at N = 1e6; and the
+four-bar side by side with every peer library installed (the optional ``bench`` extra; see
+``peers.py``), with the issue's speed targets.
 
-    python3 benchmarks/sweep_speed.py              # N = 1e3 .. 1e6 (a few minutes)
-    python3 benchmarks/sweep_speed.py --quick      # N = 1e3 only (a smoke run)
-    python3 benchmarks/sweep_speed.py --sizes 1000 100000
+    python3 benchmarks/sweep_speed.py              # N = 1e3 .. 1e6 (about 8 minutes)
+    python3 benchmarks/sweep_speed.py --quick      # N = 1e3, slow peers at 200 (a smoke run, ~15 s)
+    python3 benchmarks/sweep_speed.py --sizes 1000 100000 --no-peers
 """
 
 import argparse
@@ -138,7 +140,7 @@ def main(argv=None):
                 tp, res = timed(lambda: model.sweep(th, tol=tol), 1 if N >= 100_000 else repeat)
                 errs = error(ref, ours(res), L)
                 print(f"{name:26s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
-                      f"{tp / tc:6.3g}  " + " | ".join(f"{v:.1e}" for v in errs.values()))
+                      f"{tp / tc:6.3g}  " + _errs(errs.values()))
                 if case_four_bar is build and tol == 1e-12:
                     four_bar_runs[N] = (tp, tc, errs)
     # scaling with the number of loops: a chain of k drag-link loops, each driven by the one before
