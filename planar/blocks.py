@@ -57,12 +57,13 @@ class Stage(Block):
     """G blocks of the same size b whose upstream columns are all solved by earlier stages,
     solved in one stacked operation: the :class:`Block` fields with a leading G axis (``up``
     padded with the always-zero column n, ``coup`` with the structural zero) and ``index``
-    (G,), the blocks' positions in the plan."""
+    (G,), the blocks' positions in the plan; ``upscale`` (G, w) the column scales of ``up``."""
 
     index: np.ndarray
+    upscale: np.ndarray
 
 
-def _stages(blocks, n, zero):
+def _stages(blocks, n, zero, col_scale):
     """Group the blocks by (level, size): a block's level is one more than the highest level
     among the blocks computing its upstream columns. One Python step per stage instead of per
     block (a chain of k loops has ~3 stages per loop level, not 3k blocks)."""
@@ -88,7 +89,7 @@ def _stages(blocks, n, zero):
         stages.append(Stage(np.array([blocks[k].eqs for k in ks]), np.array([blocks[k].cols for k in ks]),
                             np.array([blocks[k].diag for k in ks]), up, coup.reshape(len(ks), b * w),
                             np.array([blocks[k].rscale for k in ks]), np.array([blocks[k].cscale for k in ks]),
-                            np.array(ks)))
+                            np.array(ks), np.r_[col_scale, 0.0][up]))
     return tuple(stages)
 
 
@@ -171,12 +172,18 @@ def _lu(Jv, st):
     N = Jv.shape[1]
     A = Jv[st.diag.T].reshape(k, k, G, N)
     A *= (st.rscale.T[:, None, :] * st.cscale.T[None, :, :])[..., None]
-    # |det| over the product of the column norms, then of the row norms of the block with
-    # unit columns: invariant to the scaling of rows and of columns alike (a global length
-    # scale that suits one loop of a long chain must not make it look singular)
-    cn = np.sqrt(np.einsum("ijgn,ijgn->jgn", A, A))
-    rn = np.sqrt(np.einsum("ijgn,jgn->ign", A * A, 1.0 / np.where(cn > 0, cn, 1.0) ** 2))
-    norms = np.prod(cn, axis=0) * np.prod(rn, axis=0)
+    if k == 1:
+        # a pivot row's own entry against its whole scaled row: the block is singular where
+        # the row no longer depends on the coordinate it computes
+        C = Jv[st.coup.T] * (st.rscale.T[0][None, :] * st.upscale.T)[..., None]  # (w, G, N)
+        norms = np.sqrt(A[0, 0] ** 2 + np.sum(C * C, axis=0))
+    else:
+        # |det| over the product of the column norms, then of the row norms of the block with
+        # unit columns: invariant to the scaling of rows and of columns alike (a global length
+        # scale that suits one loop of a long chain must not make it look singular)
+        cn = np.sqrt(np.einsum("ijgn,ijgn->jgn", A, A))
+        rn = np.sqrt(np.einsum("ijgn,jgn->ign", A * A, 1.0 / np.where(cn > 0, cn, 1.0) ** 2))
+        norms = np.prod(cn, axis=0) * np.prod(rn, axis=0)
     perm = None
     sign = np.ones((G, N))
     for j in range(k - 1):
@@ -301,4 +308,4 @@ def _build(model, key):
     drivers = np.flatnonzero(np.isin(rows, rows_all[np.asarray(model.driver_rows_active)]))
     driver_inputs = np.searchsorted(rows_all[np.asarray(model.driver_rows_active)], rows[drivers])
     cols = np.sort(np.concatenate([blk.cols for blk in blocks])) if blocks else np.zeros(0, int)
-    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n, _stages(blocks, n, zero))
+    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n, _stages(blocks, n, zero, cs))
