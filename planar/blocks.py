@@ -135,13 +135,16 @@ class Factors:
     """
 
     def __init__(self, plan, Jv):
-        self.p, self.Jv, self.N = plan, Jv, Jv.shape[1]
+        self.p, self.N = plan, Jv.shape[1]
         self.lu = []
         dets = np.ones((len(plan.blocks), self.N))
         with np.errstate(all="ignore"):
             for st in plan.stages:
                 A, perm, det = _lu(Jv, st)
-                self.lu.append((A, perm))
+                G, k = st.cols.shape
+                w = st.up.shape[1]
+                C = Jv[st.coup.T].reshape(k, w, G, self.N) if w else None  # gathered once for every solve
+                self.lu.append((A, perm, C))
                 dets[st.index] = det
         self.dets = dets.T
         self.signs = np.sign(self.dets)
@@ -150,16 +153,13 @@ class Factors:
     def solve(self, b):
         """x (N, n) with ``J x = b`` on the plan's rows (``b`` (N, len(rows))); columns the
         plan does not solve are 0."""
-        p, N, Jv = self.p, self.N, self.Jv
+        p, N = self.p, self.N
         x = np.zeros((p.n + 1, N))  # row n stays 0: the padding of ``up``
         bT = b.T
         with np.errstate(all="ignore"):
-            for st, (A, perm) in zip(p.stages, self.lu):
-                G, k = st.cols.shape
+            for st, (A, perm, C) in zip(p.stages, self.lu):
                 rhs = bT[st.eqs.T]  # (k, G, N)
-                w = st.up.shape[1]
-                if w:
-                    C = Jv[st.coup.T].reshape(k, w, G, N)
+                if C is not None:
                     rhs = rhs - np.einsum("ijgn,gjn->ign", C, x[st.up])
                 x[st.cols.T] = _lu_solve(A, perm, rhs * st.rscale.T[..., None]) * st.cscale.T[..., None]
         return x[: p.n].T

@@ -24,6 +24,7 @@
 Only the blocks the asked-for ``outputs`` need are solved; the other coordinates are NaN.
 """
 
+from bisect import bisect_right
 from dataclasses import replace
 
 import numpy as np
@@ -43,7 +44,7 @@ EVENT_TOL = 1e-9  # scaled input distance within which a value is on a located e
 BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
 ROUND = 1e-13  # scaled Newton correction below which a guess is at rounding level
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
-WAVE, MAX_WAVE = 4, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
+WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
 
 
 def _scale(model):
@@ -213,6 +214,18 @@ def _anchors(model, U, max_step):
 
 def _walk_anchors(V, max_step):
     idx = [0]
+    v = V[:, 0]
+    d = np.diff(v)
+    if V.shape[1] == 1 and (np.all(d >= 0) or np.all(d <= 0)):
+        # one monotone input (the usual sweep): a binary search per anchor
+        v = (v if np.all(d >= 0) else -v).tolist()
+        i = 0
+        while True:
+            j = bisect_right(v, v[i] + max_step)
+            if j >= len(v):
+                return np.array(idx)
+            i = max(i + 1, j - 1)
+            idx.append(i)
     i, span = 0, 64
     while True:
         far = np.flatnonzero(np.max(np.abs(V[i + 1 : i + 1 + span] - V[i]), axis=1) > max_step)
@@ -413,9 +426,12 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
             qp, _ = br.predict(q[s_], U[s_], du)
         r = _final(br, qp, U[i], Ud[i], Udd[i])
         ok = br.accept(r["q"], qp, q[s_], r["conv"], r["signs"], signs[s_])
+        if ok.all():
+            ok = slice(None)
+        else:
+            q_pred[i[~ok]] = qp[~ok]  # the best guess of a value left for the walk
         out.put(i[ok], r, ok)
         q[i[ok]], solved[i[ok]], signs[i[ok]], done[i[ok]] = r["q"][ok], True, r["signs"][ok], True
-        q_pred[i] = qp
 
 
 def _wave(br, state, U, idx):
@@ -426,14 +442,23 @@ def _wave(br, state, U, idx):
     if idx.size == 0:
         return 0, None, None
     q0, u0, s0 = state
-    M = idx.size
+    M, f = idx.size, U.shape[1]
     Ut = U[idx]
-    q_pred, _ = br.predict(np.repeat(q0[None], M, 0), np.repeat(u0[None], M, 0), Ut - u0)
+    if f == 1:  # the kinematic coefficients at the state, once
+        qu, quu, _, _ = br.state(q0[None], u0[None], np.ones((1, 1)))
+        du = Ut - u0
+        q_pred = q0 + qu * du + 0.5 * quu * du**2
+    else:
+        q_pred, _ = br.predict(np.repeat(q0[None], M, 0), np.repeat(u0[None], M, 0), Ut - u0)
     qn, conv, _, _ = br.solve(q_pred, Ut)
+    # one factorisation at the solutions gives their modes and the walk's predictor from each
+    # to the next
+    lu = br._at(qn, Ut)
+    step = np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f))))
+    qd, qdd = _rates(br.p, lu, qn, Ut, step, np.zeros_like(step))
+    q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
     q_from = np.vstack((q0[None], qn[:-1]))
-    u_from = np.vstack((u0[None], Ut[:-1]))
-    q_step, _ = br.predict(q_from, u_from, Ut - u_from)
-    ok = br.accept(qn, q_step, q_from, conv, br.signs(qn, Ut), s0[None])
+    ok = br.accept(qn, q_step, q_from, conv, lu.signs, s0[None])
     a = M if ok.all() else int(np.argmin(ok))
     return a, qn[:a], s0
 
