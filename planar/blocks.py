@@ -57,10 +57,12 @@ class Stage(Block):
     """G blocks of the same size b whose upstream columns are all solved by earlier stages,
     solved in one stacked operation: the :class:`Block` fields with a leading G axis (``up``
     padded with the always-zero column n, ``coup`` with the structural zero) and ``index``
-    (G,), the blocks' positions in the plan; ``upscale`` (G, w) the column scales of ``up``."""
+    (G,), the blocks' positions in the plan; ``upscale`` (G, w) the column scales of ``up``;
+    ``angle`` (G, b) True for the angle columns."""
 
     index: np.ndarray
     upscale: np.ndarray
+    angle: np.ndarray
 
 
 def _stages(blocks, n, zero, col_scale):
@@ -89,7 +91,8 @@ def _stages(blocks, n, zero, col_scale):
         stages.append(Stage(np.array([blocks[k].eqs for k in ks]), np.array([blocks[k].cols for k in ks]),
                             np.array([blocks[k].diag for k in ks]), up, coup.reshape(len(ks), b * w),
                             np.array([blocks[k].rscale for k in ks]), np.array([blocks[k].cscale for k in ks]),
-                            np.array(ks), np.r_[col_scale, 0.0][up]))
+                            np.array(ks), np.r_[col_scale, 0.0][up],
+                            np.array([blocks[k].cols % 3 == 2 for k in ks])))
     return tuple(stages)
 
 
@@ -129,8 +132,8 @@ class Factors:
 
     ``solve(b)`` forward-substitutes through the stages; ``signs`` (N, blocks) are the signs
     of the blocks' dets (the assembly mode) and ``sing`` (N,) the smallest normalised |det|
-    (|det| of a block over the product of its column norms and of the row norms of the block
-    with unit columns, in [0, 1]; 0 at a singular position). A singular block gives
+    (|det| of a block over the product of its row norms, its x and y columns weighted by its
+    largest lever arm, in [0, 1]; 0 at a singular position). A singular block gives
     non-finite solutions, never an exception.
     """
 
@@ -177,13 +180,20 @@ def _lu(Jv, st):
         # the row no longer depends on the coordinate it computes
         C = Jv[st.coup.T] * (st.rscale.T[0][None, :] * st.upscale.T)[..., None]  # (w, G, N)
         norms = np.sqrt(A[0, 0] ** 2 + np.sum(C * C, axis=0))
+        cap = 1.0
     else:
-        # |det| over the product of the column norms, then of the row norms of the block with
-        # unit columns: invariant to the scaling of rows and of columns alike (a global length
-        # scale that suits one loop of a long chain must not make it look singular)
-        cn = np.sqrt(np.einsum("ijgn,ijgn->jgn", A, A))
-        rn = np.sqrt(np.einsum("ijgn,jgn->ign", A * A, 1.0 / np.where(cn > 0, cn, 1.0) ** 2))
-        norms = np.prod(cn, axis=0) * np.prod(rn, axis=0)
+        # |det| over the product of the row norms (Hadamard's ratio) with the block's own length
+        # scale: x and y columns weighted by its largest lever arm lam (angle-column entry,
+        # relative to the model's length L), so one loop of a long chain does not look
+        # singular; and at most lam itself, so a block whose lever arms are all negligible
+        # against L (its angles fixed only to eps L / lever) still reads near-singular
+        ang = st.angle.T[None, :, :, None]  # (1, k, G, 1)
+        lam = np.max(np.abs(np.where(ang, A, 0.0)), axis=(0, 1))  # (G, N)
+        lam = np.where(st.angle.any(axis=1)[:, None], np.minimum(lam, 1.0), 1.0)
+        W = np.where(ang, A, A * lam)
+        norms = np.prod(np.sqrt(np.einsum("ijgn,ijgn->ign", W, W)), axis=0)
+        norms = norms / lam ** (k - st.angle.sum(axis=1))[:, None]
+        cap = lam
     perm = None
     sign = np.ones((G, N))
     for j in range(k - 1):
@@ -203,7 +213,8 @@ def _lu(Jv, st):
         A[j + 1 :, j] = l
         A[j + 1 :, j + 1 :] -= l[:, None] * A[j, j + 1 :][None]
     det = sign * np.prod(A[np.arange(k), np.arange(k)], axis=0)
-    return A, perm, np.where(norms > 0, det / norms, 0.0)
+    nd = np.where(norms > 0, det / norms, 0.0)
+    return A, perm, np.sign(nd) * np.minimum(np.abs(nd), cap)
 
 
 def _lu_solve(A, perm, b):
