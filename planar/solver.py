@@ -77,32 +77,41 @@ def acceleration(p, lu, q, qd, u, udd):
     return lu.solve(gam)
 
 
-def least_squares_gap(model, q, u, *, iterations=40):
+def least_squares_gap(model, q, u, *, iterations=200):
     """Smallest scaled residual reachable from q by damped Gauss-Newton (Levenberg-Marquardt).
 
-    For inputs the mechanism cannot reach this is the assembly gap; returns (q, gap).
+    For inputs the mechanism cannot reach this is the assembly gap; returns (q, gap). Each
+    point stops once assembled, stuck (over ten rejected steps in a row) or no longer
+    improving (a non-zero minimum: the gap); the others go on, so the iteration budget is
+    spent on the few that converge slowly (next to a limit, where the solution is singular
+    and Gauss-Newton converges only linearly).
     """
     q = np.array(q, dtype=float)
     rs, cs = model.row_scale, model.col_scale
-    lam = np.full(q.shape[0], 1e-3)
+    N = q.shape[0]
+    lam = np.full(N, 1e-3)
     with np.errstate(all="ignore"):
         Phi, J = model.system.evaluate(q, u)
         r = Phi * rs
         cost = np.sum(r**2, axis=1)
+        act = np.arange(N)
         for _ in range(iterations):
-            Js = J * rs[None, :, None] * cs[None, None, :]
+            if act.size == 0:
+                break
+            Js = J[act] * rs[None, :, None] * cs[None, None, :]
             A = np.einsum("nki,nkj->nij", Js, Js)
-            g = np.einsum("nki,nk->ni", Js, r)
+            g = np.einsum("nki,nk->ni", Js, r[act])
             diag = np.einsum("nii->ni", A)
-            A2 = A + lam[:, None, None] * np.eye(A.shape[1]) * (diag[:, :, None] + 1e-12)
+            A2 = A + lam[act, None, None] * np.eye(A.shape[1]) * (diag[:, :, None] + 1e-12)
             dq = _solve(A2, g) * cs
-            q_new = q - np.nan_to_num(dq)
-            Phi_n, J_n = model.system.evaluate(q_new, u)
+            q_new = q[act] - np.nan_to_num(dq)
+            Phi_n, J_n = model.system.evaluate(q_new, u[act])
             r_n = Phi_n * rs
             cost_n = np.sum(r_n**2, axis=1)
-            better = cost_n < cost
-            q[better], J[better], r[better], cost[better] = q_new[better], J_n[better], r_n[better], cost_n[better]
-            lam = np.where(better, lam * 0.3, lam * 10.0)
-            if np.all((cost <= 1e-32) | (lam > 1e8)):
-                break  # every point assembled, or stuck (over ten rejected steps in a row): nothing to gain
+            better = cost_n < cost[act]
+            flat = better & (cost_n > cost[act] * (1 - 1e-10))
+            b = act[better]
+            q[b], J[b], r[b], cost[b] = q_new[better], J_n[better], r_n[better], cost_n[better]
+            lam[act] = np.where(better, lam[act] * 0.3, lam[act] * 10.0)
+            act = act[~((cost[act] <= 1e-32) | (lam[act] > 1e8) | flat)]
     return q, np.max(np.abs(r), axis=1)

@@ -444,19 +444,20 @@ def _wave(br, state, U, idx):
     q0, u0, s0 = state
     M, f = idx.size, U.shape[1]
     Ut = U[idx]
-    if f == 1:  # the kinematic coefficients at the state, once
-        qu, quu, _, _ = br.state(q0[None], u0[None], np.ones((1, 1)))
-        du = Ut - u0
-        q_pred = q0 + qu * du + 0.5 * quu * du**2
-    else:
-        q_pred, _ = br.predict(np.repeat(q0[None], M, 0), np.repeat(u0[None], M, 0), Ut - u0)
-    qn, conv, _, _ = br.solve(q_pred, Ut)
-    # one factorisation at the solutions gives their modes and the walk's predictor from each
-    # to the next
-    lu = br._at(qn, Ut)
-    step = np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f))))
-    qd, qdd = _rates(br.p, lu, qn, Ut, step, np.zeros_like(step))
-    q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
+    with np.errstate(all="ignore"):  # a singular state reads non-finite rates: rejected below
+        if f == 1:  # the kinematic coefficients at the state, once
+            qu, quu, _, _ = br.state(q0[None], u0[None], np.ones((1, 1)))
+            du = Ut - u0
+            q_pred = q0 + qu * du + 0.5 * quu * du**2
+        else:
+            q_pred, _ = br.predict(np.repeat(q0[None], M, 0), np.repeat(u0[None], M, 0), Ut - u0)
+        qn, conv, _, _ = br.solve(q_pred, Ut)
+        # one factorisation at the solutions gives their modes and the walk's predictor from
+        # each to the next
+        lu = br._at(qn, Ut)
+        step = np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f))))
+        qd, qdd = _rates(br.p, lu, qn, Ut, step, np.zeros_like(step))
+        q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
     q_from = np.vstack((q0[None], qn[:-1]))
     ok = br.accept(qn, q_step, q_from, conv, lu.signs, s0[None])
     a = M if ok.all() else int(np.argmin(ok))

@@ -41,6 +41,10 @@ def compiled(desc, **kw):
           "dyads": [("RRP", 1, (0.0, 0.0), (1.0, 0.0), 0, (0.0, 0.0), 0.0),
                     ("RRP", 3, (0.0, 0.0), (0.0, -2.8984375), 0, (0.0, 0.0), 1.0945403947470475e-17)]},
     du=[0.0, 1.0])
+@example(  # found by the long run: a RuntimeWarning from the batched walk at a singular sketch
+    desc={"pivot": (2.215542766431805e-213, 0.0), "crank_tip": (0.0, 0.0),
+          "dyads": [("RRP", 0, (0.0, 0.0), (0.0, 1.0), 1, (0.0, 0.0), 0.0)]},
+    du=[0.0])
 def test_random_linkages_never_return_garbage(desc, du):
     m, pins = compiled(desc)
     res = sweep(m, du, velocity=1.3, acceleration=-0.4)
