@@ -478,8 +478,8 @@ def cmd_demo(args):
     _write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
     path = out / "four_bar.json"
     _write(path, io.save, mech, path, units, sweep)
-    print(f"planar demo: the four-bar of the seeds (ground 4, crank 2, coupler 3, rocker 4 cm) with coupler "
-          f"point C, crank at 10 rad/s")
+    print("planar demo: the four-bar of the seeds (ground 4, crank 2, coupler 3, rocker 4 cm) with coupler "
+          "point C, crank at 10 rad/s")
     _run(io.load(path), path, args, out)
     # the seeds' worked example: the crank at 60 deg
     res = mech.sweep([math.radians(60.0)], velocity=10.0)

@@ -91,7 +91,7 @@ def test_circuit_run_traces_the_whole_circuit_from_the_sketch(here, capsys):
     assert "limit position at crank = 117.28 deg" in out and "limit position at crank = -117.28 deg" in out
     assert (here / "rocker-out" / "four_bar.gif").exists()
     rows = list(csv.reader(open(here / "rocker-out" / "four_bar.csv")))
-    head, rows = rows[0], [dict(zip(rows[0], r)) for r in rows[1:]]
+    rows = [dict(zip(rows[0], r)) for r in rows[1:]]
     crank = [float(r["input:crank [deg]"]) for r in rows]
     # up to one limit, down to the other, back to the sketch; the rate follows the motion
     assert len(rows) == 41 and crank[0] == crank[-1] == 0.0

@@ -34,6 +34,7 @@ def test_triple_rocker_limit_and_re_entry():
     # the limit pose: coupler and rocker in line, B on the segment A-O4
     A, B, O4 = res.position("A")[k], res.position("B")[k], res.position("O4")[k]
     assert abs(np.linalg.norm(O4 - A) - (r3 + r4)) < 1e-10
+    assert abs(np.linalg.norm(B - A) + np.linalg.norm(O4 - B) - np.linalg.norm(O4 - A)) < 1e-9
     out = (values > lim) & (values < 2 * np.pi - lim)
     assert np.all(res.status[out] == Status.NOT_ASSEMBLABLE)
     assert np.all(res.gap[out] > 0) and np.all(np.isnan(res.q[out]))
