@@ -20,6 +20,7 @@ kept: asking for the first loop of a Watt six-bar does not solve the second.
 
 import weakref
 from dataclasses import dataclass
+from functools import cached_property
 
 import networkx as nx
 import numpy as np
@@ -63,6 +64,24 @@ class Stage(Block):
     index: np.ndarray
     upscale: np.ndarray
     angle: np.ndarray
+
+    # the factorisation's constants, once per stage (a small batch pays per numpy call)
+    @cached_property
+    def diag_scale(self):
+        """(b, b, G, 1) row times column scale of each diagonal entry."""
+        return (self.rscale.T[:, None, :] * self.cscale.T[None, :, :])[..., None]
+
+    @cached_property
+    def coup_scale(self):
+        """(w, G, 1) scales of a 1x1 stage's coupling entries."""
+        return (self.rscale.T[0][None, :] * self.upscale.T)[..., None]
+
+    @cached_property
+    def angle_mask(self):
+        """(1, b, G, 1) 1.0 on the angle columns, and the (G, 1) counts of length columns and
+        whether any column is an angle."""
+        return (self.angle.T[None, :, :, None].astype(float), (self.cols.shape[1] - self.angle.sum(axis=1))[:, None],
+                self.angle.any(axis=1)[:, None])
 
 
 def _stages(blocks, n, zero, col_scale):
@@ -174,11 +193,11 @@ def _lu(Jv, st):
     G, k = st.cols.shape
     N = Jv.shape[1]
     A = Jv[st.diag.T].reshape(k, k, G, N)
-    A *= (st.rscale.T[:, None, :] * st.cscale.T[None, :, :])[..., None]
+    A *= st.diag_scale
     if k == 1:
         # a pivot row's own entry against its whole scaled row: the block is singular where
         # the row no longer depends on the coordinate it computes
-        C = Jv[st.coup.T] * (st.rscale.T[0][None, :] * st.upscale.T)[..., None]  # (w, G, N)
+        C = Jv[st.coup.T] * st.coup_scale  # (w, G, N)
         norms = np.sqrt(A[0, 0] ** 2 + np.sum(C * C, axis=0))
         cap = 1.0
     else:
@@ -187,12 +206,11 @@ def _lu(Jv, st):
         # relative to the model's length L), so one loop of a long chain does not look
         # singular; and at most lam itself, so a block whose lever arms are all negligible
         # against L (its angles fixed only to eps L / lever) still reads near-singular
-        ang = st.angle.T[None, :, :, None]  # (1, k, G, 1)
-        lam = np.max(np.abs(np.where(ang, A, 0.0)), axis=(0, 1))  # (G, N)
-        lam = np.where(st.angle.any(axis=1)[:, None], np.minimum(lam, 1.0), 1.0)
-        W = np.where(ang, A, A * lam)
-        norms = np.prod(np.sqrt(np.einsum("ijgn,ijgn->ign", W, W)), axis=0)
-        norms = norms / lam ** (k - st.angle.sum(axis=1))[:, None]
+        ang, lengths, any_angle = st.angle_mask
+        lam = np.max(np.abs(A * ang), axis=(0, 1))  # (G, N)
+        lam = np.where(any_angle, np.minimum(lam, 1.0), 1.0)
+        W = A * (ang + (1.0 - ang) * lam)
+        norms = np.prod(np.sqrt(np.einsum("ijgn,ijgn->ign", W, W)), axis=0) / lam**lengths
         cap = lam
     perm = None
     sign = np.ones((G, N))
