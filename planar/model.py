@@ -381,7 +381,10 @@ class Model:
         kinematic coefficients. The solve starts at the assembled sketch and follows the
         branch through the values in order. Returns a frozen :class:`planar.results.Sweep`.
         Options: ``tol`` (scaled residual, 1e-12), ``max_step`` (largest input step between
-        continuation anchors: radians, or lengths / L; 0.05).
+        continuation anchors: radians, or lengths / L; 0.05), ``outputs`` (names of the
+        bodies, points or joints wanted: only the blocks they need are solved), ``branch``
+        ("smooth" or "other" at a bifurcation), ``rates`` (False: positions only, velocities
+        and accelerations NaN: the velocity and acceleration solves are skipped).
         """
         from planar.sweep import run_sweep
 

@@ -81,7 +81,8 @@ class Sweep:
 
     @property
     def ok(self):
-        """(N,) True where positions, velocities and accelerations are all valid."""
+        """(N,) True where positions, velocities and accelerations are all valid (positions
+        only for a sweep asked for no rates)."""
         return VALID[self.status]
 
     @property

@@ -58,8 +58,8 @@ def _scaled_norm(model, du):
 class _Branch:
     """Solves on one plan: Newton, modes, rates, predictors and the acceptance test."""
 
-    def __init__(self, model, plan, tol):
-        self.m, self.p, self.tol = model, plan, tol
+    def __init__(self, model, plan, tol, rates=True):
+        self.m, self.p, self.tol, self.rates = model, plan, tol, rates
         self.cs = model.col_scale[plan.cols]
         self._last = (None, None)
 
@@ -263,13 +263,13 @@ def _output_columns(model, outputs):
     return sorted(cols)
 
 
-def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth"):
+def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True):
     """See :meth:`planar.Model.sweep`."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     cols = _output_columns(model, outputs)
     p = block_plan(model, cols)
-    br = _Branch(model, p, tol)
+    br = _Branch(model, p, tol, bool(rates))
     walker = _Walker(br, max_step, branch == "other")
     N, n = U.shape[0], model.n
     q = np.full((N, n), np.nan)
@@ -561,7 +561,10 @@ def _final(br, q, U, Ud, Udd):
         q -= np.where(np.isfinite(dq), dq, 0.0)
     conv = (res <= tol) & (step <= ROUND)
     signs, sing = lu.signs, lu.sing
-    qd, qdd = _rates(p, lu, q, U, Ud, Udd)
+    if br.rates:
+        qd, qdd = _rates(p, lu, q, U, Ud, Udd)
+    else:  # positions only: no velocity and acceleration solves
+        qd, qdd = np.full(q.shape, np.nan), np.full(q.shape, np.nan)
     slow = np.flatnonzero(~conv)
     if slow.size:
         qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p)
@@ -571,7 +574,8 @@ def _final(br, q, U, Ud, Udd):
             res[slow] = np.max(np.abs(Phi_s * rs), axis=1)
             lu_s = p.factor(Jv_s)
         signs[slow], sing[slow] = lu_s.signs, lu_s.sing
-        qd[slow], qdd[slow] = _rates(p, lu_s, qs, U[slow], Ud[slow], Udd[slow])
+        if br.rates:
+            qd[slow], qdd[slow] = _rates(p, lu_s, qs, U[slow], Ud[slow], Udd[slow])
     st = np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
     st = np.where(sing < SINGULAR, Status.SINGULAR, st)
     red = m.redundant_rows  # rows of constraints outside the plan read 0
@@ -595,6 +599,8 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         q[i] = r["q"]
         out.put(i, r)
     _on_events(model, br, U, Ud, Udd, q, out, events, at_event)
+    if not br.rates:
+        out.qd[:] = out.qdd[:] = np.nan
     status = out.status
     q[~POSED_MASK[status]] = np.nan
     if p.cols.size < n:

@@ -40,6 +40,16 @@ def test_outputs_solve_only_the_blocks_they_need():
         m.sweep(values, outputs=["nothing"])
 
 
+def test_positions_only_gives_the_same_poses_and_statuses_without_rates():
+    m = four_bar(4, 3, 3, 2.5, coupler_point=(1.0, 0.8))  # a triple rocker: limits, out of range
+    values = np.linspace(0, 2 * np.pi, 2001)
+    full, only = m.sweep(values), m.sweep(values, rates=False)
+    np.testing.assert_array_equal(only.status, full.status)
+    np.testing.assert_array_equal(only.position("C"), full.position("C"))
+    assert only.ok.any() and np.all(np.isnan(only.qd)) and np.all(np.isnan(only.acceleration("C")))
+    assert [e.kind for e in only.events] == [e.kind for e in full.events]
+
+
 def test_an_unknown_branch_option_is_refused():
     with pytest.raises(InputError, match="branch must be"):
         four_bar(4, 2, 3, 4).sweep([0.0, 0.1], branch="left")
