@@ -302,8 +302,8 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     lo, k, wave = -1, 0, WAVE
     while k < anchors.size:
         idx = anchors[k : k + wave]
-        stop = [j for j, i in enumerate(idx) if _past_limit(limits, state[1], U[i]) or _at_events(model, U[i : i + 1], events)]
-        a, qa, sa = _wave(br, state, U, idx[: stop[0] if stop else idx.size])
+        stop = np.flatnonzero(_past_limit(limits, state[1][None], U[idx]) | _on_event(model, U[idx], events))
+        a, qa, sa = _wave(br, state, U, idx[: stop[0] if stop.size else idx.size])
         if a:
             q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
             state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
@@ -311,7 +311,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         if k >= anchors.size or a == idx.size:
             continue
         i = anchors[k]
-        got = ("lost",) if _past_limit(limits, state[1], U[i]) else walk(state, i, lo)
+        got = ("lost",) if _past_limit(limits, state[1][None], U[i][None])[0] else walk(state, i, lo)
         lo = i
         if _at_events(model, U[i : i + 1], events):
             k += 1
@@ -354,21 +354,27 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         rest = rest[~solved[rest]]
     _from_anchors(anchors=anchors, targets=rest, **fill)
 
-    # 3. the rest one by one, from the solved point before each
-    failed_from = None
-    for i in np.flatnonzero(~solved):
-        if i in at_event or _at_events(model, U[i : i + 1], events):
+    # 3. the rest one by one, from the solved point before each; values on an event or past a
+    # limit from there are set aside in one pass (out of range, there may be many)
+    last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
+    rest = np.flatnonzero(~solved)
+    prev = np.where(rest > 0, last[np.maximum(rest - 1, 0)], -1)
+    u_from = np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
+    rest = rest[~_on_event(model, U[rest], events) & ~_past_limit(limits, u_from, U[rest])]
+    failed_from, newest = None, -1
+    for i in rest:
+        if _at_events(model, U[i : i + 1], events):
             continue
-        prev = np.flatnonzero(solved[:i])
-        j = prev[-1] if prev.size else None
+        j = max(int(last[i - 1]) if i else -1, newest)
+        j = None if j < 0 else j
         start = (model.q0, model.u0, chosen) if j is None else (q[j], U[j], signs[j])
-        if (failed_from is not None and failed_from == j) or _past_limit(limits, start[1], U[i]):
+        if (failed_from is not None and failed_from == j) or _past_limit(limits, start[1][None], U[i][None])[0]:
             continue  # the walk from this pose failed already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
         if got[0] != "ok":
             failed_from = j
             continue
-        q[i], solved[i], signs[i] = got[1], True, got[2]
+        q[i], solved[i], signs[i], newest = got[1], True, got[2], i
     at_event = _at_events(model, U, events)
     for i, ev in at_event.items():
         q[i], solved[i], done[i] = ev.q, True, True
@@ -509,13 +515,22 @@ def _at_events(model, U, events):
     return out
 
 
+def _on_event(model, U, events):
+    """(M,) True for the values U (M, f) that sit on a located limit or bifurcation."""
+    on = np.zeros(len(U), bool)
+    for ev in events:
+        if ev.kind in ("limit", "bifurcation", "singular"):
+            on |= _scaled_norm(model, U - np.atleast_1d(ev.input)) <= EVENT_TOL
+    return on
+
+
 def _past_limit(limits, u_from, u_to):
-    """True when a limit found moving in direction d lies between u_from and u_to."""
+    """(M,) True where a limit found moving in direction d lies between u_from and u_to (M, f)."""
+    past = np.zeros(len(u_to), bool)
     for ev, d in limits:
         star = np.atleast_1d(ev.input)
-        if np.all((u_to - star) * d > 0) and np.all((star - u_from) * d >= 0):
-            return True
-    return False
+        past |= np.all((u_to - star) * d > 0, axis=1) & np.all((star - u_from) * d >= 0, axis=1)
+    return past
 
 
 class _Out:
