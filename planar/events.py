@@ -440,8 +440,8 @@ def around(model, plan, q, u, signs, max_step, reach):
             if turned and y1[-1] <= 0:
                 w = y[-1] / (y[-1] - y1[-1])
                 qn, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u[None], max_iter=30, plan=plan)
-                _, _, Jv = plan.evaluate(qn, u[None])
-                if conv[0] and np.all(plan.factor(Jv).signs[0] == signs):
+                # a diverged Newton reads non-finite: its modes are not asked for
+                if conv[0] and np.all(plan.factor(plan.evaluate(qn, u[None])[2]).signs[0] == signs):
                     return qn[0]
                 break
             if y1[-1] >= tr.d:

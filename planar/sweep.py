@@ -114,7 +114,7 @@ class _Walker:
         ("limit", event, (q_before, u_before)) or ("lost",)."""
         br, m = self.br, self.br.m
         total = float(_scaled_norm(m, target - u))
-        if total == 0.0:
+        if total <= 1e-14:  # the target is this pose up to rounding (the final Newton polishes it)
             return "ok", q, signs
         h = min(1.0, self.max_step / total)
         t = 0.0
@@ -574,8 +574,11 @@ def _final(br, q, U, Ud, Udd):
         res = np.max(np.abs(Phi * rs), axis=1)
         step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
         q -= np.where(np.isfinite(dq), dq, 0.0)
-    conv = (res <= tol) & (step <= ROUND)
-    signs, sing = lu.signs, lu.sing
+    # a guess that holds the constraints where the Jacobian is singular (the correction is not
+    # finite) is a pose on the singular position itself: kept, status SINGULAR, no rates
+    on_singular = (res <= tol) & ~np.isfinite(step)
+    conv = (res <= tol) & ((step <= ROUND) | on_singular)
+    signs, sing = lu.signs, np.where(on_singular, 0.0, lu.sing)
     if br.rates:
         qd, qdd = _rates(p, lu, q, U, Ud, Udd)
     else:  # positions only: no velocity and acceleration solves

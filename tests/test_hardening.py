@@ -87,6 +87,12 @@ def matched(desc, du, **kw):
 
 @given(desc=linkages(), du=st.lists(st.floats(-0.5, 0.5), min_size=1, max_size=6),
        rotate=st.floats(-np.pi, np.pi), shift=st.tuples(st.floats(-50, 50), st.floats(-50, 50)))
+@example(  # found by the long run: a RuntimeWarning from the modes of a diverged re-entry
+    desc={"pivot": (-1.7906598513388094, 0.0), "crank_tip": (0.0, 0.0),
+          "dyads": [("RRR", 0, (1e-14, 0.0), (1.0, 0.0), 1, (0.0, 0.0), 0.0),
+                    ("RRR", 0, (0.0, 0.0), (0.0, 1.0), 1, (1.0, 0.0), 0.0),
+                    ("RRR", 0, (0.0, 0.0), (0.0, 1.0), 1, (3.0, 0.0), 0.0)]},
+    du=[4.951801075642734e-104], rotate=0.0, shift=(0.0, 0.0))
 def test_rigid_motion_of_the_sketch_moves_the_results(desc, du, rotate, shift):
     ra, b, pins = matched(desc, du, rotate=rotate, shift=shift)
     rb = sweep(b, du)
