@@ -277,18 +277,24 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     signs = np.zeros((N, len(p.blocks)))
     events = []
 
-    def walk(start, i, lo):
+    def walk(start, i, lo, back=None):
         """Walk from ``start`` (q, u, signs) to value i; events get the index of the first
-        value after ``lo`` at or past them."""
+        value after ``lo`` at or past them (walking back from value ``back`` > i: the first
+        value from i on at or past them in the sweep's own direction)."""
         k = len(walker.events)
         got = walker.walk(*start, U[i], int(i))
+
+        def index(u_star):
+            if back is None:
+                return _event_index(U, lo, i, start[1], u_star)
+            return _event_index(U, i - 1, back, U[i], u_star)
+
         for j in range(k, len(walker.events)):
             ev = walker.events[j]
-            idx = _event_index(U, lo, i, start[1], ev.input)
             if not any(_same(ev, e, model) for e in events):
-                events.append(replace(ev, index=idx))
+                events.append(replace(ev, index=index(ev.input)))
         if got[0] == "limit":
-            ev = replace(got[1], index=_event_index(U, lo, i, start[1], got[1].input))
+            ev = replace(got[1], index=index(got[1].input))
             if not any(_same(ev, e, model) for e in events):
                 events.append(ev)
             limits.append((ev, np.sign(U[i] - start[1])))
@@ -371,6 +377,22 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         if (failed_from is not None and failed_from == j) or _past_limit(limits, start[1][None], U[i][None])[0]:
             continue  # the walk from this pose failed already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
+        if got[0] != "ok":
+            failed_from = j
+            continue
+        q[i], solved[i], signs[i], newest = got[1], True, got[2], i
+    # values still unreached past a gap in the range (re-entered further on): walked back from
+    # the solved value after them, so the branch is re-entered as far back as it reaches and
+    # the limit on the gap's far side is located
+    nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
+    failed_from, newest = None, N
+    for i in np.flatnonzero(~solved)[::-1]:
+        j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
+        if j >= N or failed_from == j or _at_events(model, U[i : i + 1], events):
+            continue
+        if _past_limit(limits, U[j][None], U[i][None])[0]:
+            continue
+        got = walk((q[j], U[j], signs[j]), i, -1, back=j)
         if got[0] != "ok":
             failed_from = j
             continue

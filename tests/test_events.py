@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from planar import Status
-from planar.mechanisms import four_bar, planetary_gear_train, slider_crank
+from planar.mechanisms import four_bar, planetary_gear_train, slider_crank, watt_six_bar
 from tests import oracles
 
 
@@ -25,11 +25,14 @@ def test_triple_rocker_limit_and_re_entry():
     lim = np.arccos((r1**2 + r2**2 - (r3 + r4) ** 2) / (2 * r1 * r2))
     values = np.sort(np.r_[np.linspace(0, 2 * np.pi, 181), lim])
     res = four_bar(r1, r2, r3, r4).sweep(values)
-    assert kinds(res) == ["limit"]
-    ev = res.events[0]
+    assert kinds(res) == ["limit", "limit"]
+    ev, back = res.events
     assert abs(ev.input - lim) < 1e-10
     k = int(np.flatnonzero(values == lim)[0])
     assert ev.index == k and res.status[k] == Status.LIMIT
+    # the range's other end, where the sweep re-enters it: located walking back from there
+    assert abs(back.input - (2 * np.pi - lim)) < 1e-10
+    assert back.index == int(np.searchsorted(values, 2 * np.pi - lim))
     assert np.all(np.isfinite(res.q[k])) and np.all(np.isnan(res.qd[k]))
     # the limit pose: coupler and rocker in line, B on the segment A-O4
     A, B, O4 = res.position("A")[k], res.position("B")[k], res.position("O4")[k]
@@ -38,7 +41,7 @@ def test_triple_rocker_limit_and_re_entry():
     out = (values > lim) & (values < 2 * np.pi - lim)
     assert np.all(res.status[out] == Status.NOT_ASSEMBLABLE)
     assert np.all(res.gap[out] > 0) and np.all(np.isnan(res.q[out]))
-    np.testing.assert_allclose(res.nearest_limit[out], lim)
+    np.testing.assert_allclose(res.nearest_limit[out], np.where(values[out] < np.pi, lim, 2 * np.pi - lim))
     inside = ~out & (values != lim)
     assert np.all(res.ok[inside])  # re-entered after the gap
     o = oracles.four_bar(r1, r2, r3, r4, values[inside], sigma=1)
@@ -209,3 +212,27 @@ def test_lengths_mixed_from_1e_3_to_1e3(crank, coupler, offset):
     res = ms.sweep(np.linspace(u0, outer + 1e-3 * L, 50))
     lim = [e for e in res.events if e.kind == "limit"]
     assert len(lim) == 1 and abs(lim[0].input - outer) < 1e-10 * L
+
+
+def test_gap_inside_the_range_is_crossed_and_both_ends_located():
+    # a Watt six-bar whose dyad C-E-D cannot close for a stretch of crank angles inside the
+    # first loop's range: |C - D| < |link_5 - link_6| from 58.60 to 59.16 deg
+    l5, l6 = 2.1463389680285707, 2.1102263651692366
+    m = watt_six_bar(1, 1.75, 0.5, 1.5, crossed=True, coupler_point=(1.75, 1.75), rocker_point=(0, 1.5),
+                     link_5=l5, link_6=l6, start=np.radians(30))
+    values = np.radians(np.arange(30, 65.01, 0.1))
+    res = m.sweep(values)
+    assert kinds(res) == ["limit", "limit"]
+    lo, hi = (e.input for e in res.events)
+    assert np.degrees(lo) == pytest.approx(58.5959, abs=1e-3) and np.degrees(hi) == pytest.approx(59.1566, abs=1e-3)
+    def at(name, q):
+        b, s = res.model.point(name)
+        x, y, phi = q[3 * b - 3 : 3 * b]
+        return np.array([x + np.cos(phi) * s[0] - np.sin(phi) * s[1], y + np.sin(phi) * s[0] + np.cos(phi) * s[1]])
+
+    for ev in res.events:  # at both ends the dyad is folded: |C - D| = link_5 - link_6
+        assert abs(np.linalg.norm(at("C", ev.q) - at("D", ev.q)) - (l5 - l6)) < 1e-9
+    gap = (values > lo) & (values < hi)
+    assert np.all(res.status[gap] == Status.NOT_ASSEMBLABLE)
+    assert res.ok[~gap].all()  # before the gap, and from its far end on (walked back to it)
+    assert res.events[1].index == int(np.flatnonzero(values > hi)[0])
