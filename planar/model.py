@@ -384,7 +384,10 @@ class Model:
         continuation anchors: radians, or lengths / L; 0.05), ``outputs`` (names of the
         bodies, points or joints wanted: only the blocks they need are solved), ``branch``
         ("smooth" or "other" at a bifurcation), ``rates`` (False: positions only, velocities
-        and accelerations NaN: the velocity and acceleration solves are skipped).
+        and accelerations NaN: the velocity and acceleration solves are skipped), ``engine``
+        ("numpy", or "numba": the bulk of the values in a loop compiled for the mechanism's
+        structure, 3-6x faster at large N; needs the ``fast`` extra; the first sweep of a
+        structure compiles for seconds, then it is cached on disk; see :mod:`planar.compiled`).
         """
         from planar.sweep import run_sweep
 

@@ -58,8 +58,16 @@ def _scaled_norm(model, du):
 class _Branch:
     """Solves on one plan: Newton, modes, rates, predictors and the acceptance test."""
 
-    def __init__(self, model, plan, tol, rates=True):
+    def __init__(self, model, plan, tol, rates=True, engine="numpy"):
         self.m, self.p, self.tol, self.rates = model, plan, tol, rates
+        self.compiled = None  # planar.compiled for engine="numba": the bulk's final step there
+        if engine == "numba":
+            from planar import compiled
+
+            compiled.check(plan)
+            self.compiled = compiled
+        elif engine != "numpy":
+            raise InputError(f"engine must be 'numpy' or 'numba', got {engine!r}")
         self.cs = model.col_scale[plan.cols]
         self._last = (None, None)
 
@@ -263,13 +271,14 @@ def _output_columns(model, outputs):
     return sorted(cols)
 
 
-def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True):
+def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
+              engine="numpy"):
     """See :meth:`planar.Model.sweep`."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     cols = _output_columns(model, outputs)
     p = block_plan(model, cols)
-    br = _Branch(model, p, tol, bool(rates))
+    br = _Branch(model, p, tol, bool(rates), engine)
     walker = _Walker(br, max_step, branch == "other")
     N, n = U.shape[0], model.n
     q = np.full((N, n), np.nan)
@@ -586,47 +595,59 @@ def _final(br, q, U, Ud, Udd):
     velocity and acceleration solves: the Jacobian at the guess differs from the one at the
     final pose by that little. The other points take the general Newton and are factored anew."""
     m, p, tol = br.m, br.p, br.tol
-    rs, cs = m.row_scale[p.rows], m.col_scale[p.cols]
-    q = q.copy()
+    rs, red = m.row_scale[p.rows], m.redundant_rows  # rows of constraints outside the plan read 0
     iters = np.ones(q.shape[0], int)
-    with np.errstate(all="ignore"):
-        Phi, full, Jv = p.evaluate(q, U)
-        lu = p.factor(Jv)
-        dq = lu.solve(Phi)
-        res = np.max(np.abs(Phi * rs), axis=1)
-        step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
-        q -= np.where(np.isfinite(dq), dq, 0.0)
+    if br.compiled is not None:
+        q, qd, qdd, res, step, dets, red_res = br.compiled.final(m, p, q, U, Ud, Udd, br.rates)
+        signs, sing = np.sign(dets), np.min(np.abs(dets), axis=1)
+    else:
+        q = q.copy()
+        with np.errstate(all="ignore"):
+            Phi, full, Jv = p.evaluate(q, U)
+            lu = p.factor(Jv)
+            dq = lu.solve(Phi)
+            res = np.max(np.abs(Phi * rs), axis=1)
+            step = np.max(np.abs(dq[:, p.cols] / m.col_scale[p.cols]), axis=1)
+            q -= np.where(np.isfinite(dq), dq, 0.0)
+        red_res = _redundant(m, full)
+        signs, sing = lu.signs, lu.sing
+        if br.rates:
+            qd, qdd = _rates(p, lu, q, U, Ud, Udd)
+        else:  # positions only: no velocity and acceleration solves
+            qd, qdd = np.full(q.shape, np.nan), np.full(q.shape, np.nan)
     # a guess that holds the constraints where the Jacobian is singular (the correction is not
     # finite) is a pose on the singular position itself: kept, status SINGULAR, no rates
     on_singular = (res <= tol) & ~np.isfinite(step)
     conv = (res <= tol) & ((step <= ROUND) | on_singular)
-    signs, sing = lu.signs, np.where(on_singular, 0.0, lu.sing)
-    if br.rates:
-        qd, qdd = _rates(p, lu, q, U, Ud, Udd)
-    else:  # positions only: no velocity and acceleration solves
-        qd, qdd = np.full(q.shape, np.nan), np.full(q.shape, np.nan)
+    sing = np.where(on_singular, 0.0, sing)
     slow = np.flatnonzero(~conv)
     if slow.size:
         qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p)
         q[slow], conv[slow], iters[slow] = qs, cv, it + 1
         with np.errstate(all="ignore"):
-            Phi_s, full[slow], Jv_s = p.evaluate(qs, U[slow])
-            res[slow] = np.max(np.abs(Phi_s * rs), axis=1)
+            Phi_s, full_s, Jv_s = p.evaluate(qs, U[slow])
+            res[slow], red_res[slow] = np.max(np.abs(Phi_s * rs), axis=1), _redundant(m, full_s)
             lu_s = p.factor(Jv_s)
         signs[slow], sing[slow] = lu_s.signs, lu_s.sing
         if br.rates:
             qd[slow], qdd[slow] = _rates(p, lu_s, qs, U[slow], Ud[slow], Udd[slow])
     st = np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
     st = np.where(sing < SINGULAR, Status.SINGULAR, st)
-    red = m.redundant_rows  # rows of constraints outside the plan read 0
     if red.size:
-        bad = np.max(np.abs(full[:, red] * m.row_scale[red]), axis=1) > 1e3 * tol
-        st = np.where(bad, Status.INCONSISTENT, st)
+        st = np.where(red_res > 1e3 * tol, Status.INCONSISTENT, st)
     # a point on a singular position converges only linearly: its position still holds
     st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
     qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
     return dict(q=q, qd=qd, qdd=qdd, conv=conv,
                 res=res, iters=iters, signs=signs, sing=sing, branch=np.prod(signs, axis=1), status=st)
+
+
+def _redundant(model, full):
+    """(N,) largest scaled residual of the redundant rows in ``full`` (N, m) (0 without any)."""
+    red = model.redundant_rows
+    if not red.size:
+        return np.zeros(full.shape[0])
+    return np.max(np.abs(full[:, red] * model.row_scale[red]), axis=1)
 
 
 def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event):

@@ -112,6 +112,37 @@ def test_combined_kernel_equals_the_two_kernels(cls):
     np.testing.assert_allclose(cls.Phi_q(P, F, out), J, rtol=0, atol=1e-15)
 
 
+@pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
+def test_scalar_kernels_equal_the_numpy_kernels(cls):
+    """The compiled path's kernels (planar/joints/scalar.py: one joint at one configuration)
+    give the numpy kernels' rows, Jacobian blocks and gamma, joint by joint."""
+    from planar.joints import scalar
+
+    keys, kernel, gamma = scalar.KERNELS[cls]
+    kernel, gamma = getattr(scalar, kernel), getattr(scalar, gamma)
+    rng = np.random.default_rng(5)
+    P = group(cls, rng)
+    P["c"] = rng.uniform(-1, 1, P["c"].shape)
+    nb, nr = cls.n_bodies, cls.n_rows
+    q, qd = rng.uniform(-2, 2, (2, 3, nb, K, N))
+    F = frames(q, qd)
+    Phi, J, G = cls.Phi(P, F), cls.Phi_q(P, F), cls.gamma(P, F)
+    flat = lambda v: v[..., 0].T.reshape(K, -1)  # noqa: E731 (kernel layout -> one row per joint)
+    par = np.concatenate([flat(P[key]) for key in keys], axis=1) if keys else np.zeros((K, 1))
+    c = flat(P["c"])
+    for k in range(K):
+        for n in range(N):
+            f = np.zeros((nb, 8))
+            f[:, :3], f[:, 5:] = q[:, :, k, n].T, qd[:, :, k, n].T
+            f[:, 3], f[:, 4] = np.cos(f[:, 2]), np.sin(f[:, 2])
+            phi, jac, g = np.zeros(nr), np.zeros((nr, 3 * nb)), np.zeros(nr)
+            kernel(par[k], c[k], f, np.arange(nb), phi, jac)
+            gamma(par[k], c[k], f, np.arange(nb), g)
+            np.testing.assert_allclose(phi, Phi[:, k, n], rtol=0, atol=1e-14)
+            np.testing.assert_allclose(jac, J[:, :, k, n], rtol=0, atol=1e-14)
+            np.testing.assert_allclose(g, G[:, k, n], rtol=0, atol=1e-13 * (1 + np.abs(G).max()))
+
+
 def test_cos_sin_through_the_half_angle_tangent_is_at_rounding_level():
     phi = np.concatenate((np.linspace(-20, 20, 100001), np.pi * np.arange(-5, 6), [np.pi / 2, 1e6, -1e8]))
     c, s = np.empty_like(phi), np.empty_like(phi)

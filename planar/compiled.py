@@ -1,0 +1,372 @@
+"""The compiled path (``engine="numba"``, the ``fast`` extra): a sweep's per-value work in one
+loop of machine code generated for the plan.
+
+The numpy path evaluates, factors and solves a whole batch of configurations per numpy call;
+its floor is the calls' passes over memory. Here the same plan (the block-triangular form of
+:mod:`planar.blocks`, with the same scaling, pivoting and singularity measure) runs one
+configuration at a time through the scalar joint kernels of :mod:`planar.joints.scalar`. The
+loop is *generated* per plan structure: which kernel each joint calls, which bodies it reads,
+where each Jacobian entry goes and every block's size and couplings are literals of its source,
+so the compiler unrolls the small loops and drops the branches (a table-driven loop over the
+same plan was measured 3x slower: loops of varying trip count per block and joint). Nothing in
+it is written for a mechanism; the parameters, scales and sketch constants stay data, so designs
+of one structure share one compiled loop.
+
+The generated module is written to a cache directory (``PLANAR_CACHE_DIR``, else
+``~/.cache/planar``) under a name hashing its source and the kernels' source, and numba caches
+its machine code beside it: the first sweep of a new structure compiles (seconds), later ones
+and later processes load it. Results agree with the numpy path to rounding (same operations in
+the same order; the tests check that on every joint type).
+"""
+
+import functools
+import hashlib
+import importlib.util
+import inspect
+import os
+import sys
+import tempfile
+import weakref
+from collections import namedtuple
+from pathlib import Path
+
+import numpy as np
+
+from planar.errors import InputError
+
+_TABLES = weakref.WeakKeyDictionary()
+
+Tables = namedtuple("Tables", [
+    # joints: kernel names, parameters, row constants, rows, bodies, input column (-1: none),
+    # and where the Jacobian entry (r, col) of joint j goes: e0[j] + (r * 3 nb + col) * stride[j]
+    "kernel", "gamma", "par", "c", "nr", "rows", "nb", "slots", "inp", "e0", "stride",
+    # the plan's rows and their scales; its driver rows and their input columns
+    "prow", "rs", "drv", "drv_inp",
+    # blocks: size, and per block its equations, columns and their scales, angle columns, the
+    # Jacobian entries of the block and of its couplings to the upstream columns ``up``
+    "bk", "eqs", "cols", "brs", "bcs", "bang", "diag", "up", "upscale", "coup",
+    # the coordinates solved with their scales; redundant rows with theirs; sizes
+    "pcols", "cs", "red", "red_scale", "n_bodies", "m", "n", "nnz",
+])
+
+
+def check(plan):
+    """Raise :class:`InputError` unless the compiled path can run ``plan``."""
+    if importlib.util.find_spec("numba") is None:
+        raise InputError("engine='numba' needs numba: pip install 'planar[fast]', or use engine='numpy'")
+    from planar.joints.scalar import KERNELS
+
+    missing = sorted({g.kind.__name__ for g in plan.system.groups if g.kind not in KERNELS})
+    if missing:
+        raise InputError(f"engine='numba': joint type(s) {missing} have no scalar kernels "
+                         f"(planar/joints/scalar.py); use engine='numpy'")
+
+
+def final(model, plan, q, U, Ud, Udd, rates=True):
+    """One Newton step from guesses q (N, n) and, at the corrected poses, the rates with the
+    factorisation at the guesses: (q, qd, qdd, scaled residual at the guess, scaled step,
+    block dets (N, blocks), largest scaled redundant row at the guess), as the numpy path of
+    ``planar.sweep._final`` computes them."""
+    T, loop = _compiled(model, plan)
+    N = q.shape[0]
+    q = np.array(q, dtype=float, order="C")
+    qd, qdd = np.empty((N, T.n)), np.empty((N, T.n))
+    res, step, dets, red = np.empty(N), np.empty(N), np.empty((N, len(T.bk))), np.empty(N)
+    as_c = np.ascontiguousarray
+    loop(q, as_c(U, float), as_c(Ud, float), as_c(Udd, float), bool(rates), qd, qdd, res, step, dets, red,
+         T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale)
+    if not rates:
+        qd[:] = qdd[:] = np.nan
+    return q, qd, qdd, res, step, dets, red
+
+
+def _compiled(model, plan):
+    if plan not in _TABLES:
+        T = tables(model, plan)
+        _TABLES[plan] = (T, _load(source(T)).loop)
+    return _TABLES[plan]
+
+
+def tables(model, plan):
+    """The plan flattened: structure (literals of the generated source) and data."""
+    from planar.joints.scalar import KERNELS
+
+    sysm = plan.system
+    J = {k: [] for k in ("kernel", "gamma", "par", "c", "nr", "rows", "nb", "slots", "inp", "e0", "stride")}
+    for g, (start, _, (n_rows, _, K)) in zip(sysm.groups, sysm._blocks):
+        keys, kernel, gamma = KERNELS[g.kind]
+        flat = [np.asarray(g.P[key], float).reshape(K, -1) for key in keys]
+        flat = np.concatenate(flat, axis=1) if flat else np.zeros((K, 0))
+        for k in range(K):
+            for name, v in (("kernel", kernel), ("gamma", gamma), ("par", flat[k]),
+                            ("c", np.asarray(g.P["c"][k], float).reshape(-1)), ("nr", n_rows),
+                            ("rows", tuple(int(r) for r in g.rows[k])), ("nb", g.bodies.shape[1]),
+                            ("slots", tuple(int(b) for b in g.bodies[k])), ("inp", int(g.inputs[k])),
+                            ("e0", start + k), ("stride", K)):
+                J[name].append(v)
+    width = max([len(p) for p in J["par"]] + [1])
+    par = np.zeros((len(J["par"]), width))
+    c = np.zeros((len(J["c"]), 2))
+    for j, (p, cj) in enumerate(zip(J["par"], J["c"])):
+        par[j, : len(p)], c[j, : len(cj)] = p, cj
+    B = plan.blocks
+    cs_all = np.r_[model.col_scale, 0.0]
+    red = np.asarray(model.redundant_rows, int)
+    tup = (lambda a: tuple(int(v) for v in a))
+    return Tables(
+        tuple(J["kernel"]), tuple(J["gamma"]), par, c, tuple(J["nr"]), tuple(J["rows"]), tuple(J["nb"]),
+        tuple(J["slots"]), tuple(J["inp"]), tuple(J["e0"]), tuple(J["stride"]),
+        tup(plan.rows), model.row_scale[plan.rows].astype(float), tup(plan.drivers), tup(plan.driver_inputs),
+        tuple(b.size for b in B), tuple(tup(b.eqs) for b in B), tuple(tup(b.cols) for b in B),
+        _cat([b.rscale for b in B]), _cat([b.cscale for b in B]), tuple(tuple(bool(a) for a in b.cols % 3 == 2) for b in B),
+        tuple(tup(b.diag) for b in B), tuple(tup(b.up) for b in B), _cat([cs_all[b.up] for b in B]),
+        tuple(tup(b.coup) for b in B), tup(plan.cols), model.col_scale[plan.cols].astype(float), tup(red),
+        model.row_scale[red].astype(float), sysm.n_bodies, sysm.m, model.n, sysm.entries[0].size + 1,
+    )
+
+
+def _cat(arrays):
+    return np.concatenate(arrays).astype(float) if arrays else np.zeros(0)
+
+
+# ---- the generated source ---------------------------------------------------------------------
+
+_HELPERS = '''"""Generated by planar.compiled for one plan structure: do not edit."""
+import numpy as np
+import numba
+
+from planar.joints.scalar import {kernels}
+
+_inline = numba.njit(inline="always", error_model="numpy")
+
+
+@_inline
+def _mx(a, b):
+    """max that propagates NaN, as numpy's max does (a pose that reads NaN never passes)."""
+    return b if (b > a or b != b) else a
+
+
+@_inline
+def _lu(A, perm, k, ang, dets, b):
+    """LU with partial pivoting of a scaled k x k block and its normalised det, as
+    planar.blocks._lu: |det| over the product of the row norms, x and y columns weighted by the
+    block's largest lever arm lam, capped by lam."""
+    lam, any_angle, lengths = 0.0, False, 0
+    for j in range(k):
+        if ang[j]:
+            any_angle = True
+            for i in range(k):
+                lam = max(lam, abs(A[i, j]))
+        else:
+            lengths += 1
+    lam = min(lam, 1.0) if any_angle else 1.0
+    norms = 1.0
+    for i in range(k):
+        s = 0.0
+        for j in range(k):
+            v = A[i, j] * (1.0 if ang[j] else lam)
+            s += v * v
+        norms *= np.sqrt(s)
+    norms /= lam**lengths
+    sign = 1.0
+    for i in range(k):
+        perm[i] = i
+    for j in range(k - 1):
+        piv, big = j, abs(A[j, j])
+        for i in range(j + 1, k):
+            if abs(A[i, j]) > big:
+                piv, big = i, abs(A[i, j])
+        if piv != j:
+            for col in range(k):
+                A[j, col], A[piv, col] = A[piv, col], A[j, col]
+            perm[j], perm[piv] = perm[piv], perm[j]
+            sign = -sign
+        for i in range(j + 1, k):
+            l = A[i, j] / A[j, j]
+            A[i, j] = l
+            for col in range(j + 1, k):
+                A[i, col] -= l * A[j, col]
+    det = sign
+    for i in range(k):
+        det *= A[i, i]
+    nd = det / norms if norms > 0 else 0.0
+    dets[b] = np.sign(nd) * min(abs(nd), lam)
+
+
+@_inline
+def _lu_solve(A, perm, z, y, k):
+    for i in range(k):
+        y[i] = z[perm[i]]
+    for i in range(1, k):
+        for j in range(i):
+            y[i] -= A[i, j] * y[j]
+    for i in range(k - 1, -1, -1):
+        for j in range(i + 1, k):
+            y[i] -= A[i, j] * y[j]
+        y[i] /= A[i, i]
+
+
+@numba.njit(cache=True, error_model="numpy", nogil=True)
+'''
+
+
+def source(T):
+    """The generated module for the plan tables ``T``: one function ``loop`` that, per value,
+    takes the Newton step from the guess, factors, and solves the rates (as :func:`final`)."""
+    L = [_HELPERS.replace("{kernels}", ", ".join(sorted(set(T.kernel + T.gamma)))).rstrip("\n"),
+         "def loop(Q, U, Ud, Udd, rates, QD, QDD, RES, STEP, DETS, RED, par, jc, rs, brs, bcs, upscale, cs,"
+         " red_scale):",
+         f"    fb = np.zeros(({T.n_bodies}, 8))",
+         "    fb[0, 3] = 1.0",
+         "    c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
+         f"    Phi, Jv, rhs, x = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)}), np.zeros({T.n + 1})",
+         f"    z, y = np.empty({max(T.bk, default=1)}), np.empty({max(T.bk, default=1)})"]
+    L += [f"    A{b}, P{b} = np.empty(({k}, {k})), np.empty({k}, np.int64)" for b, k in enumerate(T.bk) if k > 1]
+    L += ["    for i in range(Q.shape[0]):", "        q = Q[i]"]
+    body = []
+    w = body.append
+    w("# the bodies' rows: cos and sin through tan(phi / 2), as planar.geometry.cos_sin")
+    _frames(T, w, rates=False)
+    _joints(T, w, "kernel", "phi, jac")
+    w("res = 0.0")
+    for r, row in enumerate(T.prow):
+        w(f"rhs[{r}] = Phi[{row}]")
+        w(f"res = _mx(res, abs(rhs[{r}] * rs[{r}]))")
+    w("red = 0.0")
+    for r, row in enumerate(T.red):
+        w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
+    _factor(T, w)
+    _solve(T, w)
+    w("step = 0.0")
+    for k, col in enumerate(T.pcols):
+        w(f"step = _mx(step, abs(x[{col}] / cs[{k}]))")
+    for k in range(T.n):
+        w(f"if np.isfinite(x[{k}]):")
+        w(f"    q[{k}] -= x[{k}]")
+    w("RES[i], STEP[i], RED[i] = res, step, red")
+    w("if not rates:")
+    w("    continue")
+    w("# velocities: the input rates on the driver rows")
+    _rate(T, w, None, "Ud", "QD")
+    w("# accelerations: gamma at the corrected pose and the velocities, input accelerations added")
+    _frames(T, w, rates=True)
+    _joints(T, w, "gamma", "g")
+    _rate(T, w, "Phi", "Udd", "QDD")
+    return "\n".join(L + ["        " + line for line in body]) + "\n"
+
+
+def _rate(T, w, base, inputs, out):
+    """Solve for a rate into row i of ``out``: right-hand side ``base`` on the plan's rows (Phi
+    holding gamma, or zeros), the input's rate of that order added on the driver rows."""
+    for r, row in enumerate(T.prow):
+        w(f"rhs[{r}] = {'0.0' if base is None else f'{base}[{row}]'}")
+    for r, col in zip(T.drv, T.drv_inp):
+        w(f"rhs[{r}] += {inputs}[i, {col}]")
+    _solve(T, w)
+    for k in range(T.n):
+        w(f"{out}[i, {k}] = x[{k}]")
+
+
+def _frames(T, w, rates):
+    for b in range(1, T.n_bodies):
+        x, y, a = 3 * b - 3, 3 * b - 2, 3 * b - 1
+        w(f"t = np.tan(0.5 * q[{a}])")
+        w("wt = 2.0 / (1.0 + t * t)")
+        w(f"fb[{b}, 0], fb[{b}, 1], fb[{b}, 2], fb[{b}, 3], fb[{b}, 4] = q[{x}], q[{y}], q[{a}], wt - 1.0, t * wt")
+        if rates:
+            w(f"fb[{b}, 5], fb[{b}, 6], fb[{b}, 7] = QD[i, {x}], QD[i, {y}], QD[i, {a}]")
+
+
+def _joints(T, w, which, out):
+    """Each joint's kernel (``which``: "kernel" or "gamma") and the scatter of its rows (and
+    Jacobian entries) into Phi (and Jv)."""
+    for j, name in enumerate(getattr(T, which)):
+        for r in range(T.nr[j]):
+            w(f"c[{r}] = jc[{j}, {r}]")
+        if T.inp[j] >= 0:
+            w(f"c[0] = U[i, {T.inp[j]}]")
+        w(f"{name}(par[{j}], c, fb, {T.slots[j]!r}, {out})")
+        nc = 3 * T.nb[j]
+        for r in range(T.nr[j]):
+            w(f"Phi[{T.rows[j][r]}] = {out.split(',')[0]}[{r}]")
+            if which == "kernel":
+                for col in range(nc):
+                    w(f"Jv[{T.e0[j] + (r * nc + col) * T.stride[j]}] = jac[{r}, {col}]")
+
+
+def _factor(T, w):
+    o = 0
+    for b, k in enumerate(T.bk):
+        if k == 1:
+            # a pivot row's own entry against its whole scaled row
+            w(f"a{b} = Jv[{T.diag[b][0]}] * brs[{o}] * bcs[{o}]")
+            w(f"nm = a{b} * a{b}")
+            for i, e in enumerate(T.coup[b]):
+                w(f"v = Jv[{e}] * brs[{o}] * upscale[{_up_offset(T, b) + i}]")
+                w("nm += v * v")
+            w("nm = np.sqrt(nm)")
+            w(f"nd = a{b} / nm if nm > 0 else 0.0")
+            w(f"DETS[i, {b}] = np.sign(nd) * min(abs(nd), 1.0)")
+        else:
+            for i in range(k):
+                for jj in range(k):
+                    w(f"A{b}[{i}, {jj}] = Jv[{T.diag[b][i * k + jj]}] * brs[{o + i}] * bcs[{o + jj}]")
+            w(f"_lu(A{b}, P{b}, {k}, {T.bang[b]!r}, DETS[i], {b})")
+        o += k
+
+
+def _solve(T, w):
+    """x = J^-1 rhs forward through the blocks."""
+    o = 0
+    for b, k in enumerate(T.bk):
+        nw = len(T.up[b])
+        for i in range(k):
+            terms = "".join(f" - Jv[{T.coup[b][i * nw + u]}] * x[{T.up[b][u]}]" for u in range(nw))
+            w(f"z[{i}] = (rhs[{T.eqs[b][i]}]{terms}) * brs[{o + i}]")
+        if k == 1:
+            w(f"x[{T.cols[b][0]}] = z[0] / a{b} * bcs[{o}]")
+        else:
+            w(f"_lu_solve(A{b}, P{b}, z, y, {k})")
+            for i in range(k):
+                w(f"x[{T.cols[b][i]}] = y[{i}] * bcs[{o + i}]")
+        o += k
+
+
+def _up_offset(T, b):
+    return sum(len(u) for u in T.up[:b])
+
+
+# ---- loading: a module file in the cache directory, so numba can cache its machine code --------
+
+
+def _load(src):
+    from planar.joints import scalar
+
+    key = hashlib.sha1((src + inspect.getsource(scalar)).encode()).hexdigest()[:20]
+    path = _cache_dir() / f"plan_{key}.py"
+    if not path.exists():
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(src)
+        os.replace(tmp, path)  # atomic: a concurrent process reads a whole file or none
+    name = f"planar_plan_{key}"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module  # numba's on-disk cache finds the module again by name
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
+@functools.cache
+def _cache_dir():
+    base = os.environ.get("PLANAR_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "planar")
+    path = Path(base) / "compiled"
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        return path
+    except OSError:  # no writable home: a directory of this process
+        return Path(tempfile.mkdtemp(prefix="planar-compiled-"))
+
+
+__all__ = ["check", "final", "tables", "source"]

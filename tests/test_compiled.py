@@ -1,0 +1,72 @@
+"""The compiled path (engine="numba") against the numpy path, on mechanisms that use every joint
+type between them: the same poses, rates and statuses (to rounding: numba's tan and numpy's
+differ in the last bit), the same events. The scalar kernels are checked against the numpy
+kernels joint by joint in tests/test_joints.py.
+"""
+
+import numpy as np
+import pytest
+
+import planar
+from planar import compiled
+from planar.blocks import plan
+from planar.errors import InputError
+from planar.mechanisms import four_bar, geared_five_bar, rolling_wheel, slider_crank
+from tests.test_core_sweeps import geared_five_bar as general_geared_five_bar
+
+N = 2000  # enough values that the bulk of them goes through the batch step
+
+
+def scotch_yoke():
+    """A crank pin in a vertical slot of a yoke that slides along x: x_yoke = r cos(theta)."""
+    m = planar.Mechanism("scotch yoke")
+    crank, yoke = m.add_body("crank"), m.add_body("yoke")
+    m.add_revolute("O", m.ground, crank, at=(0, 0))
+    m.add_prismatic("guide", m.ground, yoke, at=(1.5, -2.0), direction=(1, 0))
+    m.add_slot("pin", yoke, crank, at=(1.5, 0.0), direction=(0, 1))
+    m.drive("O")
+    return m
+
+
+CASES = {
+    # name: (builder, input values) -- the joint types each one adds
+    "four-bar triple rocker (limits)": (lambda: four_bar(4.0, 3.0, 3.0, 2.5), np.linspace(0, 2 * np.pi, N)),
+    "slider-driven slider-crank (Prismatic, TravelDriver)":
+        (lambda: slider_crank(2, 5, offset=1, driver="slider"), np.linspace(4.9, 3.2, N)),
+    "scotch yoke (Slot)": (scotch_yoke, np.linspace(0, 4 * np.pi, N)),
+    "geared five-bar (CarrierGear)": (geared_five_bar, np.radians(np.linspace(0, 200, N))),
+    "geared five-bar, general gear (Gear)":
+        (lambda: general_geared_five_bar(8, 3, 3.5, 6, general=True), np.radians(np.linspace(0, 200, N))),
+    "wheel inside a ring (RollingContact)": (lambda: rolling_wheel(1.0, track_radius=4.0), np.linspace(0, 9, N)),
+    "wheel driven by its centre (RackPinion, CoordinateDriver)":
+        (lambda: rolling_wheel(1.0, driver="centre"), np.linspace(0, 5, N)),
+}
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_compiled_sweep_equals_the_numpy_sweep(name):
+    build, values = CASES[name]
+    model = build().compile()
+    a = model.sweep(values, velocity=1.3, acceleration=-0.4, engine="numpy")
+    b = model.sweep(values, velocity=1.3, acceleration=-0.4, engine="numba")
+    assert np.array_equal(a.status, b.status)
+    assert [(e.kind, e.index) for e in a.events] == [(e.kind, e.index) for e in b.events]
+    ok = a.ok
+    assert ok.sum() > N // 2
+    scale = np.tile([model.L, model.L, 1.0], model.n // 3)
+    for x, y in ((a.q, b.q), (a.qd, b.qd), (a.qdd, b.qdd)):
+        assert np.array_equal(np.isnan(x), np.isnan(y))
+        big = 1.0 + np.nanmax(np.abs(x[ok]) / scale)
+        assert np.nanmax(np.abs(x[ok] - y[ok]) / scale) <= 1e-12 * big
+
+
+def test_designs_of_one_structure_share_one_compiled_loop():
+    models = [four_bar(4, 2, 3.5, 3).compile(), four_bar(5, 1.5, 4, 3.5).compile()]
+    T = [compiled.tables(m, plan(m)) for m in models]
+    assert not np.array_equal(T[0].par, T[1].par)
+    assert compiled.source(T[0]) == compiled.source(T[1])  # lengths, scales, sketch constants: data
+
+
+def test_unknown_engine_is_refused():
+    with pytest.raises(InputError, match="engine"):
+        four_bar().sweep([0.0, 0.1], engine="fortran")
