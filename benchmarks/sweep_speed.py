@@ -31,6 +31,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import peers  # noqa: E402
 from peers import error  # noqa: E402
 
+try:  # the compiled engine (the "fast" extra)
+    import numba
+except ImportError:
+    numba = None
+ENGINES = ("numpy", "numba") if numba else ("numpy",)
+
 
 def circle(c1, r1, c2, r2, left=True):
     """Vectorised circle-circle intersection (the point left of c1 -> c2 when ``left``)."""
@@ -124,25 +130,30 @@ def main(argv=None):
     args = ap.parse_args(argv)
     sizes = [1000] if args.quick else args.sizes
     repeat = 1 if args.quick else 3
-    print(f"planar sweep benchmark, numpy {np.__version__}")
-    print(f"{'mechanism':26s} {'N':>8s} {'tol':>6s} {'planar us/pos':>13s} {'closed us/pos':>13s} "
+    print(f"planar sweep benchmark, numpy {np.__version__}" + (
+        f", numba {numba.__version__} ({numba.get_num_threads()} threads)" if numba else ", numba not installed"))
+    print(f"{'mechanism':26s} {'engine':6s} {'N':>8s} {'tol':>6s} {'planar us/pos':>13s} {'closed us/pos':>13s} "
           f"{'ratio':>6s}  max error (pos | vel | acc, relative)")
-    four_bar_runs = {}  # N -> (planar s, closed s, errors) at the default tolerance
+    four_bar_runs = {}  # (N, engine) -> (planar s, closed s, errors) at the default tolerance
     for name, build in CASES.items():
         m, closed, ours, L = build()
         model = m.compile()
+        if numba:  # the compiled loop of this structure: built (or loaded from the disk cache) once
+            t, _ = timed(lambda: model.sweep(model.u0[0] + np.linspace(0, 0.1, 50), engine="numba"), 1)
+            print(f"{name:26s} numba: compiling or loading the loop took {t:.1f} s (excluded below)")
         for N in sizes:
             th = model.u0[0] + np.linspace(0, 2 * np.pi, N, endpoint=False)
             if name == "geared five-bar":
                 th = np.linspace(0, np.radians(200), N)  # inside the range of its sketched branch
             tc, ref = timed(lambda: closed(th), 1 if name == "geared five-bar" else repeat)
-            for tol in ([1e-12] if N > 1000 else [1e-8, 1e-10, 1e-12]):
-                tp, res = timed(lambda: model.sweep(th, tol=tol), 1 if N >= 100_000 else repeat)
-                errs = error(ref, ours(res), L)
-                print(f"{name:26s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
-                      f"{tp / tc:6.3g}  " + _errs(errs.values()))
-                if case_four_bar is build and tol == 1e-12:
-                    four_bar_runs[N] = (tp, tc, errs)
+            for engine in ENGINES:
+                for tol in ([1e-12] if N > 1000 else [1e-8, 1e-10, 1e-12]):
+                    tp, res = timed(lambda: model.sweep(th, tol=tol, engine=engine), 1 if N >= 100_000 else repeat)
+                    errs = error(ref, ours(res), L)
+                    print(f"{name:26s} {engine:6s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
+                          f"{tp / tc:6.3g}  " + _errs(errs.values()))
+                    if case_four_bar is build and tol == 1e-12:
+                        four_bar_runs[N, engine] = (tp, tc, errs)
     # scaling with the number of loops: a chain of k drag-link loops, each driven by the one before
     ks, n_chain = ((1, 10), 100) if args.quick else ((1, 10, 30, 100), 2000)
     print(f"\nchain of k drag-link four-bar loops (every loop turns a full turn), N = {n_chain} positions:")
@@ -175,22 +186,26 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
     by_n = {}
     for r in rows:
         by_n.setdefault(r["N"], []).append(r)
-    positions_only = {}
+    planar_rows = {}  # (N, label) -> seconds
+    line = "{:48s} {:9s} {:8d} {:9.3f} {:8.3g}  {}"
     for N in sorted(set(sizes) | set(by_n)):
         th = np.linspace(0, 2 * np.pi, N, endpoint=False)
         tc, ref = timed(lambda: closed(th), repeat)
-        if N in four_bar_runs:
-            tp, tc, errs = four_bar_runs[N]
-        else:  # a peer's own (smaller) N: time planar there too
-            tp, res = timed(lambda: model.sweep(th), repeat)
-            errs = error(ref, ours(res), L)
-        tq, res = timed(lambda: model.sweep(th, rates=False), repeat)
-        positions_only[N] = tq
-        line = "{:48s} {:9s} {:8d} {:9.3f} {:8.3g}  {}"
         print(line.format("closed form (numpy, tests/oracles.py)", "full", N, tc / N * 1e6, 1.0, "reference"))
-        print(line.format("planar Model.sweep", "full", N, tp / N * 1e6, tp / tc, _errs(errs.values())))
-        print(line.format("planar Model.sweep(rates=False)", "positions", N, tq / N * 1e6, tq / tc,
-                          _errs(error({"C": ref["C"]}, {"C": res.position("C")}, L).values())))
+        runs = [(e, t) for e in ENGINES for t in (None, 1)[: 2 if e == "numba" else 1]]
+        for engine, threads in runs:
+            label = f"planar Model.sweep engine={engine}" + (" (1 thread)" if threads else "")
+            with _threads(threads):
+                if (N, engine) in four_bar_runs and not threads:
+                    tp, tc, errs = four_bar_runs[N, engine]
+                else:  # a peer's own (smaller) N, or one thread: time planar here
+                    tp, res = timed(lambda: model.sweep(th, engine=engine), repeat)
+                    errs = error(ref, ours(res), L)
+                tq, res = timed(lambda: model.sweep(th, rates=False, engine=engine), repeat)
+            planar_rows[N, label], planar_rows[N, label + " rates=False"] = tp, tq
+            print(line.format(label, "full", N, tp / N * 1e6, tp / tc, _errs(errs.values())))
+            print(line.format(label + " rates=False", "positions", N, tq / N * 1e6, tq / tc,
+                              _errs(error({"C": ref["C"]}, {"C": res.position("C")}, L).values())))
         for r in by_n.get(N, []):
             what = "full" if len(r["errors"]) == 3 else "positions"
             print(line.format(r["label"], what, N, r["seconds"] / N * 1e6, r["seconds"] / tc, _errs(r["errors"].values()))
@@ -204,25 +219,44 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
     missing = peers.not_installed()
     if missing:
         print("not installed (pip install -e '.[bench]'): " + ", ".join(missing))
-    targets(four_bar_runs, rows, positions_only)
+    targets(four_bar_runs, rows, planar_rows)
 
 
-def targets(four_bar_runs, rows, positions_only):
+class _threads:
+    """Within: numba's loops on ``n`` threads (None: all)."""
+
+    def __init__(self, n):
+        self.n, self.was = n, None
+
+    def __enter__(self):
+        if numba and self.n:
+            self.was = numba.get_num_threads()
+            numba.set_num_threads(self.n)
+
+    def __exit__(self, *exc):
+        if self.was:
+            numba.set_num_threads(self.was)
+
+
+def targets(four_bar_runs, rows, planar_rows):
     """The issue's speed targets for the four-bar at N >= 1e5, measured in this run."""
-    big = [N for N in four_bar_runs if N >= 100_000]
+    big = sorted({N for N, _ in four_bar_runs if N >= 100_000})
     if not big:
         return
     print("\ntargets (four-bar; full kinematics against the closed form and step_fast_with_kinematics,"
           " positions only against step_fast):")
-    for N in sorted(big):
-        tp, tc, _ = four_bar_runs[N]
+    for N in big:
         peer = {r["label"]: r["seconds"] for r in rows if r["N"] == N}
-        print(f"  N = {N:.0e}: planar / closed form = {tp / tc:.1f} (target <= 2)", end="")
-        for label, goal, ours_t in (("pylinkage+numba step_fast_with_kinematics", "< 1", tp),
-                                    ("pylinkage+numba step_fast", "<= 1", positions_only[N])):
-            if label in peer:
-                print(f"; planar / {label} = {ours_t / peer[label]:.1f} (target {goal})", end="")
-        print()
+        tc = four_bar_runs[N, "numpy"][1]
+        for label in sorted({lab for n, lab in planar_rows if n == N and not lab.endswith("rates=False")}):
+            tp, tq = planar_rows[N, label], planar_rows[N, label + " rates=False"]
+            print(f"  N = {N:.0e}, {label[len('planar Model.sweep '):]}: planar / closed form = {tp / tc:.1f} "
+                  f"(target <= 2)", end="")
+            for peer_label, goal, ours_t in (("pylinkage+numba step_fast_with_kinematics", "< 1", tp),
+                                             ("pylinkage+numba step_fast", "<= 1", tq)):
+                if peer_label in peer:
+                    print(f"; / {peer_label} = {ours_t / peer[peer_label]:.1f} (target {goal})", end="")
+            print()
 
 
 def _errs(values):

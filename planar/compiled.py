@@ -35,6 +35,7 @@ import numpy as np
 from planar.errors import InputError
 
 _TABLES = weakref.WeakKeyDictionary()
+CHUNK = 1024  # values per task of the parallel loop
 
 Tables = namedtuple("Tables", [
     # joints: kernel names, parameters, row constants, rows, bodies, input column (-1: none),
@@ -64,27 +65,44 @@ def check(plan):
 
 def final(model, plan, q, U, Ud, Udd, rates=True):
     """One Newton step from guesses q (N, n) and, at the corrected poses, the rates with the
-    factorisation at the guesses: (q, qd, qdd, scaled residual at the guess, scaled step,
-    block dets (N, blocks), largest scaled redundant row at the guess), as the numpy path of
-    ``planar.sweep._final`` computes them."""
+    factorisation at the guesses, as the numpy path of ``planar.sweep._final`` computes them: a
+    dict of q, qd, qdd, the scaled residual at the guess ``res``, the scaled ``step`` and
+    ``off`` (the same over its finite components: how far the pose moved), the blocks' det
+    ``signs``, the largest scaled redundant row ``red``, the singularity measure ``sing`` and
+    the ``branch`` (the product of the signs)."""
     T, loop = _compiled(model, plan)
     N = q.shape[0]
     q = np.array(q, dtype=float, order="C")
     qd, qdd = np.empty((N, T.n)), np.empty((N, T.n))
-    res, step, dets, red = np.empty(N), np.empty(N), np.empty((N, len(T.bk))), np.empty(N)
+    res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
+    dets = np.empty((N, len(T.bk)))
     as_c = np.ascontiguousarray
-    loop(q, as_c(U, float), as_c(Ud, float), as_c(Udd, float), bool(rates), qd, qdd, res, step, dets, red,
-         T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale)
+    loop(q, as_c(U, float), as_c(Ud, float), as_c(Udd, float), bool(rates), qd, qdd, res, step, off, dets, red,
+         sing, branch, T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale)
     if not rates:
         qd[:] = qdd[:] = np.nan
-    return q, qd, qdd, res, step, dets, red
+    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=np.sign(dets), red=red, sing=sing,
+                branch=branch)
+
+
+def hermite(model, plan, QA, DA, DDA, k, h, t):
+    """(M, n) quintic Hermite guesses between anchors k and k + 1 (see the generated module's
+    ``hermite``)."""
+    out = np.empty((k.size, QA.shape[1]))
+    _module(model, plan).hermite(QA, DA, DDA, k, h, t, out)
+    return out
 
 
 def _compiled(model, plan):
+    module = _module(model, plan)
+    return _TABLES[plan][0], module.loop
+
+
+def _module(model, plan):
     if plan not in _TABLES:
         T = tables(model, plan)
-        _TABLES[plan] = (T, _load(source(T)).loop)
-    return _TABLES[plan]
+        _TABLES[plan] = (T, _load(source(T)))
+    return _TABLES[plan][1]
 
 
 def tables(model, plan):
@@ -136,8 +154,10 @@ import numpy as np
 import numba
 
 from planar.joints.scalar import {kernels}
+from planar.sweep import hermite_basis
 
 _inline = numba.njit(inline="always", error_model="numpy")
+_basis = _inline(hermite_basis)
 
 
 @_inline
@@ -207,22 +227,39 @@ def _lu_solve(A, perm, z, y, k):
 
 
 @numba.njit(cache=True, error_model="numpy", nogil=True)
+def hermite(QA, DA, DDA, k, h, t, out):
+    """Row i of ``out``: the quintic Hermite guess between anchors k[i] and k[i] + 1 (poses QA,
+    derivatives DA and DDA in the input), as planar.sweep._hermite, in one pass and without
+    gathering the anchors' rows per value."""
+    for i in range(k.size):
+        a, hi = k[i], h[i]
+        H1, H2, H3, H4, H5 = _basis(t[i])
+        for j in range(QA.shape[1]):
+            q0 = QA[a, j]
+            out[i, j] = (q0 + H3 * (QA[a + 1, j] - q0) + hi * (H1 * DA[a, j] + H4 * DA[a + 1, j])
+                         + hi**2 * (H2 * DDA[a, j] + H5 * DDA[a + 1, j]))
+
+
+@numba.njit(cache=True, error_model="numpy", nogil=True, parallel=True)
 '''
 
 
 def source(T):
-    """The generated module for the plan tables ``T``: one function ``loop`` that, per value,
-    takes the Newton step from the guess, factors, and solves the rates (as :func:`final`)."""
+    """The generated module for the plan tables ``T``: ``loop`` takes, per value, the Newton
+    step from the guess, factors, and solves the rates (as :func:`final`); ``hermite`` makes
+    the guesses."""
     L = [_HELPERS.replace("{kernels}", ", ".join(sorted(set(T.kernel + T.gamma)))).rstrip("\n"),
-         "def loop(Q, U, Ud, Udd, rates, QD, QDD, RES, STEP, DETS, RED, par, jc, rs, brs, bcs, upscale, cs,"
-         " red_scale):",
-         f"    fb = np.zeros(({T.n_bodies}, 8))",
-         "    fb[0, 3] = 1.0",
-         "    c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
-         f"    Phi, Jv, rhs, x = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)}), np.zeros({T.n + 1})",
-         f"    z, y = np.empty({max(T.bk, default=1)}), np.empty({max(T.bk, default=1)})"]
-    L += [f"    A{b}, P{b} = np.empty(({k}, {k})), np.empty({k}, np.int64)" for b, k in enumerate(T.bk) if k > 1]
-    L += ["    for i in range(Q.shape[0]):", "        q = Q[i]"]
+         "def loop(Q, U, Ud, Udd, rates, QD, QDD, RES, STEP, OFF, DETS, RED, SING, BRANCH, par, jc, rs, brs, bcs,"
+         " upscale, cs, red_scale):",
+         "    N = Q.shape[0]",
+         f"    for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers",
+         f"        fb = np.zeros(({T.n_bodies}, 8))",
+         "        fb[0, 3] = 1.0",
+         "        c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
+         f"        Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
+         f"        x, z, y = np.zeros({T.n + 1}), np.empty({max(T.bk, default=1)}), np.empty({max(T.bk, default=1)})"]
+    L += [f"        A{b}, P{b} = np.empty(({k}, {k})), np.empty({k}, np.int64)" for b, k in enumerate(T.bk) if k > 1]
+    L += [f"        for i in range(chunk * {CHUNK}, min(N, (chunk + 1) * {CHUNK})):", "            q = Q[i]"]
     body = []
     w = body.append
     w("# the bodies' rows: cos and sin through tan(phi / 2), as planar.geometry.cos_sin")
@@ -236,14 +273,22 @@ def source(T):
     for r, row in enumerate(T.red):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
     _factor(T, w)
+    w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
+    w("sing, branch = abs(DETS[i, 0]), np.sign(DETS[i, 0])")
+    for b in range(1, len(T.bk)):
+        w(f"sing = -_mx(-sing, -abs(DETS[i, {b}]))")
+        w(f"branch *= np.sign(DETS[i, {b}])")
     _solve(T, w)
-    w("step = 0.0")
+    w("# the step's size, and the distance the pose moves (its finite components)")
+    w("step, off = 0.0, 0.0")
     for k, col in enumerate(T.pcols):
         w(f"step = _mx(step, abs(x[{col}] / cs[{k}]))")
+        w(f"if np.isfinite(x[{col}]):")
+        w(f"    off = _mx(off, abs(x[{col}] / cs[{k}]))")
     for k in range(T.n):
         w(f"if np.isfinite(x[{k}]):")
         w(f"    q[{k}] -= x[{k}]")
-    w("RES[i], STEP[i], RED[i] = res, step, red")
+    w("RES[i], STEP[i], OFF[i], RED[i], SING[i], BRANCH[i] = res, step, off, red, sing, branch")
     w("if not rates:")
     w("    continue")
     w("# velocities: the input rates on the driver rows")
@@ -252,7 +297,7 @@ def source(T):
     _frames(T, w, rates=True)
     _joints(T, w, "gamma", "g")
     _rate(T, w, "Phi", "Udd", "QDD")
-    return "\n".join(L + ["        " + line for line in body]) + "\n"
+    return "\n".join(L + ["            " + line for line in body]) + "\n"
 
 
 def _rate(T, w, base, inputs, out):
@@ -342,7 +387,11 @@ def _up_offset(T, b):
 def _load(src):
     from planar.joints import scalar
 
-    key = hashlib.sha1((src + inspect.getsource(scalar)).encode()).hexdigest()[:20]
+    from planar.sweep import hermite_basis
+
+    # the source of what the loop compiles in: a change to it is a new module (numba's cache
+    # keys on the module's own file only)
+    key = hashlib.sha1((src + inspect.getsource(scalar) + inspect.getsource(hermite_basis)).encode()).hexdigest()[:20]
     path = _cache_dir() / f"plan_{key}.py"
     if not path.exists():
         tmp = path.with_suffix(f".{os.getpid()}.tmp")

@@ -24,7 +24,6 @@
 Only the blocks the asked-for ``outputs`` need are solved; the other coordinates are NaN.
 """
 
-from bisect import bisect_right
 from dataclasses import replace
 
 import numpy as np
@@ -95,18 +94,32 @@ class _Branch:
         qd, qdd, signs, _ = self.state(q, u, du)
         return q + qd + 0.5 * qdd, signs
 
+    def hermite(self, QA, DA, DDA, k, h, t):
+        """Quintic Hermite guesses between anchors k and k + 1 (:func:`_hermite`)."""
+        if self.compiled is not None:
+            return self.compiled.hermite(self.m, self.p, QA, DA, DDA, k, h, t)
+        return _hermite(QA[k], DA[k], DDA[k], QA[k + 1], DA[k + 1], DDA[k + 1], h, t)
+
     def solve(self, q_pred, u, max_iter=8):
         return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p)
 
     def signs(self, q, u):
         return self._at(q, u).signs
 
-    def accept(self, q, q_pred, q_from, conv, signs, signs_ref):
+    def accept(self, q, q_pred, origin, conv, signs, signs_ref, off=None):
+        """Converged, in the same assembly modes, and no further from the predictor than JUMP
+        times the predicted move (``origin(rows)``: the poses the steps of those rows started
+        from; asked only where the solve moved off the predictor by more than 1e-9; ``off``:
+        that distance, scaled, when the solve knows it)."""
         c = self.p.cols
-        move = np.max(np.abs((q_pred - q_from)[:, c] / self.cs), axis=1)
-        off = np.max(np.abs((q - q_pred)[:, c] / self.cs), axis=1)
-        same = np.all(signs == signs_ref, axis=1)
-        return conv & same & (off <= JUMP * move + 1e-9)
+        if off is None:
+            off = np.max(np.abs((q - q_pred)[:, c] / self.cs), axis=1)
+        ok = conv & np.all(signs == signs_ref, axis=1)
+        far = np.flatnonzero(ok & ~(off <= 1e-9))
+        if far.size:
+            move = np.max(np.abs((q_pred[far] - origin(far))[:, c] / self.cs), axis=1)
+            ok[far] = off[far] <= JUMP * move + 1e-9
+        return ok
 
 
 class _Walker:
@@ -134,7 +147,7 @@ class _Walker:
             q_pred, _ = br.predict(q[None], u[None], (u_next - u)[None])
             qn, conv, _, _ = br.solve(q_pred, u_next[None])
             sn = br.signs(qn, u_next[None])
-            if br.accept(qn, q_pred, q[None], conv, sn, signs[None])[0]:
+            if br.accept(qn, q_pred, lambda k: q[None], conv, sn, signs[None])[0]:
                 q, u, t = qn[0], u_next, t + dt
                 h = min(2 * h, self.max_step / total)
                 halvings = 0
@@ -226,10 +239,10 @@ def _walk_anchors(V, max_step):
     d = np.diff(v)
     if V.shape[1] == 1 and (np.all(d >= 0) or np.all(d <= 0)):
         # one monotone input (the usual sweep): a binary search per anchor
-        v = (v if np.all(d >= 0) else -v).tolist()
+        v = v if np.all(d >= 0) else -v
         i = 0
         while True:
-            j = bisect_right(v, v[i] + max_step)
+            j = int(np.searchsorted(v, v[i] + max_step, side="right"))
             if j >= len(v):
                 return np.array(idx)
             i = max(i + 1, j - 1)
@@ -354,7 +367,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     at_event = _at_events(model, U, events)
     solved[list(at_event)] = False
     out = _Out(N, n)
-    q_pred = np.full((N, n), np.nan)
+    q_pred = {}  # index -> the best guess of a value left for the walk
     done = np.zeros(N, bool)
     todo = np.ones(N, bool)
     todo[anchors[solved[anchors]]] = todo[list(at_event)] = False
@@ -431,20 +444,26 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         good, QU, QUU = good[regular], QU[regular], QUU[regular]
     if not (good.size and rest.size):
         return
+    # each target's anchors before and after (positions in good), and whether each lies in the
+    # target's stretch (no located event between)
     pos = np.searchsorted(good, rest) - 1
-    prev = good[np.maximum(pos, 0)]
-    nxt = good[np.minimum(pos + 1, good.size - 1)]
-    seg = np.searchsorted(cuts, rest, side="right")
-    same_prev = (pos >= 0) & (np.searchsorted(cuts, prev, side="right") == seg)
-    same_next = (pos + 1 < good.size) & (np.searchsorted(cuts, nxt, side="right") == seg)
-    src = np.where(same_prev, prev, nxt)
+    prev_k, next_k = np.maximum(pos, 0), np.minimum(pos + 1, good.size - 1)
+    same_prev, same_next = pos >= 0, pos + 1 < good.size
+    if cuts.size:
+        seg, seg_of = np.searchsorted(cuts, rest, side="right"), np.searchsorted(cuts, good, side="right")
+        same_prev &= seg_of[prev_k] == seg
+        same_next &= seg_of[next_k] == seg
+    where = np.where(same_prev, prev_k, next_k)  # the source anchor
     has = same_prev | same_next
-    # between two consecutive anchors of one stretch: interpolate rather than extrapolate
-    span = U[nxt, 0] - U[prev, 0] if one else 0.0
-    both = same_prev & same_next & (np.searchsorted(anchors, nxt) - np.searchsorted(anchors, prev) == 1) & (span != 0)
-    rest, src, both = rest[has], src[has], both[has]
+    # between two consecutive anchors of one stretch (no failed or singular anchor between,
+    # some input between): interpolate rather than extrapolate
+    adj = np.zeros(good.size, bool)
     if one:
-        where = np.searchsorted(good, src)
+        adj[:-1] = (np.diff(np.searchsorted(anchors, good)) == 1) & (np.diff(U[good, 0]) != 0)
+    both = same_prev & same_next & adj[prev_k]
+    rest, where, both = rest[has], where[has], both[has]
+    src = good[where]
+    QA = q[good]
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
         du = U[i] - U[s_]
@@ -454,19 +473,18 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
             if b.any():
                 kb = k[b]
                 h = U[good[kb + 1], 0] - U[good[kb], 0]
-                qp[b] = _hermite(q[good[kb]], QU[kb], QUU[kb], q[good[kb + 1]], QU[kb + 1], QUU[kb + 1],
-                                 h, du[b, 0] / h)
+                qp[b] = br.hermite(QA, QU, QUU, kb, h, du[b, 0] / h)
             if not b.all():
                 k, s1, d1 = k[~b], s_[~b], du[~b]
                 qp[~b] = q[s1] + QU[k] * d1 + 0.5 * QUU[k] * d1**2
         else:
             qp, _ = br.predict(q[s_], U[s_], du)
         r = _final(br, qp, U[i], Ud[i], Udd[i])
-        ok = br.accept(r["q"], qp, q[s_], r["conv"], r["signs"], signs[s_])
+        ok = br.accept(r["q"], qp, lambda k: q[s_[k]], r["conv"], r["signs"], signs[s_], r["off"])
         if ok.all():
             ok = slice(None)
         else:
-            q_pred[i[~ok]] = qp[~ok]  # the best guess of a value left for the walk
+            q_pred.update(zip(i[~ok].tolist(), qp[~ok]))
         out.put(i[ok], r, ok)
         q[i[ok]], solved[i[ok]], signs[i[ok]], done[i[ok]] = r["q"][ok], True, r["signs"][ok], True
 
@@ -496,7 +514,7 @@ def _wave(br, state, U, idx):
         qd, qdd = _rates(br.p, lu, qn, Ut, step, np.zeros_like(step))
         q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
     q_from = np.vstack((q0[None], qn[:-1]))
-    ok = br.accept(qn, q_step, q_from, conv, lu.signs, s0[None])
+    ok = br.accept(qn, q_step, lambda k: q_from[k], conv, lu.signs, s0[None])
     a = M if ok.all() else int(np.argmin(ok))
     return a, qn[:a], s0
 
@@ -513,13 +531,20 @@ def _hermite(q0, d0, dd0, q1, d1, dd1, h, t):
     True
     """
     t, h = t[:, None], h[:, None]
+    H1, H2, H3, H4, H5 = hermite_basis(t)
+    return q0 + H3 * (q1 - q0) + h * (H1 * d0 + H4 * d1) + h**2 * (H2 * dd0 + H5 * dd1)
+
+
+def hermite_basis(t):
+    """The quintic Hermite weights at t (arrays or numbers; the compiled path compiles this
+    too): of d0, dd0, q1 - q0, d1 and dd1, the derivatives times h and h^2."""
     t3 = t**3
     H1 = t - t3 * (6 - 8 * t + 3 * t**2)
     H2 = 0.5 * t**2 - t3 * (1.5 - 1.5 * t + 0.5 * t**2)
     H3 = t3 * (10 - 15 * t + 6 * t**2)
     H4 = -t3 * (4 - 7 * t + 3 * t**2)
     H5 = t3 * (0.5 - t + 0.5 * t**2)
-    return q0 + H3 * (q1 - q0) + h * (H1 * d0 + H4 * d1) + h**2 * (H2 * dd0 + H5 * dd1)
+    return H1, H2, H3, H4, H5
 
 
 def _event_index(U, lo, i, u_from, u_star):
@@ -568,8 +593,8 @@ class _Out:
     """Per-point results filled chunk by chunk."""
 
     def __init__(self, N, n):
-        self.qd = np.full((N, n), np.nan)
-        self.qdd = np.full((N, n), np.nan)
+        # the rates: NaN where no put reaches (:meth:`blank`), not filled twice
+        self.qd, self.qdd, self.put_at = np.empty((N, n)), np.empty((N, n)), np.zeros(N, bool)
         self.residual = np.full(N, np.nan)
         self.iters = np.zeros(N, int)
         self.sing = np.full(N, np.nan)
@@ -577,9 +602,13 @@ class _Out:
         self.status = np.full(N, Status.NOT_CONVERGED, dtype=np.int8)
 
     def put(self, i, r, sel=slice(None)):
-        self.qd[i], self.qdd[i] = r["qd"][sel], r["qdd"][sel]
+        self.qd[i], self.qdd[i], self.put_at[i] = r["qd"][sel], r["qdd"][sel], True
         self.residual[i], self.iters[i] = r["res"][sel], r["iters"][sel]
         self.sing[i], self.branch[i], self.status[i] = r["sing"][sel], r["branch"][sel], r["status"][sel]
+
+    def blank(self):
+        """NaN rates where nothing was put."""
+        self.qd[~self.put_at] = self.qdd[~self.put_at] = np.nan
 
 
 def _rates(p, lu, q, U, Ud, Udd):
@@ -597,9 +626,11 @@ def _final(br, q, U, Ud, Udd):
     m, p, tol = br.m, br.p, br.tol
     rs, red = m.row_scale[p.rows], m.redundant_rows  # rows of constraints outside the plan read 0
     iters = np.ones(q.shape[0], int)
+    guess = q
     if br.compiled is not None:
-        q, qd, qdd, res, step, dets, red_res = br.compiled.final(m, p, q, U, Ud, Udd, br.rates)
-        signs, sing = np.sign(dets), np.min(np.abs(dets), axis=1)
+        f = br.compiled.final(m, p, q, U, Ud, Udd, br.rates)
+        q, qd, qdd, res, step, off = f["q"], f["qd"], f["qdd"], f["res"], f["step"], f["off"]
+        red_res, signs, sing, branch = f["red"], f["signs"], f["sing"], f["branch"]
     else:
         q = q.copy()
         with np.errstate(all="ignore"):
@@ -607,10 +638,12 @@ def _final(br, q, U, Ud, Udd):
             lu = p.factor(Jv)
             dq = lu.solve(Phi)
             res = np.max(np.abs(Phi * rs), axis=1)
-            step = np.max(np.abs(dq[:, p.cols] / m.col_scale[p.cols]), axis=1)
+            dq_p = np.abs(dq[:, p.cols] / m.col_scale[p.cols])
+            step = np.max(dq_p, axis=1)
+            off = np.max(np.where(np.isfinite(dq_p), dq_p, 0.0), axis=1)
             q -= np.where(np.isfinite(dq), dq, 0.0)
         red_res = _redundant(m, full)
-        signs, sing = lu.signs, lu.sing
+        signs, sing, branch = lu.signs, lu.sing, np.prod(lu.signs, axis=1)
         if br.rates:
             qd, qdd = _rates(p, lu, q, U, Ud, Udd)
         else:  # positions only: no velocity and acceleration solves
@@ -628,7 +661,8 @@ def _final(br, q, U, Ud, Udd):
             Phi_s, full_s, Jv_s = p.evaluate(qs, U[slow])
             res[slow], red_res[slow] = np.max(np.abs(Phi_s * rs), axis=1), _redundant(m, full_s)
             lu_s = p.factor(Jv_s)
-        signs[slow], sing[slow] = lu_s.signs, lu_s.sing
+        signs[slow], sing[slow], branch[slow] = lu_s.signs, lu_s.sing, np.prod(lu_s.signs, axis=1)
+        off[slow] = np.max(np.abs((qs - guess[slow])[:, p.cols] / m.col_scale[p.cols]), axis=1)
         if br.rates:
             qd[slow], qdd[slow] = _rates(p, lu_s, qs, U[slow], Ud[slow], Udd[slow])
     st = np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
@@ -638,8 +672,8 @@ def _final(br, q, U, Ud, Udd):
     # a point on a singular position converges only linearly: its position still holds
     st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
     qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
-    return dict(q=q, qd=qd, qdd=qdd, conv=conv,
-                res=res, iters=iters, signs=signs, sing=sing, branch=np.prod(signs, axis=1), status=st)
+    return dict(q=q, qd=qd, qdd=qdd, conv=conv, off=off,
+                res=res, iters=iters, signs=signs, sing=sing, branch=branch, status=st)
 
 
 def _redundant(model, full):
@@ -659,6 +693,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         r = _final(br, q[i], U[i], Ud[i], Udd[i])
         q[i] = r["q"]
         out.put(i, r)
+    out.blank()
     _on_events(model, br, U, Ud, Udd, q, out, events, at_event)
     if not br.rates:
         out.qd[:] = out.qdd[:] = np.nan
@@ -673,7 +708,8 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
     miss = np.flatnonzero(~solved)
     for lo in range(0, miss.size, CHUNK):
         i = miss[lo : lo + CHUNK]
-        guess = np.where(np.isnan(q_pred[i]), model.q0, q_pred[i])
+        guess = np.array([q_pred.get(k, model.q0) for k in i.tolist()]).reshape(i.size, n)
+        guess = np.where(np.isnan(guess), model.q0, guess)
         _, g = least_squares_gap(model, guess, U[i])
         gap[i] = g
         status[i] = np.where(g > GAP, Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)

@@ -24,10 +24,14 @@ def test_quick_run_prints_every_section_with_small_errors(capsys):
     sweep_speed.main(["--quick"])
     out = capsys.readouterr().out
     for name in sweep_speed.CASES:
-        assert re.search(rf"^{re.escape(name)}\s+1000\s", out, re.M), name
+        for engine in sweep_speed.ENGINES:
+            assert re.search(rf"^{re.escape(name)}\s+{engine}\s+1000\s", out, re.M), (name, engine)
     assert re.search(r"k =  10: .* all solved: True", out)
-    rows = re.findall(r"^planar Model\.sweep\s+full\s+(\d+)\s+([\d.]+)\s+[\d.]+\s+(.*)$", out, re.M)
-    assert rows
+    rows = re.findall(r"^planar Model\.sweep (engine=\w+(?: \(1 thread\))?)\s+full\s+(\d+)\s+([\d.]+)\s+[\d.]+\s+(.*)$",
+                      out, re.M)
+    want = {f"engine={e}" for e in sweep_speed.ENGINES} | ({"engine=numba (1 thread)"} if sweep_speed.numba else set())
+    assert {r[0] for r in rows} == want
+    rows = [r[1:] for r in rows]
     for _, us, errs in rows:
         assert float(us) > 0
         assert max(float(e) for e in errs.split("|")) < 1e-12
