@@ -240,31 +240,46 @@ def hermite(QA, DA, DDA, k, h, t, out):
                          + hi**2 * (H2 * DDA[a, j] + H5 * DDA[a + 1, j]))
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True, parallel=True)
 '''
+
+
+_JIT = '@numba.njit(cache=True, error_model="numpy", nogil=True)'
 
 
 def source(T):
     """The generated module for the plan tables ``T``: ``loop`` takes, per value, the Newton
     step from the guess, factors, and solves the rates (as :func:`final`); ``hermite`` makes
-    the guesses."""
-    L = [_HELPERS.replace("{kernels}", ", ".join(sorted(set(T.kernel + T.gamma)))).rstrip("\n"),
-         "def loop(Q, U, Ud, Udd, rates, QD, QDD, RES, STEP, OFF, DETS, RED, SING, BRANCH, par, jc, rs, brs, bcs,"
-         " upscale, cs, red_scale):",
-         "    N = Q.shape[0]",
-         f"    for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers",
-         f"        fb = np.zeros(({T.n_bodies}, 8))",
-         "        fb[0, 3] = 1.0",
-         "        c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
-         f"        Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
-         f"        x, z, y = np.zeros({T.n + 1}), np.empty({max(T.bk, default=1)}), np.empty({max(T.bk, default=1)})"]
-    L += [f"        A{b}, P{b} = np.empty(({k}, {k})), np.empty({k}, np.int64)" for b, k in enumerate(T.bk) if k > 1]
-    L += [f"        for i in range(chunk * {CHUNK}, min(N, (chunk + 1) * {CHUNK})):", "            q = Q[i]"]
+    the guesses. The per-value work is split into functions (evaluate, factor, solve, gammas,
+    values), each compiled once, so that compiling a large plan stays in seconds; the parallel
+    driver ``loop`` only calls ``values`` on each chunk of values."""
+    kmax = max(T.bk, default=1)
+    L = [_HELPERS.replace("{kernels}", ", ".join(sorted(set(T.kernel + T.gamma)))).rstrip("\n")]
+
+    def function(header, lines, jit="@_inline"):
+        L.extend(["", "", jit, header] + ["    " + line for line in lines])
+
     body = []
     w = body.append
     w("# the bodies' rows: cos and sin through tan(phi / 2), as planar.geometry.cos_sin")
     _frames(T, w, rates=False)
     _joints(T, w, "kernel", "phi, jac")
+    function("def evaluate(q, u, fb, Phi, Jv, c, phi, jac, par, jc):", body)
+    body = []
+    w = body.append
+    _frames(T, w, rates=True)
+    _joints(T, w, "gamma", "g")
+    function("def gammas(q, qd, u, fb, Phi, c, g, par, jc):", body)
+    body = []
+    _factor(T, body.append)
+    function("def factor(Jv, A, P, brs, bcs, upscale, dets):", body)
+    body = []
+    _solve(T, body.append)
+    function("def solve(Jv, A, P, rhs, x, z, y, brs, bcs):", body)
+
+    body = []
+    w = body.append
+    w("q = Q[i]")
+    w("evaluate(q, U[i], fb, Phi, Jv, c, phi, jac, par, jc)")
     w("res = 0.0")
     for r, row in enumerate(T.prow):
         w(f"rhs[{r}] = Phi[{row}]")
@@ -272,13 +287,13 @@ def source(T):
     w("red = 0.0")
     for r, row in enumerate(T.red):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
-    _factor(T, w)
+    w("factor(Jv, A, P, brs, bcs, upscale, DETS[i])")
     w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
     w("sing, branch = abs(DETS[i, 0]), np.sign(DETS[i, 0])")
     for b in range(1, len(T.bk)):
         w(f"sing = -_mx(-sing, -abs(DETS[i, {b}]))")
         w(f"branch *= np.sign(DETS[i, {b}])")
-    _solve(T, w)
+    w("solve(Jv, A, P, rhs, x, z, y, brs, bcs)")
     w("# the step's size, and the distance the pose moves (its finite components)")
     w("step, off = 0.0, 0.0")
     for k, col in enumerate(T.pcols):
@@ -294,10 +309,23 @@ def source(T):
     w("# velocities: the input rates on the driver rows")
     _rate(T, w, None, "Ud", "QD")
     w("# accelerations: gamma at the corrected pose and the velocities, input accelerations added")
-    _frames(T, w, rates=True)
-    _joints(T, w, "gamma", "g")
+    w("gammas(q, QD[i], U[i], fb, Phi, c, g, par, jc)")
     _rate(T, w, "Phi", "Udd", "QDD")
-    return "\n".join(L + ["            " + line for line in body]) + "\n"
+    args = ("Q, U, Ud, Udd, rates, QD, QDD, RES, STEP, OFF, DETS, RED, SING, BRANCH, par, jc, rs, brs, bcs, upscale, "
+            "cs, red_scale")
+    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P"
+    function(f"def values(lo, hi, {args}, {buffers}):", ["for i in range(lo, hi):"] + ["    " + b for b in body], _JIT)
+    L += ["", "", _JIT.replace("nogil=True", "nogil=True, parallel=True"), f"def loop({args}):",
+          "    N = Q.shape[0]",
+          f"    for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers",
+          f"        fb = np.zeros(({T.n_bodies}, 8))",
+          "        fb[0, 3] = 1.0",
+          "        c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
+          f"        Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
+          f"        x, z, y = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax})",
+          f"        A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)",
+          f"        values(chunk * {CHUNK}, min(N, (chunk + 1) * {CHUNK}), {args}, {buffers})"]
+    return "\n".join(L) + "\n"
 
 
 def _rate(T, w, base, inputs, out):
@@ -307,7 +335,7 @@ def _rate(T, w, base, inputs, out):
         w(f"rhs[{r}] = {'0.0' if base is None else f'{base}[{row}]'}")
     for r, col in zip(T.drv, T.drv_inp):
         w(f"rhs[{r}] += {inputs}[i, {col}]")
-    _solve(T, w)
+    w("solve(Jv, A, P, rhs, x, z, y, brs, bcs)")
     for k in range(T.n):
         w(f"{out}[i, {k}] = x[{k}]")
 
@@ -319,7 +347,7 @@ def _frames(T, w, rates):
         w("wt = 2.0 / (1.0 + t * t)")
         w(f"fb[{b}, 0], fb[{b}, 1], fb[{b}, 2], fb[{b}, 3], fb[{b}, 4] = q[{x}], q[{y}], q[{a}], wt - 1.0, t * wt")
         if rates:
-            w(f"fb[{b}, 5], fb[{b}, 6], fb[{b}, 7] = QD[i, {x}], QD[i, {y}], QD[i, {a}]")
+            w(f"fb[{b}, 5], fb[{b}, 6], fb[{b}, 7] = qd[{x}], qd[{y}], qd[{a}]")
 
 
 def _joints(T, w, which, out):
@@ -329,7 +357,7 @@ def _joints(T, w, which, out):
         for r in range(T.nr[j]):
             w(f"c[{r}] = jc[{j}, {r}]")
         if T.inp[j] >= 0:
-            w(f"c[0] = U[i, {T.inp[j]}]")
+            w(f"c[0] = u[{T.inp[j]}]")
         w(f"{name}(par[{j}], c, fb, {T.slots[j]!r}, {out})")
         nc = 3 * T.nb[j]
         for r in range(T.nr[j]):
@@ -344,19 +372,20 @@ def _factor(T, w):
     for b, k in enumerate(T.bk):
         if k == 1:
             # a pivot row's own entry against its whole scaled row
-            w(f"a{b} = Jv[{T.diag[b][0]}] * brs[{o}] * bcs[{o}]")
-            w(f"nm = a{b} * a{b}")
+            w(f"a = Jv[{T.diag[b][0]}] * brs[{o}] * bcs[{o}]")
+            w(f"A[{b}, 0, 0] = a")
+            w("nm = a * a")
             for i, e in enumerate(T.coup[b]):
                 w(f"v = Jv[{e}] * brs[{o}] * upscale[{_up_offset(T, b) + i}]")
                 w("nm += v * v")
             w("nm = np.sqrt(nm)")
-            w(f"nd = a{b} / nm if nm > 0 else 0.0")
-            w(f"DETS[i, {b}] = np.sign(nd) * min(abs(nd), 1.0)")
+            w("nd = a / nm if nm > 0 else 0.0")
+            w(f"dets[{b}] = np.sign(nd) * min(abs(nd), 1.0)")
         else:
             for i in range(k):
                 for jj in range(k):
-                    w(f"A{b}[{i}, {jj}] = Jv[{T.diag[b][i * k + jj]}] * brs[{o + i}] * bcs[{o + jj}]")
-            w(f"_lu(A{b}, P{b}, {k}, {T.bang[b]!r}, DETS[i], {b})")
+                    w(f"A[{b}, {i}, {jj}] = Jv[{T.diag[b][i * k + jj]}] * brs[{o + i}] * bcs[{o + jj}]")
+            w(f"_lu(A[{b}], P[{b}], {k}, {T.bang[b]!r}, dets, {b})")
         o += k
 
 
@@ -369,9 +398,9 @@ def _solve(T, w):
             terms = "".join(f" - Jv[{T.coup[b][i * nw + u]}] * x[{T.up[b][u]}]" for u in range(nw))
             w(f"z[{i}] = (rhs[{T.eqs[b][i]}]{terms}) * brs[{o + i}]")
         if k == 1:
-            w(f"x[{T.cols[b][0]}] = z[0] / a{b} * bcs[{o}]")
+            w(f"x[{T.cols[b][0]}] = z[0] / A[{b}, 0, 0] * bcs[{o}]")
         else:
-            w(f"_lu_solve(A{b}, P{b}, z, y, {k})")
+            w(f"_lu_solve(A[{b}], P[{b}], z, y, {k})")
             for i in range(k):
                 w(f"x[{T.cols[b][i]}] = y[{i}] * bcs[{o + i}]")
         o += k

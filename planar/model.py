@@ -386,8 +386,8 @@ class Model:
         ("smooth" or "other" at a bifurcation), ``rates`` (False: positions only, velocities
         and accelerations NaN: the velocity and acceleration solves are skipped), ``engine``
         ("numpy", or "numba": the bulk of the values in a loop compiled for the mechanism's
-        structure, 3-6x faster at large N; needs the ``fast`` extra; the first sweep of a
-        structure compiles for seconds, then it is cached on disk; see :mod:`planar.compiled`).
+        structure, 2-3x faster at large N; needs the ``fast`` extra; the first sweep of a
+        structure compiles for 10-30 s, then it is cached on disk; see :mod:`planar.compiled`).
         """
         from planar.sweep import run_sweep
 
