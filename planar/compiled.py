@@ -14,8 +14,8 @@ of one structure share one compiled loop.
 
 The generated module is written to a cache directory (``PLANAR_CACHE_DIR``, else
 ``~/.cache/planar``) under a name hashing its source and the kernels' source, and numba caches
-its machine code beside it: the first sweep of a new structure compiles (seconds), later ones
-and later processes load it. Results agree with the numpy path to rounding (same operations in
+its machine code beside it: the first sweep of a new structure compiles (10-30 s), later ones
+and later processes load it (a fraction of a second). Results agree with the numpy path to rounding (same operations in
 the same order; the tests check that on every joint type).
 """
 
@@ -289,7 +289,7 @@ def source(T):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
     w("factor(Jv, A, P, brs, bcs, upscale, DETS[i])")
     w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
-    w("sing, branch = abs(DETS[i, 0]), np.sign(DETS[i, 0])")
+    w("sing, branch = (abs(DETS[i, 0]), np.sign(DETS[i, 0])) if DETS.shape[1] else (1.0, 1.0)")
     for b in range(1, len(T.bk)):
         w(f"sing = -_mx(-sing, -abs(DETS[i, {b}]))")
         w(f"branch *= np.sign(DETS[i, {b}])")

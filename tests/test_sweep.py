@@ -38,6 +38,10 @@ def test_outputs_solve_only_the_blocks_they_need():
     np.testing.assert_allclose(point.position("E"), full.position("E"), atol=1e-12)
     with pytest.raises(InputError, match="unknown output 'nothing'"):
         m.sweep(values, outputs=["nothing"])
+    m.add_point("G", m.ground, at=(1.0, 1.0))  # fixed to the ground: needs no coordinate
+    ground = m.sweep(values, outputs=["G"])
+    assert np.all(ground.status == Status.SOLVED)
+    np.testing.assert_allclose(ground.position("G"), 1.0, atol=0)
 
 
 def test_positions_only_gives_the_same_poses_and_statuses_without_rates():
