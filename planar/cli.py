@@ -156,13 +156,14 @@ def _restate(sweep, model, old, new):
     return replace(sweep, start=conv(sweep.start, 0), stop=conv(sweep.stop, 0))
 
 
-def run_sweep(model, units, settings, circuit=False):
-    """The sweep the settings ask for; with ``circuit``, the whole circuit through the sketch
-    instead (``num`` values, the settings' speed and acceleration along the motion)."""
+def run_sweep(model, units, settings, circuit=False, engine="numpy"):
+    """The sweep the settings ask for (on ``engine``); with ``circuit``, the whole circuit
+    through the sketch instead (``num`` values, the settings' speed and acceleration along the
+    motion)."""
     U, Ud, Udd = settings.values(model, units)
     if circuit:
         return model.circuit(samples=settings.num, velocity=abs(float(Ud[0, 0])), acceleration=float(Udd[0, 0]))
-    return model.sweep(U, velocity=Ud, acceleration=Udd)
+    return model.sweep(U, velocity=Ud, acceleration=Udd, engine=engine)
 
 
 # ---- reports ---------------------------------------------------------------------------------
@@ -356,7 +357,7 @@ def _run(doc, source, args, out):
 
     model, units, settings = _settings(doc, args)
     circuit = getattr(args, "circuit", False)
-    res = run_sweep(model, units, settings, circuit)
+    res = run_sweep(model, units, settings, circuit, getattr(args, "engine", "numpy"))
     _, lines = info_lines(doc, source)
     for line in lines[1:]:
         print(line)
@@ -537,6 +538,9 @@ def parser():
     motion.add_argument("--circuit", action="store_true",
                         help="the whole circuit from the sketch, the input turning back at each limit position "
                              "(--num values in all; no --start or --stop)")
+    r.add_argument("--engine", choices=("numpy", "numba"), default="numpy",
+                   help="numba: the compiled engine for long sweeps (the fast extra; compiles once per mechanism "
+                        "structure, 10-30 s, then cached)")
     r.add_argument("--angle-unit", choices=("deg", "rad"), help="angle unit of the outputs and of --start/--stop")
     r.add_argument("--rate-unit", choices=tuple(RATE_UNITS), help="unit of angular rates in the outputs")
     _outputs(r)

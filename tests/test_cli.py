@@ -70,6 +70,22 @@ def test_run_defaults_to_a_folder_named_after_the_file(here, capsys):
     assert "omega:crank [deg/s]" in rows[0]
 
 
+def test_run_on_the_compiled_engine_writes_the_same_table(here, capsys):
+    io.save(CATALOGUE["four_bar"](), here / "fb.json")
+    tables = []
+    for engine in ("numpy", "numba"):
+        code, out, err = run(capsys, "run", "fb.json", "--num", "2000", "--engine", engine, "--no-plot",
+                             "--no-animation", "--out", engine)
+        assert code == 0, err
+        tables.append(list(csv.reader(open(here / engine / "four_bar.csv"))))
+    head = tables[0][0]
+    assert tables[1][0] == head and len(tables[0]) == 2001
+    status = head.index("status")
+    assert [r[status] for r in tables[0]] == [r[status] for r in tables[1]]
+    a, b = (np.array([[float(v) for k, v in enumerate(r) if k != status] for r in t[1:]]) for t in tables)
+    np.testing.assert_allclose(b, a, rtol=1e-9, atol=1e-9)
+
+
 def test_rocking_run_goes_there_and_back(here, capsys):
     io.save(CATALOGUE["four_bar"](4, 3, 3, 3), here / "rocker.json")  # a triple rocker
     code, out, err = run(capsys, "run", "rocker.json", "--start", "-150", "--stop", "150", "--num", "21",
