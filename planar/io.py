@@ -383,15 +383,15 @@ def to_dict(obj, units=None, sweep=None):
     if not isinstance(obj, Mechanism):
         raise FileFormatError(f"can only save a planar.Mechanism or a MechanismFile, got {type(obj).__name__}")
     units = units or Units()
-    m = obj
-    joint_names = {j.name for j in m._joints}
-    points = {n: v for n, v in m._points.items() if n not in joint_names}
-    data = {"version": VERSION, "name": m.name,
+    sk = obj.sketch()
+    joint_names = {j.name for j in sk.joints}
+    points = {n: v for n, v in sk.points.items() if n not in joint_names}
+    data = {"version": VERSION, "name": obj.name,
             "units": {"length": units.length, "angle": units.angle, "rate": units.rate},
-            "bodies": [_body_entry(n, a, units) for n, a in m._bodies.items() if n != GROUND],
+            "bodies": [_body_entry(n, a, units) for n, a in sk.bodies.items() if n != GROUND],
             "points": [{"name": n, "body": b, "at": _xy(p)} for n, (b, p) in points.items()],
-            "joints": [_joint_entry(j) for j in m._joints],
-            "drivers": [_driver_entry(d, m._joints, m._points) for d in m._drivers]}
+            "joints": [_joint_entry(j) for j in sk.joints],
+            "drivers": [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]}
     if sweep is not None:
         s = sweep if isinstance(sweep, dict) else {
             "start": list(sweep.start), "stop": list(sweep.stop), "num": sweep.num,

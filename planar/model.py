@@ -90,6 +90,16 @@ class Mechanism:
         self._names = {GROUND}
         self._model = None
 
+    def sketch(self):
+        """What has been drawn so far, read-only: a :class:`Sketch`.
+
+        >>> m = Mechanism("m")
+        >>> crank = m.add_body("crank", angle=0.5)
+        >>> m.sketch().bodies
+        {'ground': 0.0, 'crank': 0.5}
+        """
+        return Sketch(dict(self._bodies), dict(self._points), tuple(self._joints), tuple(self._drivers))
+
     # ---- building ------------------------------------------------------------------------
 
     @property
@@ -302,6 +312,18 @@ class Mechanism:
         """The whole circuit through the sketch, the input reversing at each limit; see
         :meth:`Model.circuit`."""
         return self.compile().circuit(samples, velocity, acceleration, **options)
+
+
+@dataclass(frozen=True)
+class Sketch:
+    """A mechanism as drawn: ``bodies`` name -> sketch angle (the ground first), ``points``
+    name -> (body, world point) (joints' points included), ``joints`` and ``drivers`` in the
+    order they were added."""
+
+    bodies: dict
+    points: dict
+    joints: tuple
+    drivers: tuple
 
 
 # ---- the compiled model ---------------------------------------------------------------------
