@@ -163,12 +163,22 @@ def revolute_gamma(p, c, f, s, g):
 
 @_jitable
 def slot(p, c, f, s, phi, jac):
-    phi[0] = _h_row(p, f, s, jac, 0) - c[0]
+    phi[0] = _h_row(p, f, s, jac, 0) - c[0]  # the normal distance n.d
+
+
+@_jitable
+def travel_driver(p, c, f, s, phi, jac):
+    phi[0] = _t_row(p, f, s, jac, 0) - c[0]  # the travel u.d
 
 
 @_jitable
 def slot_gamma(p, c, f, s, g):
     g[0] = _line_gammas(p, f, s)[0]
+
+
+@_jitable
+def travel_driver_gamma(p, c, f, s, g):
+    g[0] = _line_gammas(p, f, s)[1]
 
 
 @_jitable
@@ -241,16 +251,6 @@ def rack_pinion_gamma(p, c, f, s, g):
 def angle_driver(p, c, f, s, phi, jac):
     _lock_row(jac, 0)
     phi[0] = f[s[1], 2] - f[s[0], 2] - c[0]
-
-
-@_jitable
-def travel_driver(p, c, f, s, phi, jac):
-    phi[0] = _t_row(p, f, s, jac, 0) - c[0]
-
-
-@_jitable
-def travel_driver_gamma(p, c, f, s, g):
-    g[0] = _line_gammas(p, f, s)[1]
 
 
 @_jitable
