@@ -33,6 +33,9 @@ from pathlib import Path
 import numpy as np
 
 from planar.errors import InputError
+from planar.events import NEAR, SINGULAR
+from planar.results import Status
+from planar.sweep import JUMP, ROUND
 
 _TABLES = weakref.WeakKeyDictionary()
 CHUNK = 1024  # values per task of the parallel loop
@@ -75,14 +78,37 @@ def final(model, plan, q, U, Ud, Udd, rates=True):
     q = np.array(q, dtype=float, order="C")
     qd, qdd = np.empty((N, T.n)), np.empty((N, T.n))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
-    dets = np.empty((N, len(T.bk)))
+    signs = np.empty((N, len(T.bk)))
+    no_i, no_q, no_b = np.zeros(0, np.int64), np.zeros((0, T.n)), np.zeros(0, bool)
     as_c = np.ascontiguousarray
-    loop(q, as_c(U, float), as_c(Ud, float), as_c(Udd, float), bool(rates), qd, qdd, res, step, off, dets, red,
-         sing, branch, T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale)
+    loop(np.arange(N), False, no_i, no_i, no_q, no_q, no_q, no_q, 0.0, q, as_c(U, float), as_c(Ud, float),
+         as_c(Udd, float), bool(rates), qd, qdd, res, signs, sing, branch, step, off, red, no_b,
+         np.zeros(0, np.int8), no_i, no_b, no_b, *_data(T))
     if not rates:
         qd[:] = qdd[:] = np.nan
-    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=np.sign(dets), red=red, sing=sing,
-                branch=branch)
+    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch)
+
+
+def fill(model, plan, rows, K, G, QA, DA, DDA, SA, tol, rates, sweep):
+    """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between anchors
+    ``G[K]`` and ``G[K + 1]`` (poses QA, derivatives DA and DDA in the input, modes SA), with
+    ``planar.sweep``'s final step and acceptance test: where a value passes, its pose, rates,
+    residual, modes, singularity, branch and status are written into the sweep's arrays
+    (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
+    solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
+    the general path."""
+    T, loop = _compiled(model, plan)
+    ok = np.empty(rows.size, bool)
+    no = np.zeros(0)
+    S = sweep
+    loop(rows, True, K, G, QA, DA, DDA, SA, float(tol), S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
+         S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"], S["iters"],
+         S["solved"], S["done"], *_data(T))
+    return ok
+
+
+def _data(T):
+    return T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale
 
 
 def hermite(model, plan, QA, DA, DDA, k, h, t):
@@ -278,7 +304,22 @@ def source(T):
 
     body = []
     w = body.append
+    w("i = rows[m]")
     w("q = Q[i]")
+    w("a, move, st = 0, 0.0, 0")
+    w("if interp:")
+    w("    # the quintic Hermite guess between anchors a and a + 1, and the predicted move from a")
+    w("    a = K[m]")
+    w("    u0 = U[G[a], 0]")
+    w("    h = U[G[a + 1], 0] - u0")
+    w("    H1, H2, H3, H4, H5 = _basis((U[i, 0] - u0) / h)")
+    w("    for j in range(QA.shape[1]):")
+    w("        q0 = QA[a, j]")
+    w("        q[j] = (q0 + H3 * (QA[a + 1, j] - q0) + h * (H1 * DA[a, j] + H4 * DA[a + 1, j])")
+    w("                + h**2 * (H2 * DDA[a, j] + H5 * DDA[a + 1, j]))")
+    w("    move = 0.0")
+    for k, col in enumerate(T.pcols):
+        w(f"    move = _mx(move, abs((q[{col}] - QA[a, {col}]) / cs[{k}]))")
     w("evaluate(q, U[i], fb, Phi, Jv, c, phi, jac, par, jc)")
     w("res = 0.0")
     for r, row in enumerate(T.prow):
@@ -287,12 +328,13 @@ def source(T):
     w("red = 0.0")
     for r, row in enumerate(T.red):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
-    w("factor(Jv, A, P, brs, bcs, upscale, DETS[i])")
+    w("factor(Jv, A, P, brs, bcs, upscale, SIGNS[i])")
     w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
-    w("sing, branch = (abs(DETS[i, 0]), np.sign(DETS[i, 0])) if DETS.shape[1] else (1.0, 1.0)")
-    for b in range(1, len(T.bk)):
-        w(f"sing = -_mx(-sing, -abs(DETS[i, {b}]))")
-        w(f"branch *= np.sign(DETS[i, {b}])")
+    w("sing, branch = 1.0, 1.0")
+    for b in range(len(T.bk)):
+        w(f"sing = -_mx(-sing, -abs(SIGNS[i, {b}]))")
+        w(f"SIGNS[i, {b}] = np.sign(SIGNS[i, {b}])")
+        w(f"branch *= SIGNS[i, {b}]")
     w("solve(Jv, A, P, rhs, x, z, y, brs, bcs)")
     w("# the step's size, and the distance the pose moves (its finite components)")
     w("step, off = 0.0, 0.0")
@@ -303,7 +345,26 @@ def source(T):
     for k in range(T.n):
         w(f"if np.isfinite(x[{k}]):")
         w(f"    q[{k}] -= x[{k}]")
-    w("RES[i], STEP[i], OFF[i], RED[i], SING[i], BRANCH[i] = res, step, off, red, sing, branch")
+    w("RES[i], SING[i], BRANCH[i] = res, sing, branch")
+    w("if interp:")
+    w("    # planar.sweep's acceptance of a batch value: converged at the guess, the source anchor's")
+    w("    # modes, no further from the guess than JUMP times the predicted move")
+    w(f"    ok = res <= tol and step <= {ROUND!r} and (off <= 1e-9 or off <= {JUMP!r} * move + 1e-9)")
+    for b in range(len(T.bk)):
+        w(f"    ok = ok and SIGNS[i, {b}] == SA[a, {b}]")
+    w("    OK[m] = ok")
+    w("    if not ok:  # left for the general path: no pose here yet")
+    w("        q[:] = np.nan")
+    w("        continue")
+    w("    # its status, as planar.sweep._final gives a converged value")
+    w(f"    st = {int(Status.SINGULAR)} if sing < {SINGULAR!r} else ({int(Status.NEAR_SINGULAR)} if sing < {NEAR!r} "
+      f"else {int(Status.SOLVED)})")
+    if T.red:
+        w(f"    if red > {1e3!r} * tol:")
+        w(f"        st = {int(Status.INCONSISTENT)}")
+    w("    STATUS[i], ITERS[i], SOLVED[i], DONE[i] = st, 1, True, True")
+    w("else:")
+    w("    STEP[m], OFF[m], RED[m] = step, off, red")
     w("if not rates:")
     w("    continue")
     w("# velocities: the input rates on the driver rows")
@@ -311,12 +372,15 @@ def source(T):
     w("# accelerations: gamma at the corrected pose and the velocities, input accelerations added")
     w("gammas(q, QD[i], U[i], fb, Phi, c, g, par, jc)")
     _rate(T, w, "Phi", "Udd", "QDD")
-    args = ("Q, U, Ud, Udd, rates, QD, QDD, RES, STEP, OFF, DETS, RED, SING, BRANCH, par, jc, rs, brs, bcs, upscale, "
-            "cs, red_scale")
+    w(f"if st > {int(Status.BRANCH_EVENT)}:  # no rates on a singular or inconsistent pose")
+    w("    QD[i, :] = np.nan")
+    w("    QDD[i, :] = np.nan")
+    args = ("rows, interp, K, G, QA, DA, DDA, SA, tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
+            "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
     buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P"
-    function(f"def values(lo, hi, {args}, {buffers}):", ["for i in range(lo, hi):"] + ["    " + b for b in body], _JIT)
+    function(f"def values(lo, hi, {args}, {buffers}):", ["for m in range(lo, hi):"] + ["    " + b for b in body], _JIT)
     L += ["", "", _JIT.replace("nogil=True", "nogil=True, parallel=True"), f"def loop({args}):",
-          "    N = Q.shape[0]",
+          "    N = rows.shape[0]",
           f"    for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers",
           f"        fb = np.zeros(({T.n_bodies}, 8))",
           "        fb[0, 3] = 1.0",

@@ -464,8 +464,17 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         adj[:-1] = (np.diff(np.searchsorted(anchors, good)) == 1) & (np.diff(U[good, 0]) != 0)
     both = same_prev & same_next & adj[prev_k]
     rest, where, both = rest[has], where[has], both[has]
-    src = good[where]
     QA = q[good]
+    if br.compiled is not None and both.any():
+        # the interpolated values in one compiled pass, in place; the rest as below
+        SA = signs[good]
+        arrays = dict(q=q, U=U, Ud=Ud, Udd=Udd, qd=out.qd, qdd=out.qdd, res=out.residual, signs=signs,
+                      sing=out.sing, branch=out.branch, status=out.status, iters=out.iters, solved=solved, done=done)
+        ok = br.compiled.fill(br.m, br.p, rest[both], where[both], good, QA, QU, QUU, SA, br.tol, br.rates, arrays)
+        left = ~both
+        left[both] = ~ok
+        rest, where, both = rest[left], where[left], both[left]
+    src = good[where]
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
         du = U[i] - U[s_]
@@ -595,8 +604,8 @@ class _Out:
     """Per-point results filled chunk by chunk."""
 
     def __init__(self, N, n):
-        # the rates: NaN where no put reaches (:meth:`blank`), not filled twice
-        self.qd, self.qdd, self.put_at = np.empty((N, n)), np.empty((N, n)), np.zeros(N, bool)
+        # the rates: NaN where nothing is solved (:meth:`blank`), not filled twice
+        self.qd, self.qdd = np.empty((N, n)), np.empty((N, n))
         self.residual = np.full(N, np.nan)
         self.iters = np.zeros(N, int)
         self.sing = np.full(N, np.nan)
@@ -604,13 +613,14 @@ class _Out:
         self.status = np.full(N, Status.NOT_CONVERGED, dtype=np.int8)
 
     def put(self, i, r, sel=slice(None)):
-        self.qd[i], self.qdd[i], self.put_at[i] = r["qd"][sel], r["qdd"][sel], True
+        self.qd[i], self.qdd[i] = r["qd"][sel], r["qdd"][sel]
         self.residual[i], self.iters[i] = r["res"][sel], r["iters"][sel]
         self.sing[i], self.branch[i], self.status[i] = r["sing"][sel], r["branch"][sel], r["status"][sel]
 
-    def blank(self):
-        """NaN rates where nothing was put."""
-        self.qd[~self.put_at] = self.qdd[~self.put_at] = np.nan
+    def blank(self, solved):
+        """NaN rates where nothing was solved (every solved value has been put, or is on an
+        event and gets its rates there)."""
+        self.qd[~solved] = self.qdd[~solved] = np.nan
 
 
 def _rates(p, lu, q, U, Ud, Udd):
@@ -695,7 +705,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         r = _final(br, q[i], U[i], Ud[i], Udd[i])
         q[i] = r["q"]
         out.put(i, r)
-    out.blank()
+    out.blank(solved)
     _on_events(model, br, U, Ud, Udd, q, out, events, at_event)
     if not br.rates:
         out.qd[:] = out.qdd[:] = np.nan
