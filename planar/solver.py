@@ -25,13 +25,14 @@ def _solve(J, b):
         return x
 
 
-def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None, plan=None):
+def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None, plan=None, engine=None):
     """Solve Phi(q; u) = 0 (independent rows plus drivers) from guesses q (N, n).
 
     Converged when the scaled residual is below ``tol`` and the scaled Newton step below
     ``step_tol`` (both: a residual test alone accepts plateaus near limit positions, a step
     test alone accepts stagnation). ``max_step`` (scaled) damps each step, for far guesses.
-    ``plan`` (default: the whole model) restricts the solve to some blocks.
+    ``plan`` (default: the whole model) restricts the solve to some blocks. ``engine``: the
+    module :mod:`planar.compiled` to take the undamped steps in its compiled loop (default: numpy).
     Returns (q, converged, residual, iterations); ``residual`` is the scaled max-norm of the
     solved rows at the last evaluation.
     """
@@ -47,13 +48,17 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None
         for it in range(max_iter):
             if idx.size == 0:
                 break
-            Phi, _, Jv = p.evaluate(q[idx], u[idx])
-            res[idx] = np.max(np.abs(Phi * rs), axis=1)
-            dq = p.factor(Jv).solve(Phi)
-            step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
-            if max_step is not None:
-                dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
-            q[idx] -= dq
+            if engine is not None and max_step is None:
+                f = engine.final(model, p, q[idx], u[idx], u[idx], u[idx], rates=False)
+                q[idx], res[idx], step = f["q"], f["res"], f["step"]
+            else:
+                Phi, _, Jv = p.evaluate(q[idx], u[idx])
+                res[idx] = np.max(np.abs(Phi * rs), axis=1)
+                dq = p.factor(Jv).solve(Phi)
+                step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
+                if max_step is not None:
+                    dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
+                q[idx] -= dq
             iters[idx] = it + 1
             done = (res[idx] <= tol) & (step <= step_tol)
             bad = ~np.isfinite(step) | ~np.isfinite(res[idx])

@@ -86,8 +86,12 @@ class _Branch:
 
     def state(self, q, u, ud, udd=None):
         """(qd, qdd, signs, sing) at solved poses for input rates ud (qdd for udd = 0)."""
+        udd = np.zeros_like(ud) if udd is None else udd
+        if self.compiled is not None:
+            f = self.compiled.final(self.m, self.p, q, u, ud, udd)
+            return f["qd"], f["qdd"], f["signs"], f["sing"]
         lu = self._at(q, u)
-        qd, qdd = _rates(self.p, lu, q, u, ud, np.zeros_like(ud) if udd is None else udd)
+        qd, qdd = _rates(self.p, lu, q, u, ud, udd)
         return qd, qdd, lu.signs, lu.sing
 
     def predict(self, q, u, du):
@@ -101,9 +105,11 @@ class _Branch:
         return _hermite(QA[k], DA[k], DDA[k], QA[k + 1], DA[k + 1], DDA[k + 1], h, t)
 
     def solve(self, q_pred, u, max_iter=8):
-        return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p)
+        return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p, engine=self.compiled)
 
     def signs(self, q, u):
+        if self.compiled is not None:
+            return self.compiled.final(self.m, self.p, q, u, u, u, rates=False)["signs"]
         return self._at(q, u).signs
 
     def accept(self, q, q_pred, origin, conv, signs, signs_ref, off=None):
@@ -520,12 +526,11 @@ def _wave(br, state, U, idx):
         qn, conv, _, _ = br.solve(q_pred, Ut)
         # one factorisation at the solutions gives their modes and the walk's predictor from
         # each to the next
-        lu = br._at(qn, Ut)
         step = np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f))))
-        qd, qdd = _rates(br.p, lu, qn, Ut, step, np.zeros_like(step))
+        qd, qdd, sn, _ = br.state(qn, Ut, step)
         q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
     q_from = np.vstack((q0[None], qn[:-1]))
-    ok = br.accept(qn, q_step, lambda k: q_from[k], conv, lu.signs, s0[None])
+    ok = br.accept(qn, q_step, lambda k: q_from[k], conv, sn, s0[None])
     a = M if ok.all() else int(np.argmin(ok))
     return a, qn[:a], s0
 
