@@ -81,7 +81,7 @@ def final(model, plan, q, U, Ud, Udd, rates=True):
     signs = np.empty((N, len(T.bk)))
     no_i, no_q, no_b = np.zeros(0, np.int64), np.zeros((0, T.n)), np.zeros(0, bool)
     as_c = np.ascontiguousarray
-    loop(np.arange(N), False, no_i, no_i, no_q, no_q, no_q, no_q, 0.0, q, as_c(U, float), as_c(Ud, float),
+    loop(np.arange(N), False, no_b, no_i, no_q, no_q, no_q, no_q, 0.0, q, as_c(U, float), as_c(Ud, float),
          as_c(Udd, float), bool(rates), qd, qdd, res, signs, sing, branch, step, off, red, no_b,
          np.zeros(0, np.int8), no_i, no_b, no_b, *_data(T))
     if not rates:
@@ -89,9 +89,10 @@ def final(model, plan, q, U, Ud, Udd, rates=True):
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch)
 
 
-def fill(model, plan, rows, K, G, QA, DA, DDA, SA, tol, rates, sweep):
-    """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between anchors
-    ``G[K]`` and ``G[K + 1]`` (poses QA, derivatives DA and DDA in the input, modes SA), with
+def fill(model, plan, rows, adj, G, QA, DA, DDA, SA, tol, rates, sweep):
+    """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between the
+    anchors around each, G[a] < row < G[a + 1], where ``adj[a]`` says the two bound one stretch
+    (poses QA, derivatives DA and DDA in the input, modes SA; G sorted), with
     ``planar.sweep``'s final step and acceptance test: where a value passes, its pose, rates,
     residual, modes, singularity, branch and status are written into the sweep's arrays
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
@@ -101,7 +102,7 @@ def fill(model, plan, rows, K, G, QA, DA, DDA, SA, tol, rates, sweep):
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
-    loop(rows, True, K, G, QA, DA, DDA, SA, float(tol), S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
+    loop(rows, True, adj, G, QA, DA, DDA, SA, float(tol), S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
          S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"], S["iters"],
          S["solved"], S["done"], *_data(T))
     return ok
@@ -308,8 +309,20 @@ def source(T):
     w("q = Q[i]")
     w("a, move, st = 0, 0.0, 0")
     w("if interp:")
+    w("    # the anchors around the value: G[a] < i < G[a + 1] (binary search)")
+    w("    lo_, hi_ = 0, G.size")
+    w("    while lo_ < hi_:")
+    w("        mid = (lo_ + hi_) // 2")
+    w("        if G[mid] < i:")
+    w("            lo_ = mid + 1")
+    w("        else:")
+    w("            hi_ = mid")
+    w("    a = lo_ - 1")
+    w("    if a < 0 or a + 1 >= G.size or not ADJ[a]:  # no interval to interpolate in: the general path")
+    w("        OK[m] = False")
+    w("        q[:] = np.nan")
+    w("        continue")
     w("    # the quintic Hermite guess between anchors a and a + 1, and the predicted move from a")
-    w("    a = K[m]")
     w("    u0 = U[G[a], 0]")
     w("    h = U[G[a + 1], 0] - u0")
     w("    H1, H2, H3, H4, H5 = _basis((U[i, 0] - u0) / h)")
@@ -375,7 +388,7 @@ def source(T):
     w(f"if st > {int(Status.BRANCH_EVENT)}:  # no rates on a singular or inconsistent pose")
     w("    QD[i, :] = np.nan")
     w("    QDD[i, :] = np.nan")
-    args = ("rows, interp, K, G, QA, DA, DDA, SA, tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
+    args = ("rows, interp, ADJ, G, QA, DA, DDA, SA, tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
     buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P"
     function(f"def values(lo, hi, {args}, {buffers}):", ["for m in range(lo, hi):"] + ["    " + b for b in body], _JIT)

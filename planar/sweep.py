@@ -226,41 +226,53 @@ class _Walker:
 
 
 def _anchors(model, U, max_step):
-    """Indices of the values where the sequential walk stops: the first, the last, the last
-    value within ``max_step`` of the previous anchor (so each is one walk step) and (one
+    """Indices of the values where the sequential walk stops: the first, the last, values no
+    further than ``max_step`` apart (:func:`_walk_anchors`, so each is one walk step) and (one
     input) each value where the input turns back, so the walk covers every value."""
-    V = U * _scale(model)
-    idx = _walk_anchors(V, max_step)
+    idx, monotone = _walk_anchors(U, _scale(model), max_step)
     turns = np.zeros(0, int)
-    if V.shape[1] == 1 and len(V) > 2:
-        d = np.sign(np.diff(V[:, 0]))
+    if not monotone and U.shape[1] == 1:
+        d = np.sign(np.diff(U[:, 0]))
         nz = np.flatnonzero(d)
         turns = nz[1:][d[nz[1:]] != d[nz[:-1]]]
-    return np.unique(np.r_[idx, turns, len(V) - 1]).astype(int)
+    return np.unique(np.r_[idx, turns, len(U) - 1]).astype(int)
 
 
-def _walk_anchors(V, max_step):
-    idx = [0]
-    v = V[:, 0]
-    d = np.diff(v)
-    if V.shape[1] == 1 and (np.all(d >= 0) or np.all(d <= 0)):
-        # one monotone input (the usual sweep): a binary search per anchor
-        v = v if np.all(d >= 0) else -v
-        i = 0
-        while True:
-            j = int(np.searchsorted(v, v[i] + max_step, side="right"))
-            if j >= len(v):
-                return np.array(idx)
-            i = max(i + 1, j - 1)
-            idx.append(i)
-    i, span = 0, 64
+def _walk_anchors(U, scale, max_step):
+    """(indices, monotone): value 0 and values after it, each within ``max_step`` (scaled) of
+    the one before where the values allow; ``monotone``: one input that never turns back.
+
+    One monotone input whose values lie closer than max_step / 2: the last value at or before
+    each point of a grid of spacing max_step - g (g the largest gap between values), so
+    consecutive picks lie less than max_step apart, in a few whole-array passes. Otherwise
+    greedily, the last value within max_step of the previous pick.
+    """
+    if U.shape[1] == 1:
+        v = U[:, 0]
+        step = max_step / scale[0]
+        d = np.diff(v)
+        lo, hi = (d.min(), d.max()) if d.size else (0.0, 0.0)
+        if lo >= 0 or hi <= 0:
+            v, gap = (v, hi) if lo >= 0 else (-v, -lo)
+            if gap < step / 2:
+                grid = v[0] + (step - gap) * np.arange(1, np.ceil((v[-1] - v[0]) / (step - gap)) + 1)
+                return np.unique(np.r_[0, np.searchsorted(v, grid, side="right") - 1]), True
+            idx, i = [0], 0
+            while True:  # a binary search per pick
+                j = int(np.searchsorted(v, v[i] + step, side="right"))
+                if j >= len(v):
+                    return np.array(idx), True
+                i = max(i + 1, j - 1)
+                idx.append(i)
+    V = U * scale
+    idx, i, span = [0], 0, 64
     while True:
         far = np.flatnonzero(np.max(np.abs(V[i + 1 : i + 1 + span] - V[i]), axis=1) > max_step)
         if far.size:
             i += max(1, int(far[0]))
             idx.append(i)
         elif i + 1 + span >= len(V):
-            return np.array(idx)
+            return np.array(idx), False
         else:
             span *= 2
 
@@ -302,7 +314,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     br = _Branch(model, p, tol, bool(rates), engine)
     walker = _Walker(br, max_step, branch == "other")
     N, n = U.shape[0], model.n
-    q = np.full((N, n), np.nan)
+    q = np.empty((N, n))  # rows not posed at the end are set NaN then
     solved = np.zeros(N, bool)
     signs = np.zeros((N, len(p.blocks)))
     events = []
@@ -374,29 +386,31 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     # finer set of anchors, so that the interpolation is at rounding level for the rest
     at_event = _at_events(model, U, events)
     solved[list(at_event)] = False
-    out = _Out(N, n)
+    out = _Out(N, n, br.rates)
     q_pred = {}  # index -> the best guess of a value left for the walk
     done = np.zeros(N, bool)
-    todo = np.ones(N, bool)
-    todo[anchors[solved[anchors]]] = todo[list(at_event)] = False
-    rest = np.flatnonzero(todo)
+    todo = ~solved  # all but the solved anchors and the values on events
+    todo[list(at_event)] = False
     cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}), int)
     fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
                 cuts=cuts)
-    if U.shape[1] == 1 and rest.size:
-        finer = rest[_walk_anchors(U[rest] * _scale(model), max_step / FINER)]
+    if U.shape[1] == 1:
+        finer, _ = _walk_anchors(U, _scale(model), max_step / FINER)
+        finer = finer[todo[finer]]
         _from_anchors(anchors=anchors, targets=finer, **fill)
-        anchors = np.union1d(anchors, finer[solved[finer]])
-        rest = rest[~solved[rest]]
-    _from_anchors(anchors=anchors, targets=rest, **fill)
+        finer = finer[solved[finer]]
+        anchors = np.union1d(anchors, finer)
+        todo[finer] = False
+    _from_anchors(anchors=anchors, targets=np.flatnonzero(todo), **fill)
 
     # 3. the rest one by one, from the solved point before each; values on an event or past a
     # limit from there are set aside in one pass (out of range, there may be many)
-    last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
     rest = np.flatnonzero(~solved)
-    prev = np.where(rest > 0, last[np.maximum(rest - 1, 0)], -1)
-    u_from = np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
-    rest = rest[~_on_event(model, U[rest], events) & ~_past_limit(limits, u_from, U[rest])]
+    if rest.size:  # (the last solved value before each: N-sized, so only when needed)
+        last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
+        prev = np.where(rest > 0, last[np.maximum(rest - 1, 0)], -1)
+        u_from = np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
+        rest = rest[~_on_event(model, U[rest], events) & ~_past_limit(limits, u_from, U[rest])]
     failed_from, newest = None, -1
     for i in rest:
         if _at_events(model, U[i : i + 1], events):
@@ -414,9 +428,11 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     # values still unreached past a gap in the range (re-entered further on): walked back from
     # the solved value after them, so the branch is re-entered as far back as it reaches and
     # the limit on the gap's far side is located
-    nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
+    rest = np.flatnonzero(~solved)
+    if rest.size:
+        nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
     failed_from, newest = None, N
-    for i in np.flatnonzero(~solved)[::-1]:
+    for i in rest[::-1]:
         j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
         if j >= N or failed_from == j or _at_events(model, U[i : i + 1], events):
             continue
@@ -452,34 +468,33 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         good, QU, QUU = good[regular], QU[regular], QUU[regular]
     if not (good.size and rest.size):
         return
+    # consecutive anchors of one stretch (no failed or singular anchor, no located event between,
+    # some input between): the values between them interpolate rather than extrapolate
+    seg_of = np.searchsorted(cuts, good, side="right")
+    adj = np.zeros(good.size, bool)
+    if one:
+        adj[:-1] = (np.diff(np.searchsorted(anchors, good)) == 1) & (np.diff(U[good, 0]) != 0) & (np.diff(seg_of) == 0)
+    QA = q[good]
+    if br.compiled is not None and adj.any():
+        # the interpolated values in one compiled pass, in place; the rest as below
+        qd, qdd = (out.qd, out.qdd) if out.rates else (np.empty((0, n)), np.empty((0, n)))
+        arrays = dict(q=q, U=U, Ud=Ud, Udd=Udd, qd=qd, qdd=qdd, res=out.residual, signs=signs,
+                      sing=out.sing, branch=out.branch, status=out.status, iters=out.iters, solved=solved, done=done)
+        ok = br.compiled.fill(br.m, br.p, rest, adj, good, QA, QU, QUU, signs[good], br.tol, br.rates, arrays)
+        rest = rest[~ok]
     # each target's anchors before and after (positions in good), and whether each lies in the
-    # target's stretch (no located event between)
+    # target's stretch
     pos = np.searchsorted(good, rest) - 1
     prev_k, next_k = np.maximum(pos, 0), np.minimum(pos + 1, good.size - 1)
     same_prev, same_next = pos >= 0, pos + 1 < good.size
     if cuts.size:
-        seg, seg_of = np.searchsorted(cuts, rest, side="right"), np.searchsorted(cuts, good, side="right")
+        seg = np.searchsorted(cuts, rest, side="right")
         same_prev &= seg_of[prev_k] == seg
         same_next &= seg_of[next_k] == seg
     where = np.where(same_prev, prev_k, next_k)  # the source anchor
     has = same_prev | same_next
-    # between two consecutive anchors of one stretch (no failed or singular anchor between,
-    # some input between): interpolate rather than extrapolate
-    adj = np.zeros(good.size, bool)
-    if one:
-        adj[:-1] = (np.diff(np.searchsorted(anchors, good)) == 1) & (np.diff(U[good, 0]) != 0)
     both = same_prev & same_next & adj[prev_k]
     rest, where, both = rest[has], where[has], both[has]
-    QA = q[good]
-    if br.compiled is not None and both.any():
-        # the interpolated values in one compiled pass, in place; the rest as below
-        SA = signs[good]
-        arrays = dict(q=q, U=U, Ud=Ud, Udd=Udd, qd=out.qd, qdd=out.qdd, res=out.residual, signs=signs,
-                      sing=out.sing, branch=out.branch, status=out.status, iters=out.iters, solved=solved, done=done)
-        ok = br.compiled.fill(br.m, br.p, rest[both], where[both], good, QA, QU, QUU, SA, br.tol, br.rates, arrays)
-        left = ~both
-        left[both] = ~ok
-        rest, where, both = rest[left], where[left], both[left]
     src = good[where]
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
@@ -608,9 +623,14 @@ def _past_limit(limits, u_from, u_to):
 class _Out:
     """Per-point results filled chunk by chunk."""
 
-    def __init__(self, N, n):
-        # the rates: NaN where nothing is solved (:meth:`blank`), not filled twice
-        self.qd, self.qdd = np.empty((N, n)), np.empty((N, n))
+    def __init__(self, N, n, rates=True):
+        # the rates: NaN where nothing is solved (:meth:`blank`), not filled twice; without
+        # rates, one read-only NaN that takes no memory (the result's arrays are read-only)
+        self.rates = rates
+        if rates:
+            self.qd, self.qdd = np.empty((N, n)), np.empty((N, n))
+        else:
+            self.qd = self.qdd = np.broadcast_to(np.nan, (N, n))
         self.residual = np.full(N, np.nan)
         self.iters = np.zeros(N, int)
         self.sing = np.full(N, np.nan)
@@ -618,14 +638,16 @@ class _Out:
         self.status = np.full(N, Status.NOT_CONVERGED, dtype=np.int8)
 
     def put(self, i, r, sel=slice(None)):
-        self.qd[i], self.qdd[i] = r["qd"][sel], r["qdd"][sel]
+        if self.rates:
+            self.qd[i], self.qdd[i] = r["qd"][sel], r["qdd"][sel]
         self.residual[i], self.iters[i] = r["res"][sel], r["iters"][sel]
         self.sing[i], self.branch[i], self.status[i] = r["sing"][sel], r["branch"][sel], r["status"][sel]
 
     def blank(self, solved):
         """NaN rates where nothing was solved (every solved value has been put, or is on an
         event and gets its rates there)."""
-        self.qd[~solved] = self.qdd[~solved] = np.nan
+        if self.rates:
+            self.qd[~solved] = self.qdd[~solved] = np.nan
 
 
 def _rates(p, lu, q, U, Ud, Udd):
@@ -712,13 +734,13 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         out.put(i, r)
     out.blank(solved)
     _on_events(model, br, U, Ud, Udd, q, out, events, at_event)
-    if not br.rates:
-        out.qd[:] = out.qdd[:] = np.nan
     status = out.status
     q[~POSED_MASK[status]] = np.nan
     if p.cols.size < n:
         drop = np.setdiff1d(np.arange(n), p.cols)
-        q[:, drop] = out.qd[:, drop] = out.qdd[:, drop] = np.nan
+        q[:, drop] = np.nan
+        if out.rates:
+            out.qd[:, drop] = out.qdd[:, drop] = np.nan
 
     # unreached points: the assembly gap from the best guess at hand
     gap = np.full(N, np.nan)
@@ -743,7 +765,8 @@ def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
     accuracy like 1/distance there); the values on it get status BRANCH_EVENT."""
     for i, ev in at_event.items():
         q[i] = ev.q
-        out.qd[i] = out.qdd[i] = np.nan
+        if out.rates:
+            out.qd[i] = out.qdd[i] = np.nan
         out.sing[i], out.residual[i] = ev.singularity, np.nan
         out.status[i] = Status.LIMIT if ev.kind == "limit" else Status.SINGULAR
     s = _scale(model)
@@ -763,7 +786,9 @@ def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
         res = np.max(np.abs(Phi * model.row_scale[br.p.rows]), axis=1)
         fits = res <= 1e2 * br.tol
         near, res = near[fits], res[fits]
-        q[near], out.qd[near], out.qdd[near] = got[0][fits], got[1][fits], got[2][fits]
+        q[near] = got[0][fits]
+        if out.rates:
+            out.qd[near], out.qdd[near] = got[1][fits], got[2][fits]
         out.residual[near] = res
         # a value on the event, or one the direct solve found singular, now has rates from
         # the branch: valid, flagged as at a branch event
