@@ -417,9 +417,8 @@ class Model:
             raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
         U = self._inputs(values, "values")
         N = U.shape[0]
-        Ud = np.broadcast_to(self._inputs(velocity, "velocity", N), U.shape)
-        Udd = np.broadcast_to(self._inputs(acceleration, "acceleration", N), U.shape)
-        return run_sweep(self, U, Ud, Udd, **options)
+        return run_sweep(self, U, self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N),
+                         **options)
 
     def circuit(self, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_step=0.05):
         """The whole circuit through the assembled sketch of a one-input model, in one sweep.
@@ -447,9 +446,12 @@ class Model:
         return circuit(self, samples, velocity, acceleration, tol=tol, max_step=max_step)
 
     def _inputs(self, values, what, N=None):
+        """``values`` as a new C-contiguous (N, f) array (the sweep keeps it: a copy, so the
+        caller's array can change later; one memory layout, so the compiled loop is compiled
+        for one)."""
         f = len(self.drivers)
         try:
-            a = np.asarray(values, dtype=float)
+            a = np.array(values, dtype=float)
         except (TypeError, ValueError):
             raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
         if a.ndim == 0:
@@ -459,7 +461,7 @@ class Model:
         elif a.ndim == 1 and f == 1 and (N is None or a.shape[0] == N):
             a = a[:, None]
         elif a.ndim == 1 and a.shape[0] == f and N is not None:
-            a = np.broadcast_to(a, (N, f))
+            a = np.tile(a, (N, 1))
         if a.ndim != 2 or a.shape[1] != f or (N is not None and a.shape[0] != N):
             want = f"({N}, {f})" if N is not None else f"(N,) or (N, {f})"
             raise InputError(f"sweep {what} have shape {np.shape(values)} but {f} input(s) "

@@ -656,37 +656,47 @@ def _rates(p, lu, q, U, Ud, Udd):
         return qd, acceleration(p, lu, q, qd, U, Udd)
 
 
+def _step(br, q, U, Ud, Udd):
+    """One Newton step from poses q and, with the factorisation at q, the rates at the
+    corrected poses: a dict of q (corrected where the step is finite), qd, qdd (NaN without
+    rates), the scaled residual ``res`` at q, the scaled ``step`` and ``off`` (its size over
+    the finite components: how far the pose moved), the largest scaled redundant row ``red``,
+    the blocks' det ``signs``, the singularity measure ``sing`` and the ``branch``. The
+    compiled engine computes the same in :func:`planar.compiled.final`."""
+    if br.compiled is not None:
+        return br.compiled.final(br.m, br.p, q, U, Ud, Udd, br.rates)
+    m, p = br.m, br.p
+    q = q.copy()
+    with np.errstate(all="ignore"):
+        Phi, full, Jv = p.evaluate(q, U)
+        lu = p.factor(Jv)
+        dq = lu.solve(Phi)
+        res = np.max(np.abs(Phi * m.row_scale[p.rows]), axis=1)  # rows outside the plan read 0
+        dq_p = np.abs(dq[:, p.cols] / m.col_scale[p.cols])
+        step = np.max(dq_p, axis=1)
+        off = np.max(np.where(np.isfinite(dq_p), dq_p, 0.0), axis=1)
+        q -= np.where(np.isfinite(dq), dq, 0.0)
+    if br.rates:
+        qd, qdd = _rates(p, lu, q, U, Ud, Udd)
+    else:  # positions only: no velocity and acceleration solves
+        qd, qdd = np.full(q.shape, np.nan), np.full(q.shape, np.nan)
+    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, red=_redundant(m, full), signs=lu.signs,
+                sing=lu.sing, branch=np.prod(lu.signs, axis=1))
+
+
 def _final(br, q, U, Ud, Udd):
     """Final poses from good guesses q, with their rates and statuses. One evaluation and one
     factorisation serve a Newton step, its certificate (the residual at the guess and the size
     of the correction) and, where the correction is at rounding level (ROUND, scaled), the
     velocity and acceleration solves: the Jacobian at the guess differs from the one at the
-    final pose by that little. The other points take the general Newton and are factored anew."""
+    final pose by that little. The other points take the general Newton and one more step at
+    its solution for their modes and rates."""
     m, p, tol = br.m, br.p, br.tol
-    rs, red = m.row_scale[p.rows], m.redundant_rows  # rows of constraints outside the plan read 0
-    iters = np.ones(q.shape[0], int)
     guess = q
-    if br.compiled is not None:
-        f = br.compiled.final(m, p, q, U, Ud, Udd, br.rates)
-        q, qd, qdd, res, step, off = f["q"], f["qd"], f["qdd"], f["res"], f["step"], f["off"]
-        red_res, signs, sing, branch = f["red"], f["signs"], f["sing"], f["branch"]
-    else:
-        q = q.copy()
-        with np.errstate(all="ignore"):
-            Phi, full, Jv = p.evaluate(q, U)
-            lu = p.factor(Jv)
-            dq = lu.solve(Phi)
-            res = np.max(np.abs(Phi * rs), axis=1)
-            dq_p = np.abs(dq[:, p.cols] / m.col_scale[p.cols])
-            step = np.max(dq_p, axis=1)
-            off = np.max(np.where(np.isfinite(dq_p), dq_p, 0.0), axis=1)
-            q -= np.where(np.isfinite(dq), dq, 0.0)
-        red_res = _redundant(m, full)
-        signs, sing, branch = lu.signs, lu.sing, np.prod(lu.signs, axis=1)
-        if br.rates:
-            qd, qdd = _rates(p, lu, q, U, Ud, Udd)
-        else:  # positions only: no velocity and acceleration solves
-            qd, qdd = np.full(q.shape, np.nan), np.full(q.shape, np.nan)
+    f = _step(br, q, U, Ud, Udd)
+    q, qd, qdd, res, step, off = f["q"], f["qd"], f["qdd"], f["res"], f["step"], f["off"]
+    red_res, signs, sing, branch = f["red"], f["signs"], f["sing"], f["branch"]
+    iters = np.ones(q.shape[0], int)
     # a guess that holds the constraints where the Jacobian is singular (the correction is not
     # finite) is a pose on the singular position itself: kept, status SINGULAR, no rates
     on_singular = (res <= tol) & ~np.isfinite(step)
@@ -694,19 +704,15 @@ def _final(br, q, U, Ud, Udd):
     sing = np.where(on_singular, 0.0, sing)
     slow = np.flatnonzero(~conv)
     if slow.size:
-        qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p)
+        qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p, engine=br.compiled)
         q[slow], conv[slow], iters[slow] = qs, cv, it + 1
-        with np.errstate(all="ignore"):
-            Phi_s, full_s, Jv_s = p.evaluate(qs, U[slow])
-            res[slow], red_res[slow] = np.max(np.abs(Phi_s * rs), axis=1), _redundant(m, full_s)
-            lu_s = p.factor(Jv_s)
-        signs[slow], sing[slow], branch[slow] = lu_s.signs, lu_s.sing, np.prod(lu_s.signs, axis=1)
+        g = _step(br, qs, U[slow], Ud[slow], Udd[slow])
+        res[slow], red_res[slow], qd[slow], qdd[slow] = g["res"], g["red"], g["qd"], g["qdd"]
+        signs[slow], sing[slow], branch[slow] = g["signs"], g["sing"], g["branch"]
         off[slow] = np.max(np.abs((qs - guess[slow])[:, p.cols] / m.col_scale[p.cols]), axis=1)
-        if br.rates:
-            qd[slow], qdd[slow] = _rates(p, lu_s, qs, U[slow], Ud[slow], Udd[slow])
     st = np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
     st = np.where(sing < SINGULAR, Status.SINGULAR, st)
-    if red.size:
+    if m.redundant_rows.size:
         st = np.where(red_res > 1e3 * tol, Status.INCONSISTENT, st)
     # a point on a singular position converges only linearly: its position still holds
     st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
@@ -754,7 +760,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         status[i] = np.where(g > GAP, Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
     events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
-    return Sweep(model, U.copy(), np.array(Ud), np.array(Udd), q, out.qd, out.qdd, status, out.residual,
+    return Sweep(model, U, Ud, Udd, q, out.qd, out.qdd, status, out.residual,
                  out.iters, out.sing, out.branch, gap, events)
 
 
