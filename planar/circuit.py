@@ -36,7 +36,7 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
-from planar.events import NEAR, SINGULAR, Event, Tracer
+from planar.events import Event, Tracer, status_of
 from planar.results import Status, Sweep
 from planar.solver import newton
 from planar.sweep import _Branch, _scale
@@ -288,8 +288,7 @@ def _solve(br, tr, y, t, mode, Ud, Udd, max_step, on_limit):
             qd_i, qdd_i, signs, sg = br.state(_poses(tr, yi), _inputs(tr, yi), Ud[i], Udd[i])
         good = conv & (np.max(np.abs(yi - y[i]), axis=1) <= 0.1 * max_step)
         good &= np.all((signs == mode[i]) | np.isnan(mode[i]), axis=1)
-        st = np.where(sg < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
-        st = np.where(sg < SINGULAR, Status.SINGULAR, st)
+        st = status_of(sg)
         status[i] = np.where(good, st, Status.NOT_CONVERGED)
         sing[i], branch[i] = sg, np.prod(signs, axis=1)
         rate_ok = (good & (st <= Status.BRANCH_EVENT))[:, None]

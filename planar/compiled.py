@@ -79,9 +79,9 @@ def final(model, plan, q, U, Ud, Udd, rates=True):
     qd, qdd = np.empty((N, T.n)), np.empty((N, T.n))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
     signs = np.empty((N, len(T.bk)))
-    no_i, no_q, no_b = np.zeros(0, np.int64), np.zeros((0, T.n)), np.zeros(0, bool)
+    no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
     as_c = np.ascontiguousarray
-    loop(np.arange(N), False, no_b, no_i, no_q, no_q, no_q, no_q, 0.0, q, as_c(U, float), as_c(Ud, float),
+    loop(np.arange(N), False, no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk))), 0.0, q, as_c(U, float), as_c(Ud, float),
          as_c(Udd, float), bool(rates), qd, qdd, res, signs, sing, branch, step, off, red, no_b,
          np.zeros(0, np.int8), no_i, no_b, no_b, *_data(T))
     if not rates:
@@ -89,10 +89,11 @@ def final(model, plan, q, U, Ud, Udd, rates=True):
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch)
 
 
-def fill(model, plan, rows, adj, G, QA, DA, DDA, SA, tol, rates, sweep):
+def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between the
     anchors around each, G[a] < row < G[a + 1], where ``adj[a]`` says the two bound one stretch
-    (poses QA, derivatives DA and DDA in the input, modes SA; G sorted), with
+    (G sorted; P the interpolants' coefficients of ``planar.sweep._quintic``, SA the anchors'
+    modes), with
     ``planar.sweep``'s final step and acceptance test: where a value passes, its pose, rates,
     residual, modes, singularity, branch and status are written into the sweep's arrays
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
@@ -102,7 +103,7 @@ def fill(model, plan, rows, adj, G, QA, DA, DDA, SA, tol, rates, sweep):
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
-    loop(rows, True, adj, G, QA, DA, DDA, SA, float(tol), S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
+    loop(rows, True, adj, G, P, SA, float(tol), S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
          S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"], S["iters"],
          S["solved"], S["done"], *_data(T))
     return ok
@@ -110,14 +111,6 @@ def fill(model, plan, rows, adj, G, QA, DA, DDA, SA, tol, rates, sweep):
 
 def _data(T):
     return T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale
-
-
-def hermite(model, plan, QA, DA, DDA, k, h, t):
-    """(M, n) quintic Hermite guesses between anchors k and k + 1 (see the generated module's
-    ``hermite``)."""
-    out = np.empty((k.size, QA.shape[1]))
-    _module(model, plan).hermite(QA, DA, DDA, k, h, t, out)
-    return out
 
 
 def _compiled(model, plan):
@@ -181,10 +174,8 @@ import numpy as np
 import numba
 
 from planar.joints.scalar import {kernels}
-from planar.sweep import hermite_basis
 
 _inline = numba.njit(inline="always", error_model="numpy")
-_basis = _inline(hermite_basis)
 
 
 @_inline
@@ -253,20 +244,6 @@ def _lu_solve(A, perm, z, y, k):
         y[i] /= A[i, i]
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
-def hermite(QA, DA, DDA, k, h, t, out):
-    """Row i of ``out``: the quintic Hermite guess between anchors k[i] and k[i] + 1 (poses QA,
-    derivatives DA and DDA in the input), as planar.sweep._hermite, in one pass and without
-    gathering the anchors' rows per value."""
-    for i in range(k.size):
-        a, hi = k[i], h[i]
-        H1, H2, H3, H4, H5 = _basis(t[i])
-        for j in range(QA.shape[1]):
-            q0 = QA[a, j]
-            out[i, j] = (q0 + H3 * (QA[a + 1, j] - q0) + hi * (H1 * DA[a, j] + H4 * DA[a + 1, j])
-                         + hi**2 * (H2 * DDA[a, j] + H5 * DDA[a + 1, j]))
-
-
 '''
 
 
@@ -275,8 +252,8 @@ _JIT = '@numba.njit(cache=True, error_model="numpy", nogil=True)'
 
 def source(T):
     """The generated module for the plan tables ``T``: ``loop`` takes, per value, the Newton
-    step from the guess, factors, and solves the rates (as :func:`final`); ``hermite`` makes
-    the guesses. The per-value work is split into functions (evaluate, factor, solve, gammas,
+    step from the guess (or, for :func:`fill`, from the Hermite guess it makes), factors, and
+    solves the rates (as :func:`final`). The per-value work is split into functions (evaluate, factor, solve, gammas,
     values), each compiled once, so that compiling a large plan stays in seconds; the parallel
     driver ``loop`` only calls ``values`` on each chunk of values."""
     kmax = max(T.bk, default=1)
@@ -305,6 +282,7 @@ def source(T):
 
     body = []
     w = body.append
+    w("# value m of this call is row i of the arrays it writes (STEP, OFF, RED, OK: value m)")
     w("i = rows[m]")
     w("q = Q[i]")
     w("a, move, st = 0, 0.0, 0")
@@ -322,17 +300,18 @@ def source(T):
     w("        OK[m] = False")
     w("        q[:] = np.nan")
     w("        continue")
-    w("    # the quintic Hermite guess between anchors a and a + 1, and the predicted move from a")
+    w("    # the quintic Hermite guess between anchors a and a + 1 (HQ: planar.sweep._quintic and")
+    w("    # _horner), and the predicted move from a")
     w("    u0 = U[G[a], 0]")
-    w("    h = U[G[a + 1], 0] - u0")
-    w("    H1, H2, H3, H4, H5 = _basis((U[i, 0] - u0) / h)")
-    w("    for j in range(QA.shape[1]):")
-    w("        q0 = QA[a, j]")
-    w("        q[j] = (q0 + H3 * (QA[a + 1, j] - q0) + h * (H1 * DA[a, j] + H4 * DA[a + 1, j])")
-    w("                + h**2 * (H2 * DDA[a, j] + H5 * DDA[a + 1, j]))")
+    w("    t = (U[i, 0] - u0) / (U[G[a + 1], 0] - u0)")
+    w("    for j in range(HQ.shape[2]):  # Horner's rule, highest power first")
+    w("        v = HQ[a, 5, j]")
+    w("        for k in range(4, -1, -1):")
+    w("            v = HQ[a, k, j] + t * v")
+    w("        q[j] = v")
     w("    move = 0.0")
     for k, col in enumerate(T.pcols):
-        w(f"    move = _mx(move, abs((q[{col}] - QA[a, {col}]) / cs[{k}]))")
+        w(f"    move = _mx(move, abs((q[{col}] - HQ[a, 0, {col}]) / cs[{k}]))")
     w("evaluate(q, U[i], fb, Phi, Jv, c, phi, jac, par, jc)")
     w("res = 0.0")
     for r, row in enumerate(T.prow):
@@ -369,7 +348,7 @@ def source(T):
     w("    if not ok:  # left for the general path: no pose here yet")
     w("        q[:] = np.nan")
     w("        continue")
-    w("    # its status, as planar.sweep._final gives a converged value")
+    w("    # its status, as planar.events.status_of and planar.sweep._final give a converged value")
     w(f"    st = {int(Status.SINGULAR)} if sing < {SINGULAR!r} else ({int(Status.NEAR_SINGULAR)} if sing < {NEAR!r} "
       f"else {int(Status.SOLVED)})")
     if T.red:
@@ -388,7 +367,7 @@ def source(T):
     w(f"if st > {int(Status.BRANCH_EVENT)}:  # no rates on a singular or inconsistent pose")
     w("    QD[i, :] = np.nan")
     w("    QDD[i, :] = np.nan")
-    args = ("rows, interp, ADJ, G, QA, DA, DDA, SA, tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
+    args = ("rows, interp, ADJ, G, HQ, SA, tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
     buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P"
     function(f"def values(lo, hi, {args}, {buffers}):", ["for m in range(lo, hi):"] + ["    " + b for b in body], _JIT)
@@ -493,11 +472,9 @@ def _up_offset(T, b):
 def _load(src):
     from planar.joints import scalar
 
-    from planar.sweep import hermite_basis
-
     # the source of what the loop compiles in: a change to it is a new module (numba's cache
     # keys on the module's own file only)
-    key = hashlib.sha1((src + inspect.getsource(scalar) + inspect.getsource(hermite_basis)).encode()).hexdigest()[:20]
+    key = hashlib.sha1((src + inspect.getsource(scalar)).encode()).hexdigest()[:20]
     path = _cache_dir() / f"plan_{key}.py"
     if not path.exists():
         tmp = path.with_suffix(f".{os.getpid()}.tmp")
@@ -524,4 +501,4 @@ def _cache_dir():
         return Path(tempfile.mkdtemp(prefix="planar-compiled-"))
 
 
-__all__ = ["check", "final", "tables", "source"]
+__all__ = ["check", "final", "fill", "tables", "source"]

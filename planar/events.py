@@ -23,9 +23,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from planar.results import Status
+
 NEAR = 1e-4  # normalised |det| below which a stretch is near-singular
 SINGULAR = 1e-10  # ... and below which a point sits on the singular position itself
 MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
+
+
+def status_of(sing):
+    """The status of solved poses by their singularity measure ``sing``: SOLVED, NEAR_SINGULAR
+    (below NEAR) or SINGULAR (below SINGULAR; the compiled engine's loop writes the same)."""
+    return np.where(sing < SINGULAR, Status.SINGULAR, np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED))
 
 
 @dataclass(frozen=True, eq=False)

@@ -30,7 +30,7 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 from planar.errors import InputError
-from planar.events import NEAR, SINGULAR, Event, around, cross
+from planar.events import NEAR, Event, around, cross, status_of
 from planar.results import POSED as POSED_MASK
 from planar.results import Status, Sweep
 from planar.solver import least_squares_gap, newton, velocity, acceleration
@@ -97,12 +97,6 @@ class _Branch:
     def predict(self, q, u, du):
         qd, qdd, signs, _ = self.state(q, u, du)
         return q + qd + 0.5 * qdd, signs
-
-    def hermite(self, QA, DA, DDA, k, h, t):
-        """Quintic Hermite guesses between anchors k and k + 1 (:func:`_hermite`)."""
-        if self.compiled is not None:
-            return self.compiled.hermite(self.m, self.p, QA, DA, DDA, k, h, t)
-        return _hermite(QA[k], DA[k], DDA[k], QA[k + 1], DA[k + 1], DDA[k + 1], h, t)
 
     def solve(self, q_pred, u, max_iter=8):
         return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p, engine=self.compiled)
@@ -474,13 +468,13 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
     adj = np.zeros(good.size, bool)
     if one:
         adj[:-1] = (np.diff(np.searchsorted(anchors, good)) == 1) & (np.diff(U[good, 0]) != 0) & (np.diff(seg_of) == 0)
-    QA = q[good]
+    P = _quintic(q[good], QU, QUU, np.diff(U[good, 0])) if one else None
     if br.compiled is not None and adj.any():
         # the interpolated values in one compiled pass, in place; the rest as below
         qd, qdd = (out.qd, out.qdd) if out.rates else (np.empty((0, n)), np.empty((0, n)))
         arrays = dict(q=q, U=U, Ud=Ud, Udd=Udd, qd=qd, qdd=qdd, res=out.residual, signs=signs,
                       sing=out.sing, branch=out.branch, status=out.status, iters=out.iters, solved=solved, done=done)
-        ok = br.compiled.fill(br.m, br.p, rest, adj, good, QA, QU, QUU, signs[good], br.tol, br.rates, arrays)
+        ok = br.compiled.fill(br.m, br.p, rest, adj, good, P, signs[good], br.tol, br.rates, arrays)
         rest = rest[~ok]
     # each target's anchors before and after (positions in good), and whether each lies in the
     # target's stretch
@@ -505,7 +499,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
             if b.any():
                 kb = k[b]
                 h = U[good[kb + 1], 0] - U[good[kb], 0]
-                qp[b] = br.hermite(QA, QU, QUU, kb, h, du[b, 0] / h)
+                qp[b] = _horner(P[kb], du[b, 0] / h)
             if not b.all():
                 k, s1, d1 = k[~b], s_[~b], du[~b]
                 qp[~b] = q[s1] + QU[k] * d1 + 0.5 * QUU[k] * d1**2
@@ -550,32 +544,34 @@ def _wave(br, state, U, idx):
     return a, qn[:a], s0
 
 
-def _hermite(q0, d0, dd0, q1, d1, dd1, h, t):
-    """Quintic Hermite interpolation between two poses with their first and second derivatives
-    in the input (``h`` = u1 - u0, ``t`` in [0, 1]): its error is O(h^6) where the one-sided
-    Taylor predictor's is O(h^3), so one Newton step lands at rounding level.
+def _quintic(Q, D, DD, h):
+    """Coefficients (K - 1, 6, n) of t^0 .. t^5 of the quintic Hermite interpolants between
+    consecutive poses Q (K, n), with their first and second derivatives D and DD in the input
+    and h (K - 1,) the input steps (t = (u - u_k) / h in [0, 1]): its error is O(h^6) where the
+    one-sided Taylor predictor's is O(h^3), so one Newton step lands at rounding level. Both
+    engines evaluate them by Horner's rule (:func:`_horner`), from the table, without gathering
+    the two anchors' rows per value.
 
-    >>> x = np.array([[0.3]])
-    >>> q = _hermite(np.sin(0 * x), np.cos(0 * x), -np.sin(0 * x), np.sin(x), np.cos(x), -np.sin(x),
-    ...              np.array([0.3]), np.array([0.5]))
-    >>> bool(abs(q[0, 0] - np.sin(0.15)) < 1e-8)  # h^6 sin^(6) / 6! ~ 1e-9
+    >>> x = np.array([0.0, 0.3])[:, None]
+    >>> P = _quintic(np.sin(x), np.cos(x), -np.sin(x), np.array([0.3]))
+    >>> bool(abs(_horner(P, np.array([0.5]))[0, 0] - np.sin(0.15)) < 1e-8)  # h^6 sin^(6) / 6! ~ 1e-9
     True
     """
-    t, h = t[:, None], h[:, None]
-    H1, H2, H3, H4, H5 = hermite_basis(t)
-    return q0 + H3 * (q1 - q0) + h * (H1 * d0 + H4 * d1) + h**2 * (H2 * dd0 + H5 * dd1)
+    hh = h[:, None]
+    q0, dq = Q[:-1], Q[1:] - Q[:-1]
+    D0, D1, E0, E1 = hh * D[:-1], hh * D[1:], hh**2 * DD[:-1], hh**2 * DD[1:]
+    return np.stack((q0, D0, 0.5 * E0, 10 * dq - 6 * D0 - 4 * D1 - 1.5 * E0 + 0.5 * E1,
+                     -15 * dq + 8 * D0 + 7 * D1 + 1.5 * E0 - E1, 6 * dq - 3 * D0 - 3 * D1 - 0.5 * E0 + 0.5 * E1), axis=1)
 
 
-def hermite_basis(t):
-    """The quintic Hermite weights at t (arrays or numbers; the compiled path compiles this
-    too): of d0, dd0, q1 - q0, d1 and dd1, the derivatives times h and h^2."""
-    t3 = t**3
-    H1 = t - t3 * (6 - 8 * t + 3 * t**2)
-    H2 = 0.5 * t**2 - t3 * (1.5 - 1.5 * t + 0.5 * t**2)
-    H3 = t3 * (10 - 15 * t + 6 * t**2)
-    H4 = -t3 * (4 - 7 * t + 3 * t**2)
-    H5 = t3 * (0.5 - t + 0.5 * t**2)
-    return H1, H2, H3, H4, H5
+def _horner(P, t):
+    """The polynomials P (M, 6, n) of :func:`_quintic` at t (M,), highest power first (the
+    compiled engine's loop evaluates them in the same order)."""
+    t = t[:, None]
+    q = P[:, 5]
+    for j in range(4, -1, -1):
+        q = P[:, j] + t * q
+    return q
 
 
 def _event_index(U, lo, i, u_from, u_star):
@@ -710,8 +706,7 @@ def _final(br, q, U, Ud, Udd):
         res[slow], red_res[slow], qd[slow], qdd[slow] = g["res"], g["red"], g["qd"], g["qdd"]
         signs[slow], sing[slow], branch[slow] = g["signs"], g["sing"], g["branch"]
         off[slow] = np.max(np.abs((qs - guess[slow])[:, p.cols] / m.col_scale[p.cols]), axis=1)
-    st = np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED)
-    st = np.where(sing < SINGULAR, Status.SINGULAR, st)
+    st = status_of(sing)
     if m.redundant_rows.size:
         st = np.where(red_res > 1e3 * tol, Status.INCONSISTENT, st)
     # a point on a singular position converges only linearly: its position still holds

@@ -5,6 +5,7 @@ import pytest
 
 from planar import InputError, Status
 from planar.mechanisms import four_bar, geared_five_bar, slider_crank, watt_six_bar
+from planar.sweep import _walk_anchors
 
 
 @pytest.mark.parametrize("build", [lambda: four_bar(4, 2, 3, 4, coupler_point=(1.0, 0.8)),
@@ -52,6 +53,35 @@ def test_positions_only_gives_the_same_poses_and_statuses_without_rates():
     np.testing.assert_array_equal(only.position("C"), full.position("C"))
     assert only.ok.any() and np.all(np.isnan(only.qd)) and np.all(np.isnan(only.acceleration("C")))
     assert [e.kind for e in only.events] == [e.kind for e in full.events]
+
+
+@pytest.mark.parametrize("kind", ["uniform", "uneven", "decreasing", "sparse", "one value"])
+def test_walk_anchors_are_within_max_step_where_the_values_allow(kind):
+    rng = np.random.default_rng(3)
+    v = {"uniform": np.linspace(0, 7, 100_001), "uneven": np.cumsum(rng.uniform(0, 1e-3, 50_000)),
+         "decreasing": np.linspace(2, -3, 20_000), "sparse": np.cumsum(rng.uniform(0.01, 0.2, 300)),
+         "one value": np.array([0.5])}[kind]
+    scale, max_step = np.array([0.5]), 0.05  # an input in lengths: steps of 0.1 in its own unit
+    idx, monotone = _walk_anchors(v[:, None], scale, max_step)
+    assert monotone and idx[0] == 0 and np.all(np.diff(idx) > 0) and idx[-1] < v.size
+    stops = np.unique(np.r_[idx, v.size - 1])  # the walk ends at the last value
+    gaps = np.abs(np.diff(v[stops]))
+    room = max_step / scale[0]
+    # each pick is within reach of the one before, or the next value when none is
+    next_ok = np.abs(np.diff(v))[stops[:-1]]
+    assert np.all((gaps <= room * (1 + 1e-12)) | (gaps <= next_ok * (1 + 1e-12)))
+    if kind != "sparse":  # densely sampled: at most about one pick per max_step, not more
+        assert idx.size <= np.ptp(v) / room * 2.2 + 1
+
+
+def test_the_sweep_keeps_its_own_copy_of_the_inputs():
+    m = four_bar(4, 2, 3, 4)
+    values = np.linspace(0, 1, 11)
+    res = m.sweep(values, velocity=np.full(11, 2.0))
+    values[:] = 5.0
+    np.testing.assert_array_equal(res.inputs[:, 0], np.linspace(0, 1, 11))
+    assert not res.inputs.flags.writeable and not res.qd.flags.writeable
+    np.testing.assert_array_equal(res.input_rates, 2.0)
 
 
 def test_an_unknown_branch_option_is_refused():
