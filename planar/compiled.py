@@ -14,7 +14,7 @@ of one structure share one compiled loop.
 
 The generated module is written to a cache directory (``PLANAR_CACHE_DIR``, else
 ``~/.cache/planar``) under a name hashing its source and the kernels' source, and numba caches
-its machine code beside it: the first sweep of a new structure compiles (10-30 s), later ones
+its machine code beside it: the first sweep of a new structure compiles (10-40 s), later ones
 and later processes load it (a fraction of a second). Results agree with the numpy path to rounding (same operations in
 the same order; the tests check that on every joint type).
 """

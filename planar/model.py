@@ -407,9 +407,9 @@ class Model:
         bodies, points or joints wanted: only the blocks they need are solved), ``branch``
         ("smooth" or "other" at a bifurcation), ``rates`` (False: positions only, velocities
         and accelerations NaN: the velocity and acceleration solves are skipped), ``engine``
-        ("numpy", or "numba": the bulk of the values in a loop compiled for the mechanism's
-        structure, 2-3x faster at large N; needs the ``fast`` extra; the first sweep of a
-        structure compiles for 10-30 s, then it is cached on disk; see :mod:`planar.compiled`).
+        ("numpy", or "numba": the per-value work in a loop compiled for the mechanism's
+        structure, 4-6x faster at large N; needs the ``fast`` extra; the first sweep of a
+        structure compiles for 10-40 s, then it is cached on disk; see :mod:`planar.compiled`).
         """
         from planar.sweep import run_sweep
 
