@@ -38,7 +38,9 @@ from planar.results import Status
 from planar.sweep import JUMP, ROUND
 
 _TABLES = weakref.WeakKeyDictionary()
-CHUNK = 1024  # values per task of the parallel loop
+CHUNK = 1024  # values per task of the parallel loop (a call with fewer runs on one thread)
+STEPS = 4  # Newton steps a batch value may take in the loop ...
+CLOSE = 1e-4  # ... while its last step (scaled) is below this: a guess off by little
 
 Tables = namedtuple("Tables", [
     # joints: kernel names, parameters, row constants, rows, bodies, input column (-1: none),
@@ -73,8 +75,8 @@ def final(model, plan, q, U, Ud, Udd, rates=True):
     ``off`` (the same over its finite components: how far the pose moved), the blocks' det
     ``signs``, the largest scaled redundant row ``red``, the singularity measure ``sing`` and
     the ``branch`` (the product of the signs)."""
-    T, loop = _compiled(model, plan)
     N = q.shape[0]
+    T, loop = _compiled(model, plan, N)
     q = np.array(q, dtype=float, order="C")
     qd, qdd = np.empty((N, T.n)), np.empty((N, T.n))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
@@ -99,7 +101,7 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
     solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
     the general path."""
-    T, loop = _compiled(model, plan)
+    T, loop = _compiled(model, plan, rows.size)
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
@@ -113,9 +115,10 @@ def _data(T):
     return T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale
 
 
-def _compiled(model, plan):
+def _compiled(model, plan, n):
+    """The tables and the driver for n values: the parallel loop, or one thread for a chunk."""
     module = _module(model, plan)
-    return _TABLES[plan][0], module.loop
+    return _TABLES[plan][0], (module.loop if n > CHUNK else module.serial)
 
 
 def _module(model, plan):
@@ -312,6 +315,10 @@ def source(T):
     w("    move = 0.0")
     for k, col in enumerate(T.pcols):
         w(f"    move = _mx(move, abs((q[{col}] - HQ[a, 0, {col}]) / cs[{k}]))")
+    w("    for j in range(qg.size):")
+    w("        qg[j] = q[j]")
+    w(f"for it in range(1, {STEPS + 1}):")
+    step_start = len(body)
     w("evaluate(q, U[i], fb, Phi, Jv, c, phi, jac, par, jc)")
     w("res = 0.0")
     for r, row in enumerate(T.prow):
@@ -337,10 +344,17 @@ def source(T):
     for k in range(T.n):
         w(f"if np.isfinite(x[{k}]):")
         w(f"    q[{k}] -= x[{k}]")
+    w("# a batch value whose guess is off by more than rounding (but little) takes more steps")
+    w(f"if not interp or not ({ROUND!r} < step <= {CLOSE!r}):")
+    w("    break")
+    body[step_start:] = ["    " + line for line in body[step_start:]]
     w("RES[i], SING[i], BRANCH[i] = res, sing, branch")
     w("if interp:")
-    w("    # planar.sweep's acceptance of a batch value: converged at the guess, the source anchor's")
-    w("    # modes, no further from the guess than JUMP times the predicted move")
+    w("    off = 0.0  # how far the steps moved the guess")
+    for k, col in enumerate(T.pcols):
+        w(f"    off = _mx(off, abs((q[{col}] - qg[{col}]) / cs[{k}]))")
+    w("    # planar.sweep's acceptance of a batch value: converged, the source anchor's modes, no")
+    w("    # further from the guess than JUMP times the predicted move")
     w(f"    ok = res <= tol and step <= {ROUND!r} and (off <= 1e-9 or off <= {JUMP!r} * move + 1e-9)")
     for b in range(len(T.bk)):
         w(f"    ok = ok and SIGNS[i, {b}] == SA[a, {b}]")
@@ -354,7 +368,7 @@ def source(T):
     if T.red:
         w(f"    if red > {1e3!r} * tol:")
         w(f"        st = {int(Status.INCONSISTENT)}")
-    w("    STATUS[i], ITERS[i], SOLVED[i], DONE[i] = st, 1, True, True")
+    w("    STATUS[i], ITERS[i], SOLVED[i], DONE[i] = st, it, True, True")
     w("else:")
     w("    STEP[m], OFF[m], RED[m] = step, off, red")
     w("if not rates:")
@@ -369,18 +383,21 @@ def source(T):
     w("    QDD[i, :] = np.nan")
     args = ("rows, interp, ADJ, G, HQ, SA, tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
-    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P"
+    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg"
     function(f"def values(lo, hi, {args}, {buffers}):", ["for m in range(lo, hi):"] + ["    " + b for b in body], _JIT)
-    L += ["", "", _JIT.replace("nogil=True", "nogil=True, parallel=True"), f"def loop({args}):",
-          "    N = rows.shape[0]",
-          f"    for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers",
-          f"        fb = np.zeros(({T.n_bodies}, 8))",
-          "        fb[0, 3] = 1.0",
-          "        c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
-          f"        Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
-          f"        x, z, y = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax})",
-          f"        A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)",
-          f"        values(chunk * {CHUNK}, min(N, (chunk + 1) * {CHUNK}), {args}, {buffers})"]
+    alloc = [f"fb = np.zeros(({T.n_bodies}, 8))",
+             "fb[0, 3] = 1.0",
+             "c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
+             f"Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
+             f"x, z, y, qg = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax}), np.empty({T.n})",
+             f"A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)"]
+    function(f"def loop({args}):", ["N = rows.shape[0]",
+             f"for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers"]
+             + ["    " + a for a in alloc]
+             + [f"    values(chunk * {CHUNK}, min(N, (chunk + 1) * {CHUNK}), {args}, {buffers})"],
+             _JIT.replace("nogil=True", "nogil=True, parallel=True"))
+    function(f"def serial({args}):", ["# one chunk or less: no threads to start"] + alloc
+             + [f"values(0, rows.shape[0], {args}, {buffers})"], _JIT)
     return "\n".join(L) + "\n"
 
 

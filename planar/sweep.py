@@ -24,6 +24,7 @@
 Only the blocks the asked-for ``outputs`` need are solved; the other coordinates are NaN.
 """
 
+import bisect
 from dataclasses import replace
 
 import numpy as np
@@ -251,10 +252,11 @@ def _walk_anchors(U, scale, max_step):
             if gap < step / 2:
                 grid = v[0] + (step - gap) * np.arange(1, np.ceil((v[-1] - v[0]) / (step - gap)) + 1)
                 return np.unique(np.r_[0, np.searchsorted(v, grid, side="right") - 1]), True
-            idx, i = [0], 0
-            while True:  # a binary search per pick
-                j = int(np.searchsorted(v, v[i] + step, side="right"))
-                if j >= len(v):
+            # (fewer than two values per max_step: a short list, searched with bisect)
+            vl, idx, i = v.tolist(), [0], 0
+            while True:
+                j = bisect.bisect_right(vl, vl[i] + step)
+                if j >= len(vl):
                     return np.array(idx), True
                 i = max(i + 1, j - 1)
                 idx.append(i)
