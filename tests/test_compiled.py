@@ -6,12 +6,15 @@ kernels joint by joint in tests/test_joints.py.
 
 import numpy as np
 import pytest
+from hypothesis import assume, example, given, settings
+from hypothesis import strategies as st
 
 import planar
 from planar import compiled
 from planar.blocks import plan
 from planar.errors import InputError
 from planar.mechanisms import four_bar, geared_five_bar, rolling_wheel, slider_crank
+from tests.strategies import build, point
 from tests.test_core_sweeps import geared_five_bar as general_geared_five_bar
 
 N = 2000  # enough values that the bulk of them goes through the batch step
@@ -43,21 +46,53 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize("name", CASES)
-def test_compiled_sweep_equals_the_numpy_sweep(name):
-    build, values = CASES[name]
-    model = build().compile()
+def assert_same_sweeps(model, values):
+    """The numpy and numba engines give the same statuses, events, poses and rates: to 1e-12
+    where the Jacobian is well conditioned; near a singular position (singularity s below 0.1)
+    rounding grows like 1 / s in the poses, 1 / s^2 in the velocities and 1 / s^3 in the
+    accelerations, and so does the tolerance."""
     a = model.sweep(values, velocity=1.3, acceleration=-0.4, engine="numpy")
     b = model.sweep(values, velocity=1.3, acceleration=-0.4, engine="numba")
     assert np.array_equal(a.status, b.status)
     assert [(e.kind, e.index) for e in a.events] == [(e.kind, e.index) for e in b.events]
     ok = a.ok
-    assert ok.sum() > N // 2
     scale = np.tile([model.L, model.L, 1.0], model.n // 3)
-    for x, y in ((a.q, b.q), (a.qd, b.qd), (a.qdd, b.qdd)):
+    growth = 0.1 / np.clip(a.singularity[ok], 1e-3, 0.1)
+    for power, (x, y) in enumerate(((a.q, b.q), (a.qd, b.qd), (a.qdd, b.qdd)), 1):
         assert np.array_equal(np.isnan(x), np.isnan(y))
-        big = 1.0 + np.nanmax(np.abs(x[ok]) / scale)
-        assert np.nanmax(np.abs(x[ok] - y[ok]) / scale) <= 1e-12 * big
+        big = 1.0 + np.nanmax(np.abs(x[ok]) / scale, initial=0.0)
+        assert np.all(np.abs(x[ok] - y[ok]) / scale <= 1e-12 * big * growth[:, None] ** power)
+    return a
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_compiled_sweep_equals_the_numpy_sweep(name):
+    build_case, values = CASES[name]
+    a = assert_same_sweeps(build_case().compile(), values)
+    assert a.ok.sum() > N // 2
+
+
+@st.composite
+def dyad_linkages(draw, kind):
+    """A crank and one dyad from the ground to it (a four-bar for RRR, a slider-crank for RRP),
+    its points drawn apart: one plan structure, so one compiled loop, for every draw."""
+    pts = [draw(point) for _ in range(5)]
+    assume(min(np.hypot(p[0] - r[0], p[1] - r[1]) for k, p in enumerate(pts) for r in pts[k + 1:]) > 0.05)
+    pivot, tip, x, j, y = pts
+    return {"pivot": pivot, "crank_tip": tip, "dyads": [(kind, 0, x, j, 1, y, draw(st.floats(0.1, 3.0)))]}
+
+
+@settings(max_examples=40)
+@given(desc=st.sampled_from(["RRR", "RRP"]).flatmap(dyad_linkages))
+@example(  # found by this test: a triple rocker, rates next to its limits (s ~ 0.006) agreed to 3e-12
+    desc={"pivot": (0.0, 0.0), "crank_tip": (0.0, 1.0), "dyads": [("RRR", 0, (0.0, 0.25), (1.0, -1.0), 1, (-2.0, 1.0), 1.0)]})
+def test_compiled_sweeps_of_random_dimensions_equal_the_numpy_sweeps(desc):
+    m, _ = build(desc)
+    try:
+        model = m.compile()
+    except planar.PlanarError:
+        assume(False)  # a degenerate draw, refused with a named error
+    assert_same_sweeps(model, model.u0[0] + np.linspace(0, 2 * np.pi, 600))
 
 
 def test_designs_of_one_structure_share_one_compiled_loop():
