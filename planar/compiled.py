@@ -12,11 +12,17 @@ same plan was measured 3x slower: loops of varying trip count per block and join
 it is written for a mechanism; the parameters, scales and sketch constants stay data, so designs
 of one structure share one compiled loop.
 
+Two entries: :func:`final` (one Newton step from given poses, with modes and rates: the
+anchors' Newton iterations and kinematic coefficients) and :func:`fill` (the bulk of a sweep:
+each value's Hermite guess, up to STEPS Newton steps, the acceptance test, status and rates,
+written in place into the sweep's arrays).
+
 The generated module is written to a cache directory (``PLANAR_CACHE_DIR``, else
 ``~/.cache/planar``) under a name hashing its source and the kernels' source, and numba caches
 its machine code beside it: the first sweep of a new structure compiles (10-40 s), later ones
-and later processes load it (a fraction of a second). Results agree with the numpy path to rounding (same operations in
-the same order; the tests check that on every joint type).
+and later processes load it (a fraction of a second). Results agree with the numpy path to
+rounding (the same operations per step; the numpy path takes a value's further Newton steps in
+its general solver; the tests compare the two on every joint type and on random linkages).
 """
 
 import functools

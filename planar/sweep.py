@@ -60,7 +60,7 @@ class _Branch:
 
     def __init__(self, model, plan, tol, rates=True, engine="numpy"):
         self.m, self.p, self.tol, self.rates = model, plan, tol, rates
-        self.compiled = None  # planar.compiled for engine="numba": the bulk's final step there
+        self.compiled = None  # planar.compiled for engine="numba": the per-value work runs there
         if engine == "numba":
             from planar import compiled
 
