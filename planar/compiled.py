@@ -74,27 +74,30 @@ def check(plan):
                          f"(planar/joints/scalar.py); use engine='numpy'")
 
 
-def final(model, plan, q, U, Ud, Udd, rates=True):
+def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0):
     """One Newton step from guesses q (N, n) and, at the corrected poses, the rates with the
-    factorisation at the guesses, as the numpy path of ``planar.sweep._final`` computes them: a
+    factorisation at the guesses, as the numpy path of ``planar.sweep._step`` computes them: a
     dict of q, qd, qdd, the scaled residual at the guess ``res``, the scaled ``step`` and
     ``off`` (the same over its finite components: how far the pose moved), the blocks' det
-    ``signs``, the largest scaled redundant row ``red``, the singularity measure ``sing`` and
-    the ``branch`` (the product of the signs)."""
+    ``signs``, the largest scaled redundant row ``red``, the singularity measure ``sing``, the
+    ``branch`` (the product of the signs) and ``iters``. With ``steps`` > 1, Newton: up to that
+    many steps, each value until its residual is below ``tol`` and its step below ``step_tol``
+    (or its pose is no longer finite), the dict's values those of its last step."""
     N = q.shape[0]
     T, loop = _compiled(model, plan, N)
     q = np.array(q, dtype=float, order="C")
     qd, qdd = np.empty((N, T.n)), np.empty((N, T.n))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
-    signs = np.empty((N, len(T.bk)))
+    signs, iters = np.empty((N, len(T.bk))), np.empty(N, np.int64)
     no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
     as_c = np.ascontiguousarray
-    loop(np.arange(N), False, no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk))), 0.0, q, as_c(U, float), as_c(Ud, float),
-         as_c(Udd, float), bool(rates), qd, qdd, res, signs, sing, branch, step, off, red, no_b,
-         np.zeros(0, np.int8), no_i, no_b, no_b, *_data(T))
+    loop(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk))), float(tol),
+         float(step_tol), q, as_c(U, float), as_c(Ud, float), as_c(Udd, float), bool(rates), qd, qdd, res, signs, sing,
+         branch, step, off, red, no_b, np.zeros(0, np.int8), iters, no_b, no_b, *_data(T))
     if not rates:
         qd[:] = qdd[:] = np.nan
-    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch)
+    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch,
+                iters=iters)
 
 
 def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
@@ -111,7 +114,7 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
-    loop(rows, True, adj, G, P, SA, float(tol), S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
+    loop(rows, True, STEPS, adj, G, P, SA, float(tol), 0.0, S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
          S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"], S["iters"],
          S["solved"], S["done"], *_data(T))
     return ok
@@ -323,7 +326,7 @@ def source(T):
         w(f"    move = _mx(move, abs((q[{col}] - HQ[a, 0, {col}]) / cs[{k}]))")
     w("    for j in range(qg.size):")
     w("        qg[j] = q[j]")
-    w(f"for it in range(1, {STEPS + 1}):")
+    w("for it in range(1, steps + 1):")
     step_start = len(body)
     w("evaluate(q, U[i], fb, Phi, Jv, c, phi, jac, par, jc)")
     w("res = 0.0")
@@ -350,8 +353,12 @@ def source(T):
     for k in range(T.n):
         w(f"if np.isfinite(x[{k}]):")
         w(f"    q[{k}] -= x[{k}]")
-    w("# a batch value whose guess is off by more than rounding (but little) takes more steps")
-    w(f"if not interp or not ({ROUND!r} < step <= {CLOSE!r}):")
+    w("# a batch value whose guess is off by more than rounding (but little) takes more steps;")
+    w("# otherwise, Newton (planar.solver.newton) to its tolerances, while the pose is finite")
+    w("if interp:")
+    w(f"    if not ({ROUND!r} < step <= {CLOSE!r}):")
+    w("        break")
+    w("elif (res <= tol and step <= step_tol) or not (step < np.inf and res < np.inf):")
     w("    break")
     body[step_start:] = ["    " + line for line in body[step_start:]]
     w("RES[i], SING[i], BRANCH[i] = res, sing, branch")
@@ -374,9 +381,10 @@ def source(T):
     if T.red:
         w(f"    if red > {1e3!r} * tol:")
         w(f"        st = {int(Status.INCONSISTENT)}")
-    w("    STATUS[i], ITERS[i], SOLVED[i], DONE[i] = st, it, True, True")
+    w("    STATUS[i], SOLVED[i], DONE[i] = st, True, True")
     w("else:")
     w("    STEP[m], OFF[m], RED[m] = step, off, red")
+    w("ITERS[i] = it")
     w("if not rates:")
     w("    continue")
     w("# velocities: the input rates on the driver rows")
@@ -387,7 +395,7 @@ def source(T):
     w(f"if st > {int(Status.BRANCH_EVENT)}:  # no rates on a singular or inconsistent pose")
     w("    QD[i, :] = np.nan")
     w("    QDD[i, :] = np.nan")
-    args = ("rows, interp, ADJ, G, HQ, SA, tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
+    args = ("rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
     buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg"
     function(f"def values(lo, hi, {args}, {buffers}):", ["for m in range(lo, hi):"] + ["    " + b for b in body], _JIT)

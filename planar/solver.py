@@ -32,11 +32,15 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None
     ``step_tol`` (both: a residual test alone accepts plateaus near limit positions, a step
     test alone accepts stagnation). ``max_step`` (scaled) damps each step, for far guesses.
     ``plan`` (default: the whole model) restricts the solve to some blocks. ``engine``: the
-    module :mod:`planar.compiled` to take the undamped steps in its compiled loop (default: numpy).
+    module :mod:`planar.compiled`, to take the undamped iterations in its compiled loop, each
+    value on its own (default: numpy).
     Returns (q, converged, residual, iterations); ``residual`` is the scaled max-norm of the
     solved rows at the last evaluation.
     """
     p = block_plan(model) if plan is None else plan
+    if engine is not None and max_step is None:
+        f = engine.final(model, p, q, u, u, u, rates=False, steps=max_iter, tol=tol, step_tol=step_tol)
+        return f["q"], (f["res"] <= tol) & (f["step"] <= step_tol), f["res"], f["iters"]
     q = np.array(q, dtype=float)
     N = q.shape[0]
     conv = np.zeros(N, bool)
@@ -48,17 +52,13 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None
         for it in range(max_iter):
             if idx.size == 0:
                 break
-            if engine is not None and max_step is None:
-                f = engine.final(model, p, q[idx], u[idx], u[idx], u[idx], rates=False)
-                q[idx], res[idx], step = f["q"], f["res"], f["step"]
-            else:
-                Phi, _, Jv = p.evaluate(q[idx], u[idx])
-                res[idx] = np.max(np.abs(Phi * rs), axis=1)
-                dq = p.factor(Jv).solve(Phi)
-                step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
-                if max_step is not None:
-                    dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
-                q[idx] -= dq
+            Phi, _, Jv = p.evaluate(q[idx], u[idx])
+            res[idx] = np.max(np.abs(Phi * rs), axis=1)
+            dq = p.factor(Jv).solve(Phi)
+            step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
+            if max_step is not None:
+                dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
+            q[idx] -= dq
             iters[idx] = it + 1
             done = (res[idx] <= tol) & (step <= step_tol)
             bad = ~np.isfinite(step) | ~np.isfinite(res[idx])
