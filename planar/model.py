@@ -451,7 +451,7 @@ class Model:
         for one)."""
         f = len(self.drivers)
         try:
-            a = np.array(values, dtype=float)
+            a = np.array(values, dtype=float, order="C")
         except (TypeError, ValueError):
             raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
         if a.ndim == 0:

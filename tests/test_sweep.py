@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from planar import InputError, Status
-from planar.mechanisms import four_bar, geared_five_bar, slider_crank, watt_six_bar
+from planar.mechanisms import four_bar, geared_five_bar, open_chain, slider_crank, watt_six_bar
 from planar.sweep import _walk_anchors
 
 
@@ -82,6 +82,9 @@ def test_the_sweep_keeps_its_own_copy_of_the_inputs():
     np.testing.assert_array_equal(res.inputs[:, 0], np.linspace(0, 1, 11))
     assert not res.inputs.flags.writeable and not res.qd.flags.writeable
     np.testing.assert_array_equal(res.input_rates, 2.0)
+    arm = open_chain([1.0, 0.5]).compile()  # two inputs: values in Fortran order come back in C order
+    values = np.asfortranarray(arm.u0 + np.linspace(0, 0.2, 5)[:, None])
+    assert not values.flags.c_contiguous and arm.sweep(values).inputs.flags.c_contiguous
 
 
 def test_an_unknown_branch_option_is_refused():
