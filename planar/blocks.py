@@ -207,7 +207,9 @@ def _lu(Jv, st):
         # singular; and at most lam itself, so a block whose lever arms are all negligible
         # against L (its angles fixed only to eps L / lever) still reads near-singular
         ang, lengths, any_angle = st.angle_mask
-        lam = np.max(np.abs(A * ang), axis=(0, 1))  # (G, N)
+        # (a reduction over the leading axis of the flattened block runs over whole rows of
+        # poses; over axes (0, 1) numpy walks the k x k entries pose by pose)
+        lam = np.abs(A * ang).reshape(k * k, G, N).max(axis=0)  # (G, N)
         lam = np.where(any_angle, np.minimum(lam, 1.0), 1.0)
         W = A * (ang + (1.0 - ang) * lam)
         norms = np.prod(np.sqrt(np.einsum("ijgn,ijgn->ign", W, W)), axis=0) / lam**lengths
@@ -215,18 +217,28 @@ def _lu(Jv, st):
     perm = None
     sign = np.ones((G, N))
     for j in range(k - 1):
-        piv = j + np.argmax(np.abs(A[j:, j]), axis=0)  # (G, N)
-        swap = piv != j
-        if swap.any():
+        # the pivot by comparisons (ties to the first row, as argmax) and the row swaps as
+        # masked copies: whole-array passes, where argmax and gathers at the swapped poses
+        # walk the few rows pose by pose
+        col = np.abs(A[j:, j])
+        best, piv = col[0], np.zeros((G, N), np.intp)
+        for r in range(1, k - j):
+            better = col[r] > best
+            best = np.maximum(best, col[r])
+            piv[better] = r
+        for r in range(1, k - j):
+            swap = piv == r
+            if not swap.any():
+                continue
             if perm is None:
                 perm = np.broadcast_to(np.arange(k)[:, None, None], (k, G, N)).copy()
-            g, n = np.nonzero(swap)
-            jj, pj = np.full_like(g, j), piv[g, n]
-            top, bot = A[jj, :, g, n], A[pj, :, g, n]
-            A[jj, :, g, n], A[pj, :, g, n] = bot, top
-            top, bot = perm[jj, g, n], perm[pj, g, n]
-            perm[jj, g, n], perm[pj, g, n] = bot, top
-            sign[g, n] = -sign[g, n]
+            top = A[j].copy()
+            np.copyto(A[j], A[j + r], where=swap)
+            np.copyto(A[j + r], top, where=swap)
+            top = perm[j].copy()
+            np.copyto(perm[j], perm[j + r], where=swap)
+            np.copyto(perm[j + r], top, where=swap)
+            np.negative(sign, out=sign, where=swap)
         l = A[j + 1 :, j] / A[j, j]
         A[j + 1 :, j] = l
         A[j + 1 :, j + 1 :] -= l[:, None] * A[j, j + 1 :][None]

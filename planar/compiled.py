@@ -86,7 +86,7 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
     N = q.shape[0]
     T, loop = _compiled(model, plan, N)
     q = np.array(q, dtype=float, order="C")
-    qd, qdd = np.empty((N, T.n)), np.empty((N, T.n))
+    qd, qdd = (np.empty((N, T.n)), np.empty((N, T.n))) if rates else (np.empty((0, T.n)), np.empty((0, T.n)))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
     signs, iters = np.empty((N, len(T.bk))), np.empty(N, np.int64)
     no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
@@ -94,8 +94,8 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
     loop(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk))), float(tol),
          float(step_tol), q, as_c(U, float), as_c(Ud, float), as_c(Udd, float), bool(rates), qd, qdd, res, signs, sing,
          branch, step, off, red, no_b, np.zeros(0, np.int8), iters, no_b, no_b, *_data(T))
-    if not rates:
-        qd[:] = qdd[:] = np.nan
+    if not rates:  # as the numpy path: one read-only NaN
+        qd = qdd = np.broadcast_to(np.nan, q.shape)
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch,
                 iters=iters)
 

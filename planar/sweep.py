@@ -492,6 +492,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
     both = same_prev & same_next & adj[prev_k]
     rest, where, both = rest[has], where[has], both[has]
     src = good[where]
+    PL = np.ascontiguousarray(P.transpose(1, 2, 0)) if one and rest.size else None  # :func:`_horner`'s table
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
         du = U[i] - U[s_]
@@ -501,7 +502,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
             if b.any():
                 kb = k[b]
                 h = U[good[kb + 1], 0] - U[good[kb], 0]
-                qp[b] = _horner(P[kb], du[b, 0] / h)
+                qp[b] = _horner(PL, kb, du[b, 0] / h)
             if not b.all():
                 k, s1, d1 = k[~b], s_[~b], du[~b]
                 qp[~b] = q[s1] + QU[k] * d1 + 0.5 * QUU[k] * d1**2
@@ -556,7 +557,8 @@ def _quintic(Q, D, DD, h):
 
     >>> x = np.array([0.0, 0.3])[:, None]
     >>> P = _quintic(np.sin(x), np.cos(x), -np.sin(x), np.array([0.3]))
-    >>> bool(abs(_horner(P, np.array([0.5]))[0, 0] - np.sin(0.15)) < 1e-8)  # h^6 sin^(6) / 6! ~ 1e-9
+    >>> PL = np.ascontiguousarray(P.transpose(1, 2, 0))
+    >>> bool(abs(_horner(PL, np.array([0]), np.array([0.5]))[0, 0] - np.sin(0.15)) < 1e-8)  # h^6 sin^(6) / 6! ~ 1e-9
     True
     """
     hh = h[:, None]
@@ -566,14 +568,16 @@ def _quintic(Q, D, DD, h):
                      -15 * dq + 8 * D0 + 7 * D1 + 1.5 * E0 - E1, 6 * dq - 3 * D0 - 3 * D1 - 0.5 * E0 + 0.5 * E1), axis=1)
 
 
-def _horner(P, t):
-    """The polynomials P (M, 6, n) of :func:`_quintic` at t (M,), highest power first (the
-    compiled engine's loop evaluates them in the same order)."""
-    t = t[:, None]
-    q = P[:, 5]
+def _horner(PL, k, t):
+    """(M, n) the polynomials of intervals k (M,) of :func:`_quintic`'s table, transposed to
+    PL (6, n, K - 1), at t (M,), highest power first (the compiled engine's loop evaluates
+    them in the same order). One coefficient gathered at a time, poses last: gathering whole
+    (M, 6, n) rows and broadcasting t over rows of n made this cost ~4x more."""
+    q = np.take(PL[5], k, axis=1)
     for j in range(4, -1, -1):
-        q = P[:, j] + t * q
-    return q
+        q *= t
+        q += np.take(PL[j], k, axis=1)
+    return q.T
 
 
 def _event_index(U, lo, i, u_from, u_star):
@@ -676,8 +680,8 @@ def _step(br, q, U, Ud, Udd):
         q -= np.where(np.isfinite(dq), dq, 0.0)
     if br.rates:
         qd, qdd = _rates(p, lu, q, U, Ud, Udd)
-    else:  # positions only: no velocity and acceleration solves
-        qd, qdd = np.full(q.shape, np.nan), np.full(q.shape, np.nan)
+    else:  # positions only: no velocity and acceleration solves, no rate arrays (read-only NaN)
+        qd = qdd = np.broadcast_to(np.nan, q.shape)
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, red=_redundant(m, full), signs=lu.signs,
                 sing=lu.sing, branch=np.prod(lu.signs, axis=1))
 
@@ -705,7 +709,9 @@ def _final(br, q, U, Ud, Udd):
         qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p, engine=br.compiled)
         q[slow], conv[slow], iters[slow] = qs, cv, it + 1
         g = _step(br, qs, U[slow], Ud[slow], Udd[slow])
-        res[slow], red_res[slow], qd[slow], qdd[slow] = g["res"], g["red"], g["qd"], g["qdd"]
+        res[slow], red_res[slow] = g["res"], g["red"]
+        if br.rates:
+            qd[slow], qdd[slow] = g["qd"], g["qdd"]
         signs[slow], sing[slow], branch[slow] = g["signs"], g["sing"], g["branch"]
         off[slow] = np.max(np.abs((qs - guess[slow])[:, p.cols] / m.col_scale[p.cols]), axis=1)
     st = status_of(sing)
@@ -713,7 +719,8 @@ def _final(br, q, U, Ud, Udd):
         st = np.where(red_res > 1e3 * tol, Status.INCONSISTENT, st)
     # a point on a singular position converges only linearly: its position still holds
     st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
-    qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
+    if br.rates:
+        qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
     return dict(q=q, qd=qd, qdd=qdd, conv=conv, off=off,
                 res=res, iters=iters, signs=signs, sing=sing, branch=branch, status=st)
 
