@@ -397,7 +397,9 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         finer = finer[solved[finer]]
         anchors = np.union1d(anchors, finer)
         todo[finer] = False
-    _from_anchors(anchors=anchors, targets=np.flatnonzero(todo), **fill)
+    # the anchors too: their final step is due anyway, and the bulk's chunks become runs of
+    # consecutive values (slices where the results are written, not scatters)
+    _from_anchors(anchors=anchors, targets=np.flatnonzero(todo | solved), **fill)
 
     # 3. the rest one by one, from the solved point before each; values on an event or past a
     # limit from there are set aside in one pass (out of range, there may be many)
@@ -476,8 +478,9 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         qd, qdd = (out.qd, out.qdd) if out.rates else (np.empty((0, n)), np.empty((0, n)))
         arrays = dict(q=q, U=U, Ud=Ud, Udd=Udd, qd=qd, qdd=qdd, res=out.residual, signs=signs,
                       sing=out.sing, branch=out.branch, status=out.status, iters=out.iters, solved=solved, done=done)
-        ok = br.compiled.fill(br.m, br.p, rest, adj, good, P, signs[good], br.tol, br.rates, arrays)
-        rest = rest[~ok]
+        rows = rest[~solved[rest]]  # (the loop writes each value's pose in place: not the anchors it reads)
+        ok = br.compiled.fill(br.m, br.p, rows, adj, good, P, signs[good], br.tol, br.rates, arrays)
+        rest = rows[~ok]
     # each target's anchors before and after (positions in good), and whether each lies in the
     # target's stretch
     pos = np.searchsorted(good, rest) - 1
@@ -495,7 +498,8 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
     PL = np.ascontiguousarray(P.transpose(1, 2, 0)) if one and rest.size else None  # :func:`_horner`'s table
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
-        du = U[i] - U[s_]
+        at = slice(i[0], i[-1] + 1) if i[-1] - i[0] + 1 == i.size else i  # i, as a slice when it is a run
+        du = U[at] - U[s_]
         if one:
             k, b = where[a : a + CHUNK], both[a : a + CHUNK]
             qp = np.empty((i.size, n))
@@ -508,14 +512,15 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
                 qp[~b] = q[s1] + QU[k] * d1 + 0.5 * QUU[k] * d1**2
         else:
             qp, _ = br.predict(q[s_], U[s_], du)
-        r = _final(br, qp, U[i], Ud[i], Udd[i])
+        r = _final(br, qp, U[at], Ud[at], Udd[at])
         ok = br.accept(r["q"], qp, lambda k: q[s_[k]], r["conv"], r["signs"], signs[s_], r["off"])
         if ok.all():
-            ok = slice(None)
+            ok, put = slice(None), at
         else:
             q_pred.update(zip(i[~ok].tolist(), qp[~ok]))
-        out.put(i[ok], r, ok)
-        q[i[ok]], solved[i[ok]], signs[i[ok]], done[i[ok]] = r["q"][ok], True, r["signs"][ok], True
+            put = i[ok]
+        out.put(put, r, ok)
+        q[put], solved[put], signs[put], done[put] = r["q"][ok], True, r["signs"][ok], True
 
 
 def _wave(br, state, U, idx):
