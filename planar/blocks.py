@@ -217,15 +217,9 @@ def _lu(Jv, st):
     perm = None
     sign = np.ones((G, N))
     for j in range(k - 1):
-        # the pivot by comparisons (ties to the first row, as argmax) and the row swaps as
-        # masked copies: whole-array passes, where argmax and gathers at the swapped poses
-        # walk the few rows pose by pose
-        col = np.abs(A[j:, j])
-        best, piv = col[0], np.zeros((G, N), np.intp)
-        for r in range(1, k - j):
-            better = col[r] > best
-            best = np.maximum(best, col[r])
-            piv[better] = r
+        # the row swaps as masked copies: whole-array passes, where gathers at the swapped
+        # poses walk the few rows pose by pose
+        piv = np.argmax(np.abs(A[j:, j]), axis=0)  # (G, N), relative to j
         for r in range(1, k - j):
             swap = piv == r
             if not swap.any():

@@ -115,7 +115,9 @@ class _Branch:
         c = self.p.cols
         if off is None:
             off = np.max(np.abs((q - q_pred)[:, c] / self.cs), axis=1)
-        ok = conv & np.all(signs == signs_ref, axis=1)
+        # the modes agree where the signs differ nowhere (a NaN sign differs): a product with
+        # ones, not a reduction over rows of a few blocks
+        ok = conv & (np.abs(signs - signs_ref) @ np.ones(signs.shape[1]) == 0)
         far = np.flatnonzero(ok & ~(off <= 1e-9))
         if far.size:
             move = np.max(np.abs((q_pred[far] - origin(far))[:, c] / self.cs), axis=1)
