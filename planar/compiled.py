@@ -109,7 +109,7 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     residual, modes, singularity, branch and status are written into the sweep's arrays
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
     solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
-    the general path."""
+    the general path, but for solved anchors among them, which keep their poses and modes."""
     T, loop = _compiled(model, plan, rows.size)
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
@@ -310,8 +310,14 @@ def source(T):
     w("    a = lo_ - 1")
     w("    if a < 0 or a + 1 >= G.size or not ADJ[a]:  # no interval to interpolate in: the general path")
     w("        OK[m] = False")
-    w("        q[:] = np.nan")
+    w("        if not SOLVED[i]:")
+    w("            q[:] = np.nan")
     w("        continue")
+    w("    # the row as it was: a solved anchor keeps its pose and modes if this fails")
+    w("    for j in range(qo.size):")
+    w("        qo[j] = q[j]")
+    w("    for j in range(so.size):")
+    w("        so[j] = SIGNS[i, j]")
     w("    # the quintic Hermite guess between anchors a and a + 1 (HQ: planar.sweep._quintic and")
     w("    # _horner), and the predicted move from a")
     w("    u0 = U[G[a], 0]")
@@ -372,8 +378,11 @@ def source(T):
     for b in range(len(T.bk)):
         w(f"    ok = ok and SIGNS[i, {b}] == SA[a, {b}]")
     w("    OK[m] = ok")
-    w("    if not ok:  # left for the general path: no pose here yet")
-    w("        q[:] = np.nan")
+    w("    if not ok:  # left for the general path: no pose here yet (or the anchor's own)")
+    w("        for j in range(qo.size):")
+    w("            q[j] = qo[j] if SOLVED[i] else np.nan")
+    w("        for j in range(so.size):")
+    w("            SIGNS[i, j] = so[j]")
     w("        continue")
     w("    # its status, as planar.events.status_of and planar.sweep._final give a converged value")
     w(f"    st = {int(Status.SINGULAR)} if sing < {SINGULAR!r} else ({int(Status.NEAR_SINGULAR)} if sing < {NEAR!r} "
@@ -397,13 +406,14 @@ def source(T):
     w("    QDD[i, :] = np.nan")
     args = ("rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
-    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg"
+    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so"
     function(f"def values(lo, hi, {args}, {buffers}):", ["for m in range(lo, hi):"] + ["    " + b for b in body], _JIT)
     alloc = [f"fb = np.zeros(({T.n_bodies}, 8))",
              "fb[0, 3] = 1.0",
              "c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
              f"Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
-             f"x, z, y, qg = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax}), np.empty({T.n})",
+             f"x, z, y, qg, qo = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax}), np.empty({T.n}), np.empty({T.n})",
+             f"so = np.empty({len(T.bk)})",
              f"A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)"]
     function(f"def loop({args}):", ["N = rows.shape[0]",
              f"for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers"]

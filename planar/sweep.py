@@ -480,9 +480,8 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         qd, qdd = (out.qd, out.qdd) if out.rates else (np.empty((0, n)), np.empty((0, n)))
         arrays = dict(q=q, U=U, Ud=Ud, Udd=Udd, qd=qd, qdd=qdd, res=out.residual, signs=signs,
                       sing=out.sing, branch=out.branch, status=out.status, iters=out.iters, solved=solved, done=done)
-        rows = rest[~solved[rest]]  # (the loop writes each value's pose in place: not the anchors it reads)
-        ok = br.compiled.fill(br.m, br.p, rows, adj, good, P, signs[good], br.tol, br.rates, arrays)
-        rest = rows[~ok]
+        ok = br.compiled.fill(br.m, br.p, rest, adj, good, P, signs[good], br.tol, br.rates, arrays)
+        rest = rest[~ok]
     # each target's anchors before and after (positions in good), and whether each lies in the
     # target's stretch
     pos = np.searchsorted(good, rest) - 1
