@@ -150,7 +150,7 @@ class Factors:
     costs ~0.2 us per 4x4 system; this is ~20x less).
 
     ``solve(b)`` forward-substitutes through the stages; ``signs`` (N, blocks) are the signs
-    of the blocks' dets (the assembly mode) and ``sing`` (N,) the smallest normalised |det|
+    of the blocks' dets (the assembly mode; int8, 0 where a det is 0 or not finite) and ``sing`` (N,) the smallest normalised |det|
     (|det| of a block over the product of its row norms, its x and y columns weighted by its
     largest lever arm, in [0, 1]; 0 at a singular position). A singular block gives
     non-finite solutions, never an exception.
@@ -169,7 +169,9 @@ class Factors:
                 self.lu.append((A, perm, C))
                 dets[st.index] = det
         self.dets = dets.T
-        self.signs = np.sign(self.dets)
+        # the modes as int8 (a sweep keeps one per value and block): a NaN det reads 0, as a
+        # singular block's, and neither matches a regular block's mode
+        self.signs = np.sign(np.nan_to_num(self.dets, nan=0.0)).astype(np.int8)
         self.sing = np.min(np.abs(self.dets), axis=1)
 
     def solve(self, b):

@@ -88,11 +88,11 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
     q = np.array(q, dtype=float, order="C")
     qd, qdd = (np.empty((N, T.n)), np.empty((N, T.n))) if rates else (np.empty((0, T.n)), np.empty((0, T.n)))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
-    signs, iters = np.empty((N, len(T.bk))), np.empty(N, np.int64)
+    signs, iters = np.empty((N, len(T.bk)), np.int8), np.empty(N, np.int64)
     no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
     as_c = np.ascontiguousarray
-    loop(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk))), float(tol),
-         float(step_tol), q, as_c(U, float), as_c(Ud, float), as_c(Udd, float), bool(rates), qd, qdd, res, signs, sing,
+    loop(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk)), np.int8), float(tol),
+         float(step_tol), q, as_c(U, float), _rates_in(Ud), _rates_in(Udd), bool(rates), qd, qdd, res, signs, sing,
          branch, step, off, red, no_b, np.zeros(0, np.int8), iters, no_b, no_b, *_data(T))
     if not rates:  # as the numpy path: one read-only NaN
         qd = qdd = np.broadcast_to(np.nan, q.shape)
@@ -114,10 +114,19 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
-    loop(rows, True, STEPS, adj, G, P, SA, float(tol), 0.0, S["q"], S["U"], S["Ud"], S["Udd"], bool(rates), S["qd"],
-         S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"], S["iters"],
-         S["solved"], S["done"], *_data(T))
+    loop(rows, True, STEPS, adj, G, P, SA, float(tol), 0.0, S["q"], S["U"], _rates_in(S["Ud"]), _rates_in(S["Udd"]),
+         bool(rates), S["qd"], S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"],
+         S["iters"], S["solved"], S["done"], *_data(T))
     return ok
+
+
+def _rates_in(a):
+    """Input rates (N, f) as the loop reads them, C-contiguous and writeable (numba compiles
+    read-only arrays apart): their one row where they repeat one row (a rate given once:
+    ``planar.Model._inputs``), which the loop reads for every value."""
+    if a.ndim == 2 and a.shape[0] > 1 and a.strides[0] == 0:
+        a = a[:1]
+    return np.require(a, float, ("C", "W"))
 
 
 def _data(T):
@@ -342,12 +351,12 @@ def source(T):
     w("red = 0.0")
     for r, row in enumerate(T.red):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
-    w("factor(Jv, A, P, brs, bcs, upscale, SIGNS[i])")
+    w("factor(Jv, A, P, brs, bcs, upscale, dets)")
     w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
     w("sing, branch = 1.0, 1.0")
     for b in range(len(T.bk)):
-        w(f"sing = -_mx(-sing, -abs(SIGNS[i, {b}]))")
-        w(f"SIGNS[i, {b}] = np.sign(SIGNS[i, {b}])")
+        w(f"sing = -_mx(-sing, -abs(dets[{b}]))")
+        w(f"SIGNS[i, {b}] = 1 if dets[{b}] > 0 else (-1 if dets[{b}] < 0 else 0)  # NaN: 0, as planar.blocks")
         w(f"branch *= SIGNS[i, {b}]")
     w("solve(Jv, A, P, rhs, x, z, y, brs, bcs)")
     w("# the step's size, and the distance the pose moves (its finite components)")
@@ -406,14 +415,14 @@ def source(T):
     w("    QDD[i, :] = np.nan")
     args = ("rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
-    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so"
+    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets"
     function(f"def values(lo, hi, {args}, {buffers}):", ["for m in range(lo, hi):"] + ["    " + b for b in body], _JIT)
     alloc = [f"fb = np.zeros(({T.n_bodies}, 8))",
              "fb[0, 3] = 1.0",
              "c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
              f"Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
              f"x, z, y, qg, qo = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax}), np.empty({T.n}), np.empty({T.n})",
-             f"so = np.empty({len(T.bk)})",
+             f"so, dets = np.empty({len(T.bk)}, np.int8), np.empty({len(T.bk)})",
              f"A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)"]
     function(f"def loop({args}):", ["N = rows.shape[0]",
              f"for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers"]
@@ -430,8 +439,8 @@ def _rate(T, w, base, inputs, out):
     holding gamma, or zeros), the input's rate of that order added on the driver rows."""
     for r, row in enumerate(T.prow):
         w(f"rhs[{r}] = {'0.0' if base is None else f'{base}[{row}]'}")
-    for r, col in zip(T.drv, T.drv_inp):
-        w(f"rhs[{r}] += {inputs}[i, {col}]")
+    for r, col in zip(T.drv, T.drv_inp):  # (one row of rates: the same for every value)
+        w(f"rhs[{r}] += {inputs}[i if {inputs}.shape[0] > 1 else 0, {col}]")
     w("solve(Jv, A, P, rhs, x, z, y, brs, bcs)")
     for k in range(T.n):
         w(f"{out}[i, {k}] = x[{k}]")

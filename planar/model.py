@@ -448,7 +448,9 @@ class Model:
     def _inputs(self, values, what, N=None):
         """``values`` as a new C-contiguous (N, f) array (the sweep keeps it: a copy, so the
         caller's array can change later; one memory layout, so the compiled loop is compiled
-        for one)."""
+        for one), or, for a rate given once for every value (a number, or one per input), that
+        one row broadcast to N rows: read-only and no N-sized copy (the compiled loop reads
+        the row itself)."""
         f = len(self.drivers)
         try:
             a = np.array(values, dtype=float, order="C")
@@ -457,11 +459,11 @@ class Model:
         if a.ndim == 0:
             if N is None:
                 raise InputError(f"sweep {what} must be a sequence of input values, got a scalar")
-            a = np.full((N, f), float(a))
+            a = np.broadcast_to(np.full((1, f), float(a)), (N, f))
         elif a.ndim == 1 and f == 1 and (N is None or a.shape[0] == N):
             a = a[:, None]
         elif a.ndim == 1 and a.shape[0] == f and N is not None:
-            a = np.tile(a, (N, 1))
+            a = np.broadcast_to(a[None], (N, f))
         if a.ndim != 2 or a.shape[1] != f or (N is not None and a.shape[0] != N):
             want = f"({N}, {f})" if N is not None else f"(N,) or (N, {f})"
             raise InputError(f"sweep {what} have shape {np.shape(values)} but {f} input(s) "

@@ -314,7 +314,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     N, n = U.shape[0], model.n
     q = np.empty((N, n))  # rows not posed at the end are set NaN then
     solved = np.zeros(N, bool)
-    signs = np.zeros((N, len(p.blocks)))
+    signs = np.zeros((N, len(p.blocks)), np.int8)  # the blocks' modes at each solved value
     events = []
 
     def walk(start, i, lo, back=None):
@@ -629,21 +629,20 @@ def _past_limit(limits, u_from, u_to):
 
 
 class _Out:
-    """Per-point results filled chunk by chunk."""
+    """Per-point results filled chunk by chunk: allocated, not filled (the bulk pass writes
+    nearly every row, on all cores in the compiled engine; :meth:`blank` fills the rest)."""
 
     def __init__(self, N, n, rates=True):
-        # the rates: NaN where nothing is solved (:meth:`blank`), not filled twice; without
-        # rates, one read-only NaN that takes no memory (the result's arrays are read-only)
+        # without rates, one read-only NaN that takes no memory (the result's arrays are
+        # read-only)
         self.rates = rates
         if rates:
             self.qd, self.qdd = np.empty((N, n)), np.empty((N, n))
         else:
             self.qd = self.qdd = np.broadcast_to(np.nan, (N, n))
-        self.residual = np.full(N, np.nan)
-        self.iters = np.zeros(N, int)
-        self.sing = np.full(N, np.nan)
-        self.branch = np.zeros(N)
-        self.status = np.full(N, Status.NOT_CONVERGED, dtype=np.int8)
+        self.residual, self.sing, self.branch = np.empty(N), np.empty(N), np.empty(N)
+        self.iters = np.empty(N, int)
+        self.status = np.empty(N, dtype=np.int8)
 
     def put(self, i, r, sel=slice(None)):
         if self.rates:
@@ -651,11 +650,13 @@ class _Out:
         self.residual[i], self.iters[i] = r["res"][sel], r["iters"][sel]
         self.sing[i], self.branch[i], self.status[i] = r["sing"][sel], r["branch"][sel], r["status"][sel]
 
-    def blank(self, solved):
-        """NaN rates where nothing was solved (every solved value has been put, or is on an
-        event and gets its rates there)."""
+    def blank(self, rows):
+        """The rows nothing was put for: NaN rates, residual and singularity, no iterations,
+        no mode, status NOT_CONVERGED (until said otherwise)."""
         if self.rates:
-            self.qd[~solved] = self.qdd[~solved] = np.nan
+            self.qd[rows] = self.qdd[rows] = np.nan
+        self.residual[rows] = self.sing[rows] = np.nan
+        self.iters[rows], self.branch[rows], self.status[rows] = 0, 0.0, Status.NOT_CONVERGED
 
 
 def _rates(p, lu, q, U, Ud, Udd):
@@ -748,7 +749,10 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         r = _final(br, q[i], U[i], Ud[i], Udd[i])
         q[i] = r["q"]
         out.put(i, r)
-    out.blank(solved)
+    # every solved value has been put but those on events, which get their values there
+    unset = ~solved
+    unset[list(at_event)] = True
+    out.blank(unset)
     _on_events(model, br, U, Ud, Udd, q, out, events, at_event)
     status = out.status
     q[~POSED_MASK[status]] = np.nan
@@ -759,8 +763,8 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
             out.qd[:, drop] = out.qdd[:, drop] = np.nan
 
     # unreached points: the assembly gap from the best guess at hand
-    gap = np.full(N, np.nan)
     miss = np.flatnonzero(~solved)
+    gap = np.full(N, np.nan) if miss.size else np.broadcast_to(np.nan, N)  # (read-only, as every result array)
     for lo in range(0, miss.size, CHUNK):
         i = miss[lo : lo + CHUNK]
         guess = np.array([q_pred.get(k, model.q0) for k in i.tolist()]).reshape(i.size, n)
