@@ -170,9 +170,10 @@ class Factors:
                 dets[st.index] = det
         self.dets = dets.T
         # the modes as int8 (a sweep keeps one per value and block): a NaN det reads 0, as a
-        # singular block's, and neither matches a regular block's mode
-        self.signs = np.sign(np.nan_to_num(self.dets, nan=0.0)).astype(np.int8)
-        self.sing = np.min(np.abs(self.dets), axis=1)
+        # singular block's, and neither matches a regular block's mode (whole rows of poses
+        # first, then the transposed view)
+        self.signs = np.subtract(dets > 0, dets < 0, dtype=np.int8).T
+        self.sing = np.min(np.abs(dets), axis=0)
 
     def solve(self, b):
         """x (N, n) with ``J x = b`` on the plan's rows (``b`` (N, len(rows))); columns the
