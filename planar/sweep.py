@@ -395,8 +395,11 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     if U.shape[1] == 1:
         finer, _ = _walk_anchors(U, _scale(model), max_step / FINER)
         finer = finer[todo[finer]]
-        _from_anchors(anchors=anchors, targets=finer, **fill)
+        # their poses and modes only (the table needs no more): their rates and statuses come
+        # with the bulk pass, which takes them again, or with the final step at the end
+        _from_anchors(anchors=anchors, targets=finer, **dict(fill, br=_Branch(model, p, tol, False, engine)))
         finer = finer[solved[finer]]
+        done[finer] = False
         anchors = np.union1d(anchors, finer)
         todo[finer] = False
     # the anchors too: their final step is due anyway, and the bulk's chunks become runs of
@@ -481,7 +484,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         arrays = dict(q=q, U=U, Ud=Ud, Udd=Udd, qd=qd, qdd=qdd, res=out.residual, signs=signs,
                       sing=out.sing, branch=out.branch, status=out.status, iters=out.iters, solved=solved, done=done)
         ok = br.compiled.fill(br.m, br.p, rest, adj, good, P, signs[good], br.tol, br.rates, arrays)
-        rest = rest[~ok]
+        rest = rest[~ok & ~solved[rest]]  # (a solved anchor it left, the first, gets its final step at the end)
     # each target's anchors before and after (positions in good), and whether each lies in the
     # target's stretch
     pos = np.searchsorted(good, rest) - 1
