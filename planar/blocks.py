@@ -150,10 +150,10 @@ class Factors:
     costs ~0.2 us per 4x4 system; this is ~20x less).
 
     ``solve(b)`` forward-substitutes through the stages; ``signs`` (N, blocks) are the signs
-    of the blocks' dets (the assembly mode; int8, 0 where a det is 0 or not finite) and ``sing`` (N,) the smallest normalised |det|
-    (|det| of a block over the product of its row norms, its x and y columns weighted by its
-    largest lever arm, in [0, 1]; 0 at a singular position). A singular block gives
-    non-finite solutions, never an exception.
+    of the blocks' dets (the assembly mode; int8, 0 where a det is 0 or not finite) and
+    ``sing`` (N,) the smallest normalised |det| (|det| of a block over the product of its row
+    norms, its x and y columns weighted by its largest lever arm, in [0, 1]; 0 at a singular
+    position). A singular block gives non-finite solutions, never an exception.
     """
 
     def __init__(self, plan, Jv):

@@ -91,9 +91,9 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
     signs, iters = np.empty((N, len(T.bk)), np.int8), np.empty(N, np.int64)
     no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
     as_c = np.ascontiguousarray
-    loop(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk)), np.int8), float(tol),
-         float(step_tol), q, as_c(U, float), _rates_in(Ud), _rates_in(Udd), bool(rates), qd, qdd, res, signs, sing,
-         branch, step, off, red, no_b, np.zeros(0, np.int8), iters, no_b, no_b, *_data(T))
+    loop(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, T.n)), np.zeros((0, len(T.bk)), np.int8),
+         float(tol), float(step_tol), q, as_c(U, float), _rates_in(Ud), _rates_in(Udd), bool(rates), qd, qdd, res,
+         signs, sing, branch, step, off, red, no_b, np.zeros(0, np.int8), iters, no_b, no_b, *_data(T))
     if not rates:  # as the numpy path: one read-only NaN
         qd = qdd = np.broadcast_to(np.nan, q.shape)
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch,
