@@ -102,10 +102,10 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
 
 def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between the
-    anchors around each, G[a] < row < G[a + 1], where ``adj[a]`` says the two bound one stretch
-    (G sorted; P the interpolants' coefficients of ``planar.sweep._quintic``, SA the anchors'
-    modes), with
-    ``planar.sweep``'s final step and acceptance test: where a value passes, its pose, rates,
+    anchors around each, G[a] < row <= G[a + 1] (an anchor among them from the interval before
+    it), where ``adj[a]`` says the two bound one stretch (G sorted; P the interpolants'
+    coefficients of ``planar.sweep._quintic``, SA the anchors' modes), with ``planar.sweep``'s
+    final step and acceptance test: where a value passes, its pose, rates,
     residual, modes, singularity, branch and status are written into the sweep's arrays
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
     solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
