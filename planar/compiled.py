@@ -105,7 +105,7 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
 def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between the
     anchors around each, G[a] < row <= G[a + 1] (an anchor among them from the interval before
-    it), where ``adj[a]`` says the two bound one stretch (G sorted; P the interpolants'
+    it, the first from the one after it), where ``adj[a]`` says the two bound one stretch (G sorted; P the interpolants'
     coefficients of ``planar.sweep._quintic``, SA the anchors' modes), with ``planar.sweep``'s
     final step and acceptance test: where a value passes, its pose, rates,
     residual, modes, singularity, branch and status are written into the sweep's arrays
@@ -323,6 +323,8 @@ def source(T):
     w("        else:")
     w("            hi_ = mid")
     w("    a = lo_ - 1")
+    w("    if a < 0 and G.size > 1 and G[0] == i:  # the first anchor: its interval's start (t = 0)")
+    w("        a = 0")
     w("    a_prev = a")
     w("    if a < 0 or a + 1 >= G.size or not ADJ[a]:  # no interval to interpolate in: the general path")
     w("        OK[m] = False")

@@ -14,6 +14,7 @@ from planar import compiled
 from planar.blocks import plan
 from planar.errors import InputError
 from planar.mechanisms import four_bar, geared_five_bar, rolling_wheel, slider_crank
+from planar.sweep import _quintic
 from tests.strategies import build, point
 from tests.test_core_sweeps import geared_five_bar as general_geared_five_bar
 
@@ -111,6 +112,35 @@ def test_a_sweep_compiles_each_driver_once():
         model.sweep(np.linspace(0, 2 * np.pi, n), engine="numba", rates=False)
     module = compiled._module(model, plan(model))
     assert len(module.loop.signatures) == 1 and len(module.serial.signatures) == 1
+
+
+def test_the_bulk_pass_leaves_a_solved_anchor_it_cannot_take_as_it_was():
+    # the compiled pass takes the solved anchors with the other values (their final step); an
+    # anchor whose step fails there (here: a table whose second interval guesses 0.3 off)
+    # keeps the pose and modes it had, for the general path, and the interval's other values
+    # are left unposed; the first anchor is taken from the start of the first interval
+    model = four_bar(4, 2, 3.5, 3).compile()
+    p = plan(model)
+    N, G = 9, np.array([0, 4, 8])
+    U = np.linspace(0.0, 0.4, N)[:, None]
+    ones = np.ones((G.size, 1))
+    f = compiled.final(model, p, model.sweep(U[G, 0]).q, U[G], ones, 0 * ones)
+    P = _quintic(f["q"], f["qd"], f["qdd"], np.diff(U[G, 0]))
+    P[1, 0] += 0.3
+    q = np.full((N, model.n), 7.0)
+    q[G] = f["q"]
+    signs = np.zeros((N, len(p.blocks)), np.int8)
+    signs[G] = f["signs"]
+    solved = np.isin(np.arange(N), G)
+    arrays = dict(q=q, U=U, Ud=np.ones((N, 1)), Udd=np.zeros((N, 1)), qd=np.empty((N, model.n)),
+                  qdd=np.empty((N, model.n)), res=np.empty(N), signs=signs, sing=np.empty(N), branch=np.empty(N),
+                  status=np.zeros(N, np.int8), iters=np.zeros(N, np.int64), solved=solved.copy(), done=np.zeros(N, bool))
+    ok = compiled.fill(model, p, np.arange(N), np.ones(G.size, bool), G, P, f["signs"], 1e-12, True, arrays)
+    assert ok.tolist() == [True] * 5 + [False] * 4
+    assert np.array_equal(q[8], f["q"][2]) and np.array_equal(signs[8], f["signs"][2])  # as it was
+    assert np.all(np.isnan(q[5:8])) and arrays["solved"].tolist() == [True] * 5 + [False] * 3 + [True]
+    assert arrays["done"].tolist() == [True] * 5 + [False] * 4
+    assert np.allclose(q[:5], model.sweep(U[:5, 0]).q, atol=1e-14)
 
 
 def test_unknown_engine_is_refused():
