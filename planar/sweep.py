@@ -460,10 +460,9 @@ def _keep_freed_memory():
     frees for its next chunk instead of handing it back to the system: its mmap threshold
     follows the largest block freed (up to 32 MB) and it trims the heap's free top beyond twice
     that. With the threshold below a chunk's temporaries (~10 MB at CHUNK values), each chunk
-    and each sweep faulted its memory in afresh, ~0.3 ms per MB here: the numpy engine's
-    four-bar at N = 1e5 0.89 -> 0.68 us per value, the compiled slider-crank 0.29 -> 0.19
-    (best of 5 in one process, session 6). The process may keep up to 2 HEAP_KEEP of freed
-    memory; with other allocators this costs one mmap and munmap."""
+    and each sweep faulted its memory in afresh, ~0.3 ms per MB on the benchmark machine
+    (docs/benchmarks.md, session 6). The process may keep up to 2 HEAP_KEEP of freed memory;
+    with other allocators this costs one mmap and munmap."""
     np.empty(HEAP_KEEP, np.uint8)
 
 
