@@ -202,6 +202,14 @@ _inline = numba.njit(inline="always", error_model="numpy")
 
 
 @_inline
+def _cos_sin(phi):
+    """cos and sin of phi through t = tan(phi / 2), as planar.geometry.cos_sin."""
+    t = np.tan(0.5 * phi)
+    wt = 2.0 / (1.0 + t * t)
+    return wt - 1.0, t * wt
+
+
+@_inline
 def _mx(a, b):
     """max that propagates NaN, as numpy's max does (a pose that reads NaN never passes)."""
     return b if (b > a or b != b) else a
@@ -348,9 +356,7 @@ def source(T):
     w("    if a != a_ref:  # the anchor's angles, their cos and sin: the reference of _frames")
     for b in range(1, T.n_bodies):
         w(f"        ref[{b}, 0] = HQ[a, 0, {3 * b - 1}]")
-        w(f"        t = np.tan(0.5 * ref[{b}, 0])")
-        w("        wt = 2.0 / (1.0 + t * t)")
-        w(f"        ref[{b}, 1], ref[{b}, 2] = wt - 1.0, t * wt")
+        w(f"        ref[{b}, 1], ref[{b}, 2] = _cos_sin(ref[{b}, 0])")
     w("        a_ref = a")
     w("    move = 0.0")
     for k, col in enumerate(T.pcols):
@@ -469,10 +475,10 @@ def _rate(T, w, base, inputs, out):
 
 def _frames(T, w, rates):
     """The bodies' rows of ``fb``: x, y, angle, its cos and sin (and with ``rates`` the body's
-    velocity). cos and sin through tan(phi / 2), as planar.geometry.cos_sin; ``near`` (a bulk
-    value: within NEAR_ANGLE of its anchor's angles ``ref``): by the angle-addition formulas from
-    the anchor's cos and sin, with the Taylor series of the difference d to d^9 (the first term
-    left out, d^10 / 10!, is below 1e-19 there): half the time of a tan, and as accurate."""
+    velocity). cos and sin by ``_cos_sin``; ``near`` (a bulk value: within NEAR_ANGLE of its
+    anchor's angles ``ref``): by the angle-addition formulas from the anchor's cos and sin, with
+    the Taylor series of the difference d to d^9 (the first term left out, d^10 / 10!, is below
+    1e-19 there): half the time of a tan, and as accurate."""
     for b in range(1, T.n_bodies):
         x, y, a = 3 * b - 3, 3 * b - 2, 3 * b - 1
         w(f"d = q[{a}] - ref[{b}, 0]")
@@ -484,9 +490,7 @@ def _frames(T, w, rates):
           " * (1.0 - d2 * (1.0 / 56.0))))")
         w(f"    co, si = ref[{b}, 1] * cd - ref[{b}, 2] * sd, ref[{b}, 2] * cd + ref[{b}, 1] * sd")
         w("else:")
-        w(f"    t = np.tan(0.5 * q[{a}])")
-        w("    wt = 2.0 / (1.0 + t * t)")
-        w("    co, si = wt - 1.0, t * wt")
+        w(f"    co, si = _cos_sin(q[{a}])")
         w(f"fb[{b}, 0], fb[{b}, 1], fb[{b}, 2], fb[{b}, 3], fb[{b}, 4] = q[{x}], q[{y}], q[{a}], co, si")
         if rates:
             w(f"fb[{b}, 5], fb[{b}, 6], fb[{b}, 7] = qd[{x}], qd[{y}], qd[{a}]")
