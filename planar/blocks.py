@@ -20,13 +20,13 @@ kept: asking for the first loop of a Watt six-bar does not solve the second.
 
 import weakref
 from dataclasses import dataclass
-from functools import cached_property
 
 import networkx as nx
 import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import maximum_bipartite_matching
 
+from planar.elimination import CONST, VAR, ZERO, Program, block_program
 from planar.errors import MobilityError
 
 
@@ -55,39 +55,21 @@ class Block:
 
 @dataclass(frozen=True, eq=False)
 class Stage(Block):
-    """G blocks of the same size b whose upstream columns are all solved by earlier stages,
-    solved in one stacked operation: the :class:`Block` fields with a leading G axis (``up``
-    padded with the always-zero column n, ``coup`` with the structural zero) and ``index``
-    (G,), the blocks' positions in the plan; ``upscale`` (G, w) the column scales of ``up``;
-    ``angle`` (G, b) True for the angle columns."""
+    """G blocks of the same size b and structure whose upstream columns are all solved by
+    earlier stages, solved in one stacked operation: the :class:`Block` fields with a leading
+    G axis (``up`` padded with the always-zero column n, ``coup`` with the structural zero),
+    ``index`` (G,), the blocks' positions in the plan, and their elimination ``program``
+    (:class:`planar.elimination.Program`)."""
 
     index: np.ndarray
-    upscale: np.ndarray
-    angle: np.ndarray
-
-    # the factorisation's constants, once per stage (a small batch pays per numpy call)
-    @cached_property
-    def diag_scale(self):
-        """(b, b, G, 1) row times column scale of each diagonal entry."""
-        return (self.rscale.T[:, None, :] * self.cscale.T[None, :, :])[..., None]
-
-    @cached_property
-    def coup_scale(self):
-        """(w, G, 1) scales of a 1x1 stage's coupling entries."""
-        return (self.rscale.T[0][None, :] * self.upscale.T)[..., None]
-
-    @cached_property
-    def angle_mask(self):
-        """(1, b, G, 1) 1.0 on the angle columns, and the (G, 1) counts of length columns and
-        whether any column is an angle."""
-        return (self.angle.T[None, :, :, None].astype(float), (self.cols.shape[1] - self.angle.sum(axis=1))[:, None],
-                self.angle.any(axis=1)[:, None])
+    program: Program
 
 
-def _stages(blocks, n, zero, col_scale):
-    """Group the blocks by (level, size): a block's level is one more than the highest level
-    among the blocks computing its upstream columns. One Python step per stage instead of per
-    block (a chain of k loops has ~3 stages per loop level, not 3k blocks)."""
+def _stages(blocks, n, zero, col_scale, kinds, values):
+    """Group the blocks by (level, size, elimination structure): a block's level is one more
+    than the highest level among the blocks computing its upstream columns. One Python step
+    per stage instead of per block (a chain of k loops has ~3 stages per loop level, not 3k
+    blocks)."""
     level_of_col = {}
     levels = []
     for blk in blocks:
@@ -95,11 +77,12 @@ def _stages(blocks, n, zero, col_scale):
         levels.append(lv)
         for c in blk.cols:
             level_of_col[int(c)] = lv
+    programs = [block_program(blk, kinds, values, col_scale[blk.up]) for blk in blocks]
     groups = {}
     for k, (blk, lv) in enumerate(zip(blocks, levels)):
-        groups.setdefault((lv, blk.size), []).append(k)
+        groups.setdefault((lv, blk.size, programs[k].signature()), []).append(k)
     stages = []
-    for (lv, b), ks in sorted(groups.items()):
+    for (lv, b, _), ks in sorted(groups.items(), key=lambda item: item[0][:2]):
         w = max(blocks[k].up.size for k in ks)
         up = np.full((len(ks), w), n, int)
         coup = np.full((len(ks), b, w), zero, int)
@@ -110,8 +93,7 @@ def _stages(blocks, n, zero, col_scale):
         stages.append(Stage(np.array([blocks[k].eqs for k in ks]), np.array([blocks[k].cols for k in ks]),
                             np.array([blocks[k].diag for k in ks]), up, coup.reshape(len(ks), b * w),
                             np.array([blocks[k].rscale for k in ks]), np.array([blocks[k].cscale for k in ks]),
-                            np.array(ks), np.r_[col_scale, 0.0][up],
-                            np.array([blocks[k].cols % 3 == 2 for k in ks])))
+                            np.array(ks), Program.stack([programs[k] for k in ks], coup, kinds, values, zero)))
     return tuple(stages)
 
 
@@ -144,10 +126,11 @@ class Plan:
 
 
 class Factors:
-    """LU factors (partial pivoting) of a plan's row- and column-scaled diagonal blocks at N
-    poses, stored block entry first and pose last so that each elimination step is one
-    whole-array operation over all poses and all blocks of a stage (LAPACK's batched solve
-    costs ~0.2 us per 4x4 system; this is ~20x less).
+    """LU factors (partial pivoting, constant columns first: :mod:`planar.elimination`) of a
+    plan's row- and column-scaled diagonal blocks at N poses, stored block entry first and
+    pose last so that each elimination step is one whole-array operation over all poses and
+    all blocks of a stage (LAPACK's batched solve costs ~0.2 us per 4x4 system; this is ~20x
+    less).
 
     ``solve(b)`` forward-substitutes through the stages; ``signs`` (N, blocks) are the signs
     of the blocks' dets (the assembly mode; int8, 0 where a det is 0 or not finite) and
@@ -162,12 +145,8 @@ class Factors:
         dets = np.ones((len(plan.blocks), self.N))
         with np.errstate(all="ignore"):
             for st in plan.stages:
-                A, perm, det = _lu(Jv, st)
-                G, k = st.cols.shape
-                w = st.up.shape[1]
-                C = Jv[st.coup.T].reshape(k, w, G, self.N) if w else None  # gathered once for every solve
-                self.lu.append((A, perm, C))
-                dets[st.index] = det
+                fac, dets[st.index] = st.program.factor(Jv)
+                self.lu.append(fac)
         self.dets = dets.T
         # the modes as int8 (a sweep keeps one per value and block): a NaN det reads 0, as a
         # singular block's, and neither matches a regular block's mode (whole rows of poses
@@ -182,82 +161,10 @@ class Factors:
         x = np.zeros((p.n + 1, N))  # row n stays 0: the padding of ``up``
         bT = b.T
         with np.errstate(all="ignore"):
-            for st, (A, perm, C) in zip(p.stages, self.lu):
-                rhs = bT[st.eqs.T]  # (k, G, N)
-                if C is not None:
-                    rhs = rhs - np.einsum("ijgn,gjn->ign", C, x[st.up])
-                x[st.cols.T] = _lu_solve(A, perm, rhs * st.rscale.T[..., None]) * st.cscale.T[..., None]
+            for st, fac in zip(p.stages, self.lu):
+                xb = st.program.solve(fac, bT[st.eqs.T], x[st.up], st.rscale.T[..., None])
+                x[st.cols.T] = xb * st.cscale.T[..., None]
         return x[: p.n].T
-
-
-def _lu(Jv, st):
-    """In-place LU with partial pivoting of a stage's scaled blocks, as (k, k, G, N):
-    returns (factors, row permutation (k, G, N) or None, normalised det (G, N))."""
-    G, k = st.cols.shape
-    N = Jv.shape[1]
-    A = Jv[st.diag.T].reshape(k, k, G, N)
-    A *= st.diag_scale
-    if k == 1:
-        # a pivot row's own entry against its whole scaled row: the block is singular where
-        # the row no longer depends on the coordinate it computes
-        C = Jv[st.coup.T] * st.coup_scale  # (w, G, N)
-        norms = np.sqrt(A[0, 0] ** 2 + np.sum(C * C, axis=0))
-        cap = 1.0
-    else:
-        # |det| over the product of the row norms (Hadamard's ratio) with the block's own length
-        # scale: x and y columns weighted by its largest lever arm lam (angle-column entry,
-        # relative to the model's length L), so one loop of a long chain does not look
-        # singular; and at most lam itself, so a block whose lever arms are all negligible
-        # against L (its angles fixed only to eps L / lever) still reads near-singular
-        ang, lengths, any_angle = st.angle_mask
-        # (a reduction over the leading axis of the flattened block runs over whole rows of
-        # poses; over axes (0, 1) numpy walks the k x k entries pose by pose)
-        lam = np.abs(A * ang).reshape(k * k, G, N).max(axis=0)  # (G, N)
-        lam = np.where(any_angle, np.minimum(lam, 1.0), 1.0)
-        W = A * (ang + (1.0 - ang) * lam)
-        norms = np.prod(np.sqrt(np.einsum("ijgn,ijgn->ign", W, W)), axis=0) / lam**lengths
-        cap = lam
-    perm = None
-    sign = np.ones((G, N))
-    for j in range(k - 1):
-        # the row swaps as masked copies: whole-array passes, where gathers at the swapped
-        # poses walk the few rows pose by pose
-        piv = np.argmax(np.abs(A[j:, j]), axis=0)  # (G, N), relative to j
-        for r in range(1, k - j):
-            swap = piv == r
-            if not swap.any():
-                continue
-            if perm is None:
-                perm = np.broadcast_to(np.arange(k)[:, None, None], (k, G, N)).copy()
-            top = A[j].copy()
-            np.copyto(A[j], A[j + r], where=swap)
-            np.copyto(A[j + r], top, where=swap)
-            top = perm[j].copy()
-            np.copyto(perm[j], perm[j + r], where=swap)
-            np.copyto(perm[j + r], top, where=swap)
-            np.negative(sign, out=sign, where=swap)
-        l = A[j + 1 :, j] / A[j, j]
-        A[j + 1 :, j] = l
-        A[j + 1 :, j + 1 :] -= l[:, None] * A[j, j + 1 :][None]
-    det = sign * np.prod(A[np.arange(k), np.arange(k)], axis=0)
-    nd = np.where(norms > 0, det / norms, 0.0)
-    return A, perm, np.sign(nd) * np.minimum(np.abs(nd), cap)
-
-
-def _lu_solve(A, perm, b):
-    """x (k, G, N) with (P A) x = P b for the factors of :func:`_lu`."""
-    k = A.shape[0]
-    if perm is not None:
-        b = np.take_along_axis(b, perm, axis=0)
-    else:
-        b = b.copy()
-    for i in range(1, k):
-        b[i] -= np.einsum("jgn,jgn->gn", A[i, :i], b[:i])
-    for i in range(k - 1, -1, -1):
-        if i + 1 < k:
-            b[i] -= np.einsum("jgn,jgn->gn", A[i, i + 1 :], b[i + 1 :])
-        b[i] /= A[i, i]
-    return b
 
 
 _PLANS = weakref.WeakKeyDictionary()
@@ -272,15 +179,21 @@ def plan(model, cols=None):
     return cache[key]
 
 
-def _pattern(model):
-    """Structural non-zeros of the full system's Jacobian values: entries non-zero at random
-    poses (exact zeros of a kernel, e.g. a pivot at a body's frame origin, are structural)."""
+def _samples(model, system):
+    """The Jacobian values of ``system`` (one of the model's) at three random poses."""
     rng = np.random.default_rng(1)
-    sysm = model.system
     q = model.q0[None] + rng.normal(size=(3, model.n)) * np.tile([model.L, model.L, 1.0], model.n // 3)
     u = model.u0[None] + rng.normal(size=(3, model.u0.size))
-    _, Jv = sysm.values(q, u)
-    return np.any(Jv[:-1] != 0, axis=1)
+    return system.values(q, u)[1]
+
+
+def _kinds(Jv):
+    """(kinds, values) of the value slots sampled in ``Jv`` (slots, samples): ZERO where zero
+    at every sample (exact zeros of a kernel, e.g. a pivot at a body's frame origin, are
+    structural), CONST where the same at every sample (no kernel is piecewise), else VAR."""
+    kinds = np.where(np.all(Jv == Jv[:, :1], axis=1), CONST, VAR)
+    kinds[np.all(Jv == 0, axis=1)] = ZERO
+    return kinds, Jv[:, 0]
 
 
 def _build(model, key):
@@ -288,7 +201,7 @@ def _build(model, key):
     n = model.n
     rows_all = np.asarray(model.active_rows)
     erow, ecol = sysm.entries
-    nz = _pattern(model) & (ecol < n)
+    nz = (_kinds(_samples(model, sysm))[0][:-1] != ZERO) & (ecol < n)
     pos = {int(r): i for i, r in enumerate(rows_all)}
     S = np.zeros((rows_all.size, n), bool)
     for r, c in zip(erow[nz], ecol[nz]):
@@ -346,4 +259,6 @@ def _build(model, key):
     drivers = np.flatnonzero(np.isin(rows, rows_all[np.asarray(model.driver_rows_active)]))
     driver_inputs = np.searchsorted(rows_all[np.asarray(model.driver_rows_active)], rows[drivers])
     cols = np.sort(np.concatenate([blk.cols for blk in blocks])) if blocks else np.zeros(0, int)
-    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n, _stages(blocks, n, zero, cs))
+    kinds, values = _kinds(_samples(model, sub))
+    kinds[~np.r_[snz, False]] = ZERO  # (the last slot is the structural zero)
+    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n, _stages(blocks, n, zero, cs, kinds, values))
