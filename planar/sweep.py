@@ -512,7 +512,11 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
     both = same_prev & same_next & adj[prev_k]
     rest, where, both = rest[has], where[has], both[has]
     src = good[where]
-    PL = np.ascontiguousarray(P.transpose(1, 2, 0)) if one and rest.size else None  # :func:`_horner`'s table
+    if one and len(P) and rest.size:
+        # columns no polynomial moves (pinned coordinates) keep the anchors' common value
+        moving = np.any(P[:, 1:] != 0, axis=(0, 1))
+        fixed = P[0, 0, ~moving]
+        PL = np.ascontiguousarray(P[:, :, moving].transpose(1, 2, 0))  # :func:`_horner`'s table
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
         at = slice(i[0], i[-1] + 1) if i[-1] - i[0] + 1 == i.size else i  # i, as a slice when it is a run
@@ -523,7 +527,8 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
             if b.any():
                 kb = k[b]
                 h = U[good[kb + 1], 0] - U[good[kb], 0]
-                qp[b] = _horner(PL, kb, du[b, 0] / h)
+                qp[:, ~moving] = fixed
+                qp[slice(None) if b.all() else np.flatnonzero(b)[:, None], moving] = _horner(PL, kb, du[b, 0] / h)
             if not b.all():
                 k, s1, d1 = k[~b], s_[~b], du[~b]
                 qp[~b] = q[s1] + QU[k] * d1 + 0.5 * QUU[k] * d1**2
@@ -691,7 +696,6 @@ def _step(br, q, U, Ud, Udd):
     if br.compiled is not None:
         return br.compiled.final(br.m, br.p, q, U, Ud, Udd, br.rates)
     m, p = br.m, br.p
-    q = q.copy()
     with np.errstate(all="ignore"):
         Phi, full, Jv = p.evaluate(q, U)
         lu = p.factor(Jv)
@@ -699,8 +703,14 @@ def _step(br, q, U, Ud, Udd):
         res = np.max(np.abs(Phi * m.row_scale[p.rows]), axis=1)  # rows outside the plan read 0
         dq_p = np.abs(dq[:, p.cols] / m.col_scale[p.cols])
         step = np.max(dq_p, axis=1)
-        off = np.max(np.where(np.isfinite(dq_p), dq_p, 0.0), axis=1)
-        q -= np.where(np.isfinite(dq), dq, 0.0)
+        # where the step is finite so is every component of the correction (the columns
+        # outside the plan read 0): only the others need masking
+        bad = np.flatnonzero(~np.isfinite(step))
+        off = step.copy()
+        if bad.size:
+            off[bad] = np.max(np.where(np.isfinite(dq_p[bad]), dq_p[bad], 0.0), axis=1)
+            dq[bad] = np.where(np.isfinite(dq[bad]), dq[bad], 0.0)
+        q = q - dq
     if br.rates:
         qd, qdd = _rates(p, lu, q, U, Ud, Udd)
     else:  # positions only: no velocity and acceleration solves, no rate arrays (read-only NaN)
