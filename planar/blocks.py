@@ -26,7 +26,7 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import maximum_bipartite_matching
 
-from planar.elimination import CONST, VAR, ZERO, Program, block_program
+from planar.elimination import CONST, VAR, ZERO, Program
 from planar.errors import MobilityError
 
 
@@ -77,7 +77,7 @@ def _stages(blocks, n, zero, col_scale, kinds, values):
         levels.append(lv)
         for c in blk.cols:
             level_of_col[int(c)] = lv
-    programs = [block_program(blk, kinds, values, col_scale[blk.up]) for blk in blocks]
+    programs = [Program.of_block(blk, kinds, values, col_scale[blk.up]) for blk in blocks]
     groups = {}
     for k, (blk, lv) in enumerate(zip(blocks, levels)):
         groups.setdefault((lv, blk.size, programs[k].signature()), []).append(k)
@@ -93,7 +93,7 @@ def _stages(blocks, n, zero, col_scale, kinds, values):
         stages.append(Stage(np.array([blocks[k].eqs for k in ks]), np.array([blocks[k].cols for k in ks]),
                             np.array([blocks[k].diag for k in ks]), up, coup.reshape(len(ks), b * w),
                             np.array([blocks[k].rscale for k in ks]), np.array([blocks[k].cscale for k in ks]),
-                            np.array(ks), Program.stack([programs[k] for k in ks], coup, kinds, values, zero)))
+                            np.array(ks), Program.stack([programs[k] for k in ks], coup, kinds, values)))
     return tuple(stages)
 
 
