@@ -3,7 +3,7 @@ loop of machine code generated for the plan.
 
 The numpy path evaluates, factors and solves a whole batch of configurations per numpy call;
 its floor is the calls' passes over memory. Here the same plan (the block-triangular form of
-:mod:`planar.blocks`, with the same scaling, pivoting and singularity measure) runs one
+:mod:`planar.blocks`, with the same scaling and singularity measure) runs one
 configuration at a time through the scalar joint kernels of :mod:`planar.joints.scalar`. The
 loop is *generated* per plan structure: which kernel each joint calls, which bodies it reads,
 where each Jacobian entry goes and every block's size and couplings are literals of its source,
@@ -22,8 +22,10 @@ The generated module is written to a cache directory (``PLANAR_CACHE_DIR``, else
 its machine code beside it: the first sweep of a new structure compiles (10-40 s), later ones
 and later processes load it (a fraction of a second). Results agree with the numpy path to
 rounding (the same operations per step, but for a bulk value's cos and sin, taken from its
-anchor's by angle addition; the numpy path takes a value's further Newton steps in its general
-solver; the tests compare the two on every joint type and on random linkages).
+anchor's by angle addition, and the blocks' LU: here each block is factored whole with partial
+pivoting, where the numpy path eliminates its constant columns first, :mod:`planar.elimination`,
+the same LU with the columns reordered; the numpy path takes a value's further Newton steps in
+its general solver; the tests compare the two on every joint type and on random linkages).
 """
 
 import functools
@@ -218,8 +220,8 @@ def _mx(a, b):
 @_inline
 def _lu(A, perm, k, ang, dets, b):
     """LU with partial pivoting of a scaled k x k block and its normalised det, as
-    planar.blocks._lu: |det| over the product of the row norms, x and y columns weighted by the
-    block's largest lever arm lam, capped by lam."""
+    planar.elimination.Program.factor's: |det| over the product of the row norms, x and y
+    columns weighted by the block's largest lever arm lam, capped by lam."""
     lam, any_angle, lengths = 0.0, False, 0
     for j in range(k):
         if ang[j]:
