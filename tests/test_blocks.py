@@ -16,15 +16,20 @@ def test_loops_become_blocks_and_outputs_prune_them():
     assert 3 * model.body_id("link5") - 1 not in first.cols
 
 
+def _factored(m, rng, N):
+    """(model, plan, q, u, Phi, Jv, factors) at N poses near the sketch of mechanism m."""
+    model = m.compile()
+    p = plan(model)
+    q = model.q0[None] + 1e-2 * rng.normal(size=(N, model.n))
+    u = np.repeat(model.u0[None], N, 0)
+    Phi, _, Jv = p.evaluate(q, u)
+    return model, p, q, u, Phi, Jv, p.factor(Jv)
+
+
 def test_block_solve_and_dets_match_the_dense_system():
     rng = np.random.default_rng(3)
     for m in (four_bar(4, 2, 3, 4), watt_six_bar(), geared_five_bar()):
-        model = m.compile()
-        p = plan(model)
-        q = model.q0[None] + 1e-2 * rng.normal(size=(5, model.n))
-        u = np.repeat(model.u0[None], 5, 0)
-        Phi, _, Jv = p.evaluate(q, u)
-        lu = p.factor(Jv)
+        model, p, q, u, Phi, Jv, lu = _factored(m, rng, 5)
         x = lu.solve(Phi)
         Pd, J = model.system.evaluate(q, u)
         A = J[:, model.active_rows]
@@ -67,12 +72,7 @@ def test_the_structured_lu_gives_the_dense_blocks_dets_and_solves():
     rng = np.random.default_rng(5)
     for m in (four_bar(4, 2, 3, 4), slider_crank(2, 5, offset=1), inverted_slider_crank(), stephenson_six_bar(),
               geared_five_bar(), rack_and_pinion(), rolling_wheel(), planetary_gear_train()):
-        model = m.compile()
-        p = plan(model)
-        q = model.q0[None] + 1e-2 * rng.normal(size=(7, model.n))
-        u = np.repeat(model.u0[None], 7, 0)
-        Phi, _, Jv = p.evaluate(q, u)
-        lu = p.factor(Jv)
+        model, p, q, u, Phi, Jv, lu = _factored(m, rng, 7)
         np.testing.assert_allclose(lu.dets, _dense_dets(p, model, Jv), rtol=1e-12, atol=1e-15, err_msg=model.name)
         b = rng.normal(size=Phi.shape)
         Pd, J = model.system.evaluate(q, u)
