@@ -221,11 +221,16 @@ class Program:
 
 
 def _norm_terms(F, coup, angle, nv):
-    """The normalisation of the det (as the dense factorisation had it): per row, the sum of
-    its squared entries, x and y columns weighted by the block's largest lever arm lam (its
-    largest angle-column entry, capped at 1); a 1x1 block's row also counts its coupling
-    entries and has no weighting. Returns (c0, c1, M0, M1) and (constant part of lam, its
-    variables, any angle column, the number of length columns)."""
+    """The normalisation of the det: |det| over the product of the row norms (Hadamard's
+    ratio) with the block's own length scale, x and y columns weighted by its largest lever arm
+    lam (its largest angle-column entry, relative to the model's length L, capped at 1), so one
+    loop of a long chain does not look singular; and the ratio at most lam itself, so a block
+    whose lever arms are all negligible against L (its angles fixed only to eps L / lever)
+    still reads near-singular. A 1x1 block's row counts its coupling entries too, unweighted:
+    the block is singular where the row no longer depends on the coordinate it computes.
+    Returns per row the constant parts and indicators of the squared entries, unweighted and
+    weighted, (c0, c1, M0, M1), and (constant part of lam, its variables, any angle column,
+    the number of length columns)."""
     k = len(F)
     weighted = k > 1
     c, M = np.zeros((2, k)), np.zeros((2, k, nv))
