@@ -54,13 +54,18 @@ class Block:
 
 
 @dataclass(frozen=True, eq=False)
-class Stage(Block):
+class Stage:
     """G blocks of the same size b and structure whose upstream columns are all solved by
-    earlier stages, solved in one stacked operation: the :class:`Block` fields with a leading
-    G axis (``up`` padded with the always-zero column n, ``coup`` with the structural zero),
-    ``index`` (G,), the blocks' positions in the plan, and their elimination ``program``
-    (:class:`planar.elimination.Program`)."""
+    earlier stages, solved in one stacked operation: the :class:`Block` fields the solve reads
+    with a leading G axis (``up`` padded with the always-zero column n), ``index`` (G,), the
+    blocks' positions in the plan, and their elimination ``program``
+    (:class:`planar.elimination.Program`, which holds their value slots)."""
 
+    eqs: np.ndarray
+    cols: np.ndarray
+    up: np.ndarray
+    rscale: np.ndarray
+    cscale: np.ndarray
     index: np.ndarray
     program: Program
 
@@ -90,8 +95,7 @@ def _stages(blocks, n, zero, col_scale, kinds, values):
             blk = blocks[k]
             up[g, : blk.up.size] = blk.up
             coup[g, :, : blk.up.size] = blk.coup.reshape(b, blk.up.size)
-        stages.append(Stage(np.array([blocks[k].eqs for k in ks]), np.array([blocks[k].cols for k in ks]),
-                            np.array([blocks[k].diag for k in ks]), up, coup.reshape(len(ks), b * w),
+        stages.append(Stage(np.array([blocks[k].eqs for k in ks]), np.array([blocks[k].cols for k in ks]), up,
                             np.array([blocks[k].rscale for k in ks]), np.array([blocks[k].cscale for k in ks]),
                             np.array(ks), Program.stack([programs[k] for k in ks], coup, kinds, values)))
     return tuple(stages)
