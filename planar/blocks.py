@@ -119,14 +119,16 @@ class Plan:
     stages: tuple
 
     def evaluate(self, q, u):
-        """Phi of the kept rows (N, len(rows)), all rows (N, m) and the Jacobian values."""
-        Phi, Jv = self.system.values(q, u)
+        """Phi of the kept rows (N, len(rows)), all rows (N, m) and the Jacobian values that
+        vary (the kernels' constant entries are left unset: the programs hold them)."""
+        Phi, Jv = self.system.values(q, u, constants=False)
         return Phi[:, self.rows], Phi, Jv
 
-    def factor(self, Jv):
+    def factor(self, Jv, dets=True):
         """The LU factors of every diagonal block at the poses of ``Jv``: a :class:`Factors`
-        that solves, and gives the assembly modes, with no further factorisation."""
-        return Factors(self, Jv)
+        that solves, and gives the assembly modes, with no further factorisation (without
+        ``dets``, only solves: a Newton iteration)."""
+        return Factors(self, Jv, dets)
 
 
 class Factors:
@@ -140,14 +142,19 @@ class Factors:
     of the blocks' dets (the assembly mode; int8, 0 where a det is 0 or not finite) and
     ``sing`` (N,) the smallest normalised |det| (|det| of a block over the product of its row
     norms, its x and y columns weighted by its largest lever arm, in [0, 1]; 0 at a singular
-    position). A singular block gives non-finite solutions, never an exception.
+    position). A singular block gives non-finite solutions, never an exception. Without
+    ``dets`` the three are None.
     """
 
-    def __init__(self, plan, Jv):
+    def __init__(self, plan, Jv, dets=True):
         self.p, self.N = plan, Jv.shape[1]
         self.lu = []
-        dets = np.ones((len(plan.blocks), self.N))
         with np.errstate(all="ignore"):
+            if not dets:
+                self.lu = [st.program.factor(Jv, False)[0] for st in plan.stages]
+                self.dets = self.signs = self.sing = None
+                return
+            dets = np.ones((len(plan.blocks), self.N))
             for st in plan.stages:
                 fac, dets[st.index] = st.program.factor(Jv)
                 self.lu.append(fac)

@@ -160,27 +160,46 @@ class Program:
         return cls(P.k, P.steps, P.rows, P.cols, P.forms, P.form0, P.det0, P.c0, P.c1, P.M0, P.M1, P.lam, var,
                    vscale, tuple(terms))
 
-    def factor(self, Jv):
+    def factor(self, Jv, dets=True):
         """(factors, normalised det (G, N)) at the poses of the Jacobian values ``Jv``: the
         det over the product of the row norms (a 1x1 block's row with its coupling entries;
         larger blocks weight their x and y columns by lam), capped by lam; 0 where the norms
-        are. A block of constants is factored once (its det broadcasts over the poses)."""
-        A, perm, E, det = self._constant if self.var.shape[0] == 0 else self._factor(Jv[self.var] * self.vscale)
+        are (None without ``dets``: a Newton iteration only solves). A block of constants is
+        factored once (its det broadcasts over the poses)."""
+        if self.var.shape[0] == 0:
+            A, perm, E, det = self._constant
+        else:
+            A, perm, E, det = self._factor(Jv[self.var] * self.vscale, dets)
         C = [None if c is not None else Jv[slots] for _, _, c, slots in self.coup]
         return (A, perm, E, C), det
+
+    @cached_property
+    def _rows(self):
+        return np.array(self.rows)
+
+    @cached_property
+    def _cols(self):
+        return np.array(self.cols)
+
+    @cached_property
+    def _weighted(self):
+        """Whether any row norm has weighted (x and y column) terms."""
+        return bool(self.M1.any() or self.c1.any())
 
     @cached_property
     def _constant(self):
         return self._factor(np.zeros((0,) + self.var.shape[1:] + (1,)))
 
-    def _factor(self, v):
-        """(LU factors and permutation of the Schur complement, the forms' values, det) from
-        the variables' scaled values ``v`` (nv, G, N)."""
+    def _factor(self, v, dets=True):
+        """(LU factors and permutation of the Schur complement, the forms' values, det or
+        None) from the variables' scaled values ``v`` (nv, G, N)."""
         shape = v.shape[1:]
-        flat = v.reshape(v.shape[0], int(np.prod(shape)))
+        flat = v.reshape(v.shape[0], shape[0] * shape[1])
         E = (self.forms @ flat + self.form0[:, None]).reshape((-1,) + shape)
         r = len(self.rows)
-        S = E[: r * r].reshape((r, r) + shape).copy()
+        A, perm, det = _dense_lu(E[: r * r].reshape((r, r) + shape).copy())
+        if not dets:
+            return A, perm, E, None
         sq = flat * flat
         lam_c, lam_v, any_angle, lengths = self.lam
         if not any_angle:
@@ -189,15 +208,14 @@ class Program:
             lam = np.abs(v[lam_v]).max(axis=0) if lam_v else np.full(shape, lam_c)
             lam = np.minimum(np.maximum(lam, lam_c), 1.0)
         rows = self.M0 @ sq + self.c0[:, None]
-        if self.M1.any() or self.c1.any():
+        if self._weighted:
             rows = rows + (self.M1 @ sq + self.c1[:, None]) * np.reshape(lam, (1, -1)) ** 2
         norms = np.sqrt(np.prod(rows, axis=0)).reshape(shape)
         if lengths:
             norms = norms / lam**lengths
-        A, perm, det = _dense_lu(S)
         det = self.det0 * det
         nd = np.where(norms > 0, det / norms, 0.0)
-        return A, perm, E, np.sign(nd) * np.minimum(np.abs(nd), lam)
+        return A, perm, E, np.clip(nd, -lam, lam)
 
     def solve(self, fac, rhs, xu, rscale):
         """x (k, G, N) of the stage's blocks for right-hand sides ``rhs`` (k, G, N) (a copy: it
@@ -211,7 +229,7 @@ class Program:
                 rhs[i] -= m * rhs[p]
         x = np.empty(rhs.shape)
         if self.rows:
-            x[list(self.cols)] = _lu_solve(A, perm, rhs[list(self.rows)])
+            x[self._cols] = _lu_solve(A, perm, rhs[self._rows])
         for p, c, d, mults, us in reversed(self.steps):
             t = rhs[p]
             for j, f in us:
@@ -255,18 +273,24 @@ def _dense_lu(A):
     """In-place LU with partial pivoting of (k, k, G, N) blocks: (factors, row permutation
     (k, G, N) or None, det (G, N); 1 for k = 0)."""
     k = A.shape[0]
-    perm = None
-    sign = np.ones(A.shape[2:])
+    perm = sign = None
     for j in range(k - 1):
         # the row swaps as masked copies: whole-array passes, where gathers at the swapped
-        # poses walk the few rows pose by pose
-        piv = np.argmax(np.abs(A[j:, j]), axis=0)  # (G, N), relative to j
+        # poses walk the few rows pose by pose; the pivot row (relative to j) the first of the
+        # largest, by comparisons (argmax over the short leading axis costs ~10x more)
+        best, piv = np.abs(A[j, j]), np.zeros(A.shape[2:], np.intp)
+        for r in range(1, k - j):
+            a = np.abs(A[j + r, j])
+            larger = a > best
+            piv[larger] = r
+            best = np.where(larger, a, best)
         for r in range(1, k - j):
             swap = piv == r
             if not swap.any():
                 continue
             if perm is None:
                 perm = np.broadcast_to(np.arange(k)[:, None, None], A.shape[1:]).copy()
+                sign = np.ones(A.shape[2:])
             top = A[j].copy()
             np.copyto(A[j], A[j + r], where=swap)
             np.copyto(A[j + r], top, where=swap)
@@ -277,7 +301,10 @@ def _dense_lu(A):
         l = A[j + 1 :, j] / A[j, j]
         A[j + 1 :, j] = l
         A[j + 1 :, j + 1 :] -= l[:, None] * A[j, j + 1 :][None]
-    return A, perm, sign * np.prod(A[np.arange(k), np.arange(k)], axis=0)
+    det = np.ones(A.shape[2:]) if k == 0 else A[0, 0].copy()
+    for i in range(1, k):
+        det *= A[i, i]
+    return A, perm, det if sign is None else sign * det
 
 
 def _lu_solve(A, perm, b):

@@ -54,7 +54,7 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None
                 break
             Phi, _, Jv = p.evaluate(q[idx], u[idx])
             res[idx] = np.max(np.abs(Phi * rs), axis=1)
-            dq = p.factor(Jv).solve(Phi)
+            dq = p.factor(Jv, dets=False).solve(Phi)
             step = np.max(np.abs(dq[:, p.cols] / cs), axis=1)
             if max_step is not None:
                 dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]

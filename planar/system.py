@@ -122,11 +122,12 @@ class System:
             at = out[-1][1]
         return out
 
-    def values(self, q, u=None):
+    def values(self, q, u=None, constants=True):
         """Phi (N, m) and the Jacobian as its non-zero pattern: (nnz + 1, N) values, entry first
         in the order of :attr:`entries` (so that the block solves read contiguous rows over the
         configurations), then a row of zeros (the slot of every structurally absent entry).
-        The kernels write their blocks straight into it."""
+        The kernels write their blocks straight into it; with ``constants=False`` the entries
+        each class has the same at every pose are left unset (see :mod:`planar.joints.base`)."""
         N = q.shape[0]
         Phi = self._rows(N)
         Jv = np.empty((self.entries[0].size + 1, N))
@@ -135,7 +136,8 @@ class System:
         for sl in _chunks(N):
             full = self._full(q[sl])
             for g, block in zip(self.groups, blocks):
-                Phi[g.rows.T, sl], _ = g.kind.Phi_and_Phi_q(g.params(u, sl), g.frames(full), block[..., sl])
+                Phi[g.rows.T, sl], _ = g.kind.Phi_and_Phi_q(g.params(u, sl), g.frames(full), block[..., sl],
+                                                             constants)
         return Phi.T, Jv
 
     def restrict(self, rows):

@@ -17,13 +17,14 @@ def test_loops_become_blocks_and_outputs_prune_them():
 
 
 def _factored(m, rng, N):
-    """(model, plan, q, u, Phi, Jv, factors) at N poses near the sketch of mechanism m."""
+    """(model, plan, q, u, Phi, Jv, factors) at N poses near the sketch of mechanism m: Jv
+    every Jacobian value, the factors from the plan's own evaluation (its variable values)."""
     model = m.compile()
     p = plan(model)
     q = model.q0[None] + 1e-2 * rng.normal(size=(N, model.n))
     u = np.repeat(model.u0[None], N, 0)
     Phi, _, Jv = p.evaluate(q, u)
-    return model, p, q, u, Phi, Jv, p.factor(Jv)
+    return model, p, q, u, Phi, p.system.values(q, u)[1], p.factor(Jv)
 
 
 def test_block_solve_and_dets_match_the_dense_system():

@@ -113,6 +113,29 @@ def test_combined_kernel_equals_the_two_kernels(cls):
 
 
 @pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
+def test_the_entries_a_kernel_may_skip_are_the_same_for_every_joint_and_pose(cls):
+    """With constants=False a kernel writes every entry but those its class has the same at
+    every pose and for every joint (the block solves take those from the plan)."""
+    rng = np.random.default_rng(12)
+    skipped, seen = None, []
+    for _ in range(3):  # new joints (parameters) and poses each time
+        P = group(cls, rng)
+        F = frames(rng.uniform(-2, 2, (3, cls.n_bodies, K, N)))
+        out = np.full((cls.n_rows, 3 * cls.n_bodies, K, N), np.nan)
+        Phi, J = cls.Phi_and_Phi_q(P, F, out, constants=False)
+        np.testing.assert_allclose(Phi, cls.Phi(P, F), rtol=0, atol=1e-15)
+        full = cls.Phi_q(P, F)
+        mask = np.isnan(J)
+        assert skipped is None or np.array_equal(mask, skipped)
+        skipped = mask
+        np.testing.assert_allclose(J[~mask], full[~mask], rtol=0, atol=1e-15)
+        assert np.all((full == full[..., :1, :1])[mask])  # the same for every joint and pose
+        seen.append(full[mask])
+    assert all(np.array_equal(s, seen[0]) for s in seen)  # and for other parameters
+    assert skipped.any() == (cls.__name__ in ("Revolute", "Prismatic", "AngleDriver"))
+
+
+@pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
 def test_scalar_kernels_equal_the_numpy_kernels(cls):
     """The compiled path's kernels (planar/joints/scalar.py: one joint at one configuration)
     give the numpy kernels' rows, Jacobian blocks and gamma, joint by joint."""

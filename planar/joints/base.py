@@ -7,13 +7,17 @@ last* (structure of arrays), so that every numpy operation runs over whole rows 
 configurations, never an inner loop over the 2 components of a vector or a few joints:
 
 - ``Phi(P, F)``            -> (n_rows, K, ...)              residual rows
-- ``Phi_q(P, F, out=None)`` -> (n_rows, 3*n_bodies, K, ...)  Jacobian blocks, (x, y, phi) per
-  body slot; written into ``out`` (every entry of it) when given, so that the system writes
-  the blocks straight into its array of Jacobian values
+- ``Phi_q(P, F, out=None, constants=True)`` -> (n_rows, 3*n_bodies, K, ...)  Jacobian blocks,
+  (x, y, phi) per body slot; written into ``out`` (every entry of it) when given, so that the
+  system writes the blocks straight into its array of Jacobian values. With
+  ``constants=False`` a kernel may leave unwritten the entries that are the same numbers for
+  every joint of its class at every pose (a revolute's +-1 and 0 on the x and y columns, a
+  locked angle's row): the caller holds their values (the block solves take constants from
+  the plan, :mod:`planar.elimination`), and these are ~2/3 of a revolute's entries
 - ``gamma(P, F)``          -> (n_rows, K, ...)              acceleration right-hand side,
   ``Phi_q qdd = gamma``, i.e. minus the part of the second time derivative free of qdd.
 
-``Phi_and_Phi_q(P, F, out=None)`` returns both of the first two; a class implements either it
+``Phi_and_Phi_q(P, F, out=None, constants=True)`` returns both of the first two; a class implements either it
 or ``Phi_q`` and the base class derives the other.
 
 ``F`` is a :class:`planar.geometry.Frames` of the bodies' poses and rates (slot axis before
@@ -61,14 +65,14 @@ class Joint:
         raise NotImplementedError
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F, out=None):
+    def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
         """(Phi, Phi_q) in one call. A class implements this or :meth:`Phi_q` (the other
         follows): this when the two share their world vectors."""
-        return cls.Phi(P, F), cls.Phi_q(P, F, out)
+        return cls.Phi(P, F), cls.Phi_q(P, F, out, constants)
 
     @classmethod
-    def Phi_q(cls, P, F, out=None):
-        return cls.Phi_and_Phi_q(P, F, out)[1]
+    def Phi_q(cls, P, F, out=None, constants=True):
+        return cls.Phi_and_Phi_q(P, F, out, constants)[1]
 
     @classmethod
     def block(cls, F, out=None):
@@ -149,10 +153,12 @@ def pair_rates(F, S):
     return V[:, 1] - V[:, 0], Sw2[:, 0] - Sw2[:, 1]
 
 
-def pair_blocks(S, out):
-    """Write the Jacobian (2, 6, K, ...) of d = P_b - P_a w.r.t. (x, y, phi) of slots a, b."""
-    out[:, 0:2] = _PAIR_R
-    np.negative(_PAIR_R, out=out[:, 3:5])
+def pair_blocks(S, out, constants=True):
+    """Write the Jacobian (2, 6, K, ...) of d = P_b - P_a w.r.t. (x, y, phi) of slots a, b
+    (with ``constants=False`` only the angle columns: the x and y columns are -I and I)."""
+    if constants:
+        out[:, 0:2] = _PAIR_R
+        np.negative(_PAIR_R, out=out[:, 3:5])
     np.multiply(S[::-1], _PAIR_PHI, out=out[:, 2::3])
     return out
 

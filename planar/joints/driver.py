@@ -27,9 +27,10 @@ class AngleDriver(Joint):
         return F.phi[1] - F.phi[0] - P["c"]
 
     @classmethod
-    def Phi_q(cls, P, F, out=None):
+    def Phi_q(cls, P, F, out=None, constants=True):
         out = cls.block(F, out)
-        out[0] = _LOCK
+        if constants:
+            out[0] = _LOCK
         return out
 
     @staticmethod
@@ -52,7 +53,7 @@ class TravelDriver(Joint):
         return _line(P, F).t - P["c"]
 
     @classmethod
-    def Phi_q(cls, P, F, out=None):
+    def Phi_q(cls, P, F, out=None, constants=True):
         out = cls.block(F, out)
         _line(P, F).t_grad(out[0])
         return out
@@ -80,7 +81,7 @@ class CoordinateDriver(Joint):
         return dot_cf(p, P["e"]) - P["c"]
 
     @classmethod
-    def Phi_q(cls, P, F, out=None):
+    def Phi_q(cls, P, F, out=None, constants=True):
         out = cls.block(F, out)
         out[0, 0:2] = P["e"]
         # e.perp(S) = S x e

@@ -32,7 +32,7 @@ class CarrierGear(Joint):
         return Ri * (F.phi[0] - pa) + Rj * (F.phi[1] - pa) - P["c"]
 
     @classmethod
-    def Phi_q(cls, P, F, out=None):
+    def Phi_q(cls, P, F, out=None, constants=True):
         out = cls.block(F, out)
         Ri, Rj = P["R"]
         out[0] = 0.0
@@ -109,7 +109,7 @@ class Gear(Joint):
         return _rolling(P, F)["Phi"][None]
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F, out=None):
+    def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
         r, out = _rolling(P, F), cls.block(F, out)
         _rolling_grad(r, P, out[0])
         return r["Phi"][None], out
@@ -144,7 +144,7 @@ class RollingContact(Gear):
         return np.stack(((r["L2"] - D**2) / (2 * D) - P["c"][0], r["Phi"]))
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F, out=None):
+    def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
         r, out = _rolling(P, F), cls.block(F, out)
         D = RollingContact._D(P)
         d = r["d"]

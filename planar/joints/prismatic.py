@@ -39,7 +39,7 @@ class Slot(Joint):
         return _line(P, F).h - P["c"]
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F, out=None):
+    def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
         ln, out = _line(P, F), cls.block(F, out)
         ln.h_grad(out[0])
         return ln.h - P["c"], out
@@ -73,10 +73,11 @@ class Prismatic(Slot):
         return np.stack((_line(P, F).h, F.phi[1] - F.phi[0])) - P["c"]
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F, out=None):
+    def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
         ln, out = _line(P, F), cls.block(F, out)
         ln.h_grad(out[0])
-        out[1] = _LOCK
+        if constants:
+            out[1] = _LOCK
         return np.stack((ln.h, F.phi[1] - F.phi[0])) - P["c"], out
 
     @staticmethod

@@ -37,7 +37,7 @@ class RackPinion(Joint):
         return np.stack((ln.h, ln.t + P["sR"] * (F.phi[1] - F.phi[0]))) - P["c"]
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F, out=None):
+    def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
         ln, out = _line(P, F), cls.block(F, out)
         ln.h_grad(out[0])
         ln.t_grad(out[1])

@@ -27,13 +27,13 @@ class Revolute(Joint):
         return d - P["c"]
 
     @classmethod
-    def Phi_q(cls, P, F, out=None):
-        return pair_blocks(F.vecs(P["s"]), cls.block(F, out))
+    def Phi_q(cls, P, F, out=None, constants=True):
+        return pair_blocks(F.vecs(P["s"]), cls.block(F, out), constants)
 
     @classmethod
-    def Phi_and_Phi_q(cls, P, F, out=None):
+    def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
         d, S = point_pair(F, P["s"])
-        return d - P["c"], pair_blocks(S, cls.block(F, out))
+        return d - P["c"], pair_blocks(S, cls.block(F, out), constants)
 
     @staticmethod
     def gamma(P, F):
