@@ -116,9 +116,11 @@ class _Branch:
         c = self.p.cols
         if off is None:
             off = np.max(np.abs((q - q_pred)[:, c] / self.cs), axis=1)
-        # the modes agree where the signs differ nowhere (a NaN sign differs): a product with
-        # ones, not a reduction over rows of a few blocks
-        ok = conv & (np.abs(signs - signs_ref) @ np.ones(signs.shape[1]) == 0)
+        # the modes agree where the signs differ nowhere (a NaN det's 0 differs): block by
+        # block, whole columns of poses (a reduction over rows of a few blocks costs ~2x more)
+        ok = conv.copy()
+        for j in range(signs.shape[1]):
+            ok &= signs[:, j] == signs_ref[:, j]
         far = np.flatnonzero(ok & ~(off <= 1e-9))
         if far.size:
             move = np.max(np.abs((q_pred[far] - origin(far))[:, c] / self.cs), axis=1)
@@ -520,7 +522,8 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
         at = slice(i[0], i[-1] + 1) if i[-1] - i[0] + 1 == i.size else i  # i, as a slice when it is a run
-        du = U[at] - U[s_]
+        # (np.take gathers rows of a few values ~4x faster than indexing does)
+        du = U[at] - np.take(U, s_, axis=0)
         if one:
             k, b = where[a : a + CHUNK], both[a : a + CHUNK]
             qp = np.empty((i.size, n))
@@ -535,7 +538,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         else:
             qp, _ = br.predict(q[s_], U[s_], du)
         r = _final(br, qp, U[at], Ud[at], Udd[at])
-        ok = br.accept(r["q"], qp, lambda k: q[s_[k]], r["conv"], r["signs"], signs[s_], r["off"])
+        ok = br.accept(r["q"], qp, lambda k: q[s_[k]], r["conv"], r["signs"], np.take(signs, s_, axis=0), r["off"])
         if ok.all():
             ok, put = slice(None), at
         else:
@@ -596,14 +599,17 @@ def _quintic(Q, D, DD, h):
 
 
 def _horner(PL, k, t):
-    """(M, n) the polynomials of intervals k (M,) of :func:`_quintic`'s table, transposed to
-    PL (6, n, K - 1), at t (M,), highest power first (the compiled engine's loop evaluates
-    them in the same order). One coefficient gathered at a time, poses last: gathering whole
-    (M, 6, n) rows and broadcasting t over rows of n made this cost ~4x more."""
-    q = np.take(PL[5], k, axis=1)
+    """(M, n) the polynomials of intervals k (M,, non-decreasing) of :func:`_quintic`'s
+    table, transposed to PL (6, n, K - 1), at t (M,), highest power first (the compiled
+    engine's loop evaluates them in the same order). One coefficient at a time, poses last,
+    each interval's repeated over its run of values (a repeat costs ~1/3 of a gather; gathering
+    whole (M, 6, n) rows and broadcasting t over rows of n cost ~4x more than gathers)."""
+    runs = np.bincount(k - k[0])
+    at = slice(k[0], k[0] + runs.size)
+    q = np.repeat(PL[5][:, at], runs, axis=1)
     for j in range(4, -1, -1):
         q *= t
-        q += np.take(PL[j], k, axis=1)
+        q += np.repeat(PL[j][:, at], runs, axis=1)
     return q.T
 
 
