@@ -116,7 +116,7 @@ class _Branch:
         c = self.p.cols
         if off is None:
             off = np.max(np.abs((q - q_pred)[:, c] / self.cs), axis=1)
-        # the modes agree where the signs differ nowhere (a NaN det's 0 differs): block by
+        # the modes agree where the signs differ nowhere (a NaN det reads 0: it differs): block by
         # block, whole columns of poses (a reduction over rows of a few blocks costs ~2x more)
         ok = conv.copy()
         for j in range(signs.shape[1]):

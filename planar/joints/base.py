@@ -17,8 +17,8 @@ configurations, never an inner loop over the 2 components of a vector or a few j
 - ``gamma(P, F)``          -> (n_rows, K, ...)              acceleration right-hand side,
   ``Phi_q qdd = gamma``, i.e. minus the part of the second time derivative free of qdd.
 
-``Phi_and_Phi_q(P, F, out=None, constants=True)`` returns both of the first two; a class implements either it
-or ``Phi_q`` and the base class derives the other.
+``Phi_and_Phi_q(P, F, out=None, constants=True)`` returns both of the first two; a class
+implements either it or ``Phi_q`` and the base class derives the other.
 
 ``F`` is a :class:`planar.geometry.Frames` of the bodies' poses and rates (slot axis before
 K). ``P`` holds the group's parameters as :func:`kernel_params` lays them out: a parameter
