@@ -3,8 +3,8 @@
 1. Anchors: a predictor-corrector walk from the assembled sketch through the input values in
    order, in steps no longer than ``max_step`` (scaled input units). Anchors are tried in
    batched waves (each solved from the Taylor predictor at the wave's start, then checked as
-   one walk step from the anchor before it); where a wave stops, the walk goes step by step,
-   halving a step whose solution changes assembly mode (the sign of a block det) or lands far
+   one walk step from the anchor before it; one that stops part way is followed by a new wave
+   from its last anchor); where a wave accepts none, the walk goes step by step, halving a step whose solution changes assembly mode (the sign of a block det) or lands far
    from its predictor. Where that fails a singular position lies ahead:
    :func:`planar.events.cross` follows the branch by arclength, locates it and says what it is
    (a limit stops the branch; at a bifurcation the sweep goes on along the smooth branch, or
@@ -349,17 +349,26 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     state = (model.q0, model.u0, chosen)
     limits = []  # (limit event, direction of the input that hit it)
     anchors = _anchors(model, U, max_step)
+    kin = _Kin()  # the anchors' kinematic coefficients where known (one input)
+    coef = None  # those of the state, where known
     lo, k, wave = -1, 0, WAVE
     while k < anchors.size:
         idx = anchors[k : k + wave]
         stop = np.flatnonzero(_past_limit(limits, state[1][None], U[idx]) | _on_event(model, U[idx], events))
-        a, qa, sa = _wave(br, state, U, idx[: stop[0] if stop.size else idx.size])
+        tried = stop[0] if stop.size else idx.size
+        a, qa, ka = _wave(br, state, U, idx[:tried], coef)
         if a:
             q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
             state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
+            if ka is not None:
+                kin.add(idx[:a], *ka)
+                coef = ka[0][-1], ka[1][-1]
         wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
-        if k >= anchors.size or a == idx.size:
+        # a wave that stopped part way goes on as a new wave from its last anchor; the walk
+        # takes the anchor where one accepted none (or where an event was located)
+        if k >= anchors.size or a == idx.size or 0 < a < tried:
             continue
+        coef = None
         i = anchors[k]
         got = ("lost",) if _past_limit(limits, state[1][None], U[i][None])[0] else walk(state, i, lo)
         lo = i
@@ -395,7 +404,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     todo[list(at_event)] = False
     cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}), int)
     fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
-                cuts=cuts)
+                cuts=cuts, kin=kin)
     if U.shape[1] == 1:
         finer, _ = _walk_anchors(U, _scale(model), max_step / FINER)
         finer = finer[todo[finer]]
@@ -468,7 +477,7 @@ def _keep_freed_memory():
     np.empty(HEAP_KEEP, np.uint8)
 
 
-def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anchors, targets):
+def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, kin, anchors, targets):
     """Solve ``targets`` in batch from the solved anchors of their own stretch (no event in
     between): one input interpolates between two consecutive anchors (quintic Hermite in the
     kinematic coefficients), or extrapolates from the nearer one (second-order Taylor); the
@@ -477,11 +486,8 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
     one = U.shape[1] == 1
     good = anchors[solved[anchors]]
     rest = targets
-    if one and good.size:  # kinematic coefficients at the anchors, once; singular ones are no source
-        QU, QUU, sg = np.empty((good.size, n)), np.empty((good.size, n)), np.empty(good.size)
-        for a in range(0, good.size, CHUNK):
-            g = good[a : a + CHUNK]
-            QU[a : a + CHUNK], QUU[a : a + CHUNK], _, sg[a : a + CHUNK] = br.state(q[g], U[g], np.ones((g.size, 1)))
+    if one and good.size:  # kinematic coefficients at the anchors; singular ones are no source
+        QU, QUU, sg = kin.at(br, q, U, good)
         regular = sg >= NEAR
         good, QU, QUU = good[regular], QU[regular], QUU[regular]
     if not (good.size and rest.size):
@@ -548,33 +554,71 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, anc
         q[put], solved[put], signs[put], done[put] = r["q"][ok], True, r["signs"][ok], True
 
 
-def _wave(br, state, U, idx):
+def _wave(br, state, U, idx, coef=None):
     """Anchors ``idx`` solved in one batch from ``state`` (q, u, signs), each from the Taylor
     predictor at the state, then checked as the sequential walk checks a step: against the
-    predictor from the anchor before it, with the same modes. Returns (a, poses, signs) for
-    the accepted prefix idx[:a]: a batch of M costs about one sequential step."""
+    predictor from the anchor before it, with the same modes. Returns (a, poses, kin) for the
+    accepted prefix idx[:a]: a batch of M costs about one sequential step. One input: ``coef``
+    are the state's kinematic coefficients (q_u, q_uu) when known, and ``kin`` (q_u, q_uu,
+    singularity) those of the accepted anchors (the next wave's and the bulk's); else None."""
     if idx.size == 0:
         return 0, None, None
     q0, u0, s0 = state
     M, f = idx.size, U.shape[1]
     Ut = U[idx]
     with np.errstate(all="ignore"):  # a singular state reads non-finite rates: rejected below
-        if f == 1:  # the kinematic coefficients at the state, once
-            qu, quu, _, _ = br.state(q0[None], u0[None], np.ones((1, 1)))
+        if f == 1:
+            qu, quu = br.state(q0[None], u0[None], np.ones((1, 1)))[:2] if coef is None else coef
             du = Ut - u0
             q_pred = q0 + qu * du + 0.5 * quu * du**2
+            qn, conv, _, _ = br.solve(q_pred, Ut)
+            # one factorisation at the solutions gives their modes and kinematic coefficients:
+            # the walk's predictor from each to the next
+            QU, QUU, sn, sg = br.state(qn, Ut, np.ones((M, 1)))
+            h = Ut[1:] - Ut[:-1]
+            q_step = np.vstack((q_pred[:1], qn[:-1] + QU[:-1] * h + 0.5 * QUU[:-1] * h**2))
         else:
             q_pred, _ = br.predict(np.repeat(q0[None], M, 0), np.repeat(u0[None], M, 0), Ut - u0)
-        qn, conv, _, _ = br.solve(q_pred, Ut)
-        # one factorisation at the solutions gives their modes and the walk's predictor from
-        # each to the next
-        step = np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f))))
-        qd, qdd, sn, _ = br.state(qn, Ut, step)
-        q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
+            qn, conv, _, _ = br.solve(q_pred, Ut)
+            qd, qdd, sn, _ = br.state(qn, Ut, np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f)))))
+            q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
     q_from = np.vstack((q0[None], qn[:-1]))
     ok = br.accept(qn, q_step, lambda k: q_from[k], conv, sn, s0[None])
     a = M if ok.all() else int(np.argmin(ok))
-    return a, qn[:a], s0
+    return a, qn[:a], ((QU[:a], QUU[:a], sg[:a]) if f == 1 else None)
+
+
+class _Kin:
+    """The kinematic coefficients q_u, q_uu (and the singularity measure) of solved anchors of
+    a one-input sweep, kept where they were computed (the waves' acceptance tests, the finer
+    pass) so that each anchor's are computed once."""
+
+    def __init__(self):
+        self.idx, self.parts = [], []
+
+    def add(self, idx, QU, QUU, sg):
+        self.idx.append(idx)
+        self.parts.append((QU, QUU, sg))
+
+    def at(self, br, q, U, good):
+        """(QU, QUU, sg) at the anchors ``good`` (sorted): kept, or computed now (and kept)."""
+        n = q.shape[1]
+        QU, QUU, sg = np.empty((good.size, n)), np.empty((good.size, n)), np.empty(good.size)
+        have = np.zeros(good.size, bool)
+        if self.idx:
+            idx = np.concatenate(self.idx)
+            pos = np.minimum(np.searchsorted(good, idx), good.size - 1)
+            hit = good[pos] == idx
+            for out, part in zip((QU, QUU, sg), zip(*self.parts)):
+                out[pos[hit]] = np.concatenate(part)[hit]
+            have[pos[hit]] = True
+        miss = np.flatnonzero(~have)
+        for a in range(0, miss.size, CHUNK):
+            m = miss[a : a + CHUNK]
+            QU[m], QUU[m], _, sg[m] = br.state(q[good[m]], U[good[m]], np.ones((m.size, 1)))
+        if miss.size:
+            self.add(good[miss], QU[miss], QUU[miss], sg[miss])
+        return QU, QUU, sg
 
 
 def _quintic(Q, D, DD, h):
