@@ -86,17 +86,49 @@ class Frames:
 
     ``r`` is (2, nb, K, ...), ``phi``, ``c``, ``s`` are (nb, K, ...) with the configurations on
     the trailing axes; ``rd`` and ``phid`` the same shapes for the rates. Slot ``k`` of a joint
-    is its k-th body: ``r[:, k]`` is (2, K, ...).
+    is its k-th body: ``r[:, k]`` is (2, K, ...). :meth:`gather` makes them from the bodies'
+    rows, each field on first use.
     """
 
-    __slots__ = ("r", "phi", "c", "s", "rd", "phid")
+    # each field's rows in the bodies' array of :meth:`gather`
+    _ROWS = {"r": slice(0, 2), "phi": 2, "c": 3, "s": 4, "rd": slice(5, 7), "phid": 7}
 
     def __init__(self, r, phi, c, s, rd=None, phid=None):
         self.r, self.phi, self.c, self.s, self.rd, self.phid = r, phi, c, s, rd, phid
 
+    @classmethod
+    def gather(cls, full, slots):
+        """The frames of the bodies ``slots`` (nb, K) in ``full`` (5 or 8 rows x, y, phi, cos,
+        sin[, xd, yd, phid], bodies, ...). A field is gathered when a kernel first reads it:
+        a kernel reads few of them (a revolute's gamma only the angles' cos, sin and rates, a
+        driver of a constant's none), and each gather is a pass over the configurations.
+
+        >>> full = np.arange(5 * 3 * 2, dtype=float).reshape(5, 3, 2)  # no rates; 3 bodies, 2 poses
+        >>> F = Frames.gather(full, np.array([[0], [2]]))  # one joint, between bodies 0 and 2
+        >>> F.shape, F.r.shape, F.c[1].tolist(), F.rd
+        ((1, 2), (2, 2, 1, 2), [[22.0, 23.0]], None)
+        """
+        F = cls.__new__(cls)
+        F._full, F._slots = full, slots
+        return F
+
+    def __getattr__(self, name):  # (only for a field not gathered yet)
+        rows = Frames._ROWS.get(name)
+        full = self.__dict__.get("_full")
+        if rows is None or full is None:
+            raise AttributeError(name)
+        if isinstance(rows, slice):
+            v = full[rows][:, self._slots] if rows.stop <= len(full) else None
+        else:
+            v = full[rows, self._slots] if rows < len(full) else None
+        setattr(self, name, v)
+        return v
+
     @property
     def shape(self):
         """(K, ...): the joints and configurations of one row."""
+        if "_full" in self.__dict__:
+            return self._slots.shape[1:] + self._full.shape[2:]
         return self.phi.shape[1:]
 
     def vec(self, k, s_local):

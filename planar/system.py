@@ -47,8 +47,7 @@ class Group:
 
     def frames(self, full):
         """The group's :class:`Frames` from the bodies' (x, y, phi, cos, sin[, rates]) rows."""
-        G = full[:, self.slots]
-        return Frames(G[:2], G[2], G[3], G[4], *((G[5:7], G[7]) if len(G) > 5 else ()))
+        return Frames.gather(full, self.slots)
 
 
 # a body's rows in the full array: x, y, phi, cos phi, sin phi, and the rates xd, yd, phid
