@@ -221,7 +221,8 @@ def _mx(a, b):
 def _lu(A, perm, k, ang, dets, b):
     """LU with partial pivoting of a scaled k x k block and its normalised det, as
     planar.elimination.Program.factor's: |det| over the product of the row norms, x and y
-    columns weighted by the block's largest lever arm lam, capped by lam."""
+    columns weighted by the block's largest lever arm lam, capped by lam. U's diagonal is left
+    as its reciprocals, which _lu_solve multiplies by."""
     lam, any_angle, lengths = 0.0, False, 0
     for j in range(k):
         if ang[j]:
@@ -252,14 +253,16 @@ def _lu(A, perm, k, ang, dets, b):
                 A[j, col], A[piv, col] = A[piv, col], A[j, col]
             perm[j], perm[piv] = perm[piv], perm[j]
             sign = -sign
+        r = 1.0 / A[j, j]
         for i in range(j + 1, k):
-            l = A[i, j] / A[j, j]
+            l = A[i, j] * r
             A[i, j] = l
             for col in range(j + 1, k):
                 A[i, col] -= l * A[j, col]
     det = sign
     for i in range(k):
         det *= A[i, i]
+        A[i, i] = 1.0 / A[i, i]  # (its reciprocal: the solves multiply)
     nd = det / norms if norms > 0 else 0.0
     dets[b] = np.sign(nd) * min(abs(nd), lam)
 
@@ -274,7 +277,7 @@ def _lu_solve(A, perm, z, y, k):
     for i in range(k - 1, -1, -1):
         for j in range(i + 1, k):
             y[i] -= A[i, j] * y[j]
-        y[i] /= A[i, i]
+        y[i] *= A[i, i]
 
 
 '''
@@ -362,7 +365,7 @@ def source(T):
     w("        a_ref = a")
     w("    move = 0.0")
     for k, col in enumerate(T.pcols):
-        w(f"    move = _mx(move, abs((q[{col}] - HQ[a, 0, {col}]) / cs[{k}]))")
+        w(f"    move = _mx(move, abs((q[{col}] - HQ[a, 0, {col}]) * ics[{k}]))")
     w("    for j in range(qg.size):")
     w("        qg[j] = q[j]")
     w("for it in range(1, steps + 1):")
@@ -386,9 +389,9 @@ def source(T):
     w("# the step's size, and the distance the pose moves (its finite components)")
     w("step, off = 0.0, 0.0")
     for k, col in enumerate(T.pcols):
-        w(f"step = _mx(step, abs(x[{col}] / cs[{k}]))")
+        w(f"step = _mx(step, abs(x[{col}] * ics[{k}]))")
         w(f"if np.isfinite(x[{col}]):")
-        w(f"    off = _mx(off, abs(x[{col}] / cs[{k}]))")
+        w(f"    off = _mx(off, abs(x[{col}] * ics[{k}]))")
     for k in range(T.n):
         w(f"if np.isfinite(x[{k}]):")
         w(f"    q[{k}] -= x[{k}]")
@@ -404,7 +407,7 @@ def source(T):
     w("if interp:")
     w("    off = 0.0  # how far the steps moved the guess")
     for k, col in enumerate(T.pcols):
-        w(f"    off = _mx(off, abs((q[{col}] - qg[{col}]) / cs[{k}]))")
+        w(f"    off = _mx(off, abs((q[{col}] - qg[{col}]) * ics[{k}]))")
     w("    # planar.sweep's acceptance of a batch value: converged, the source anchor's modes, no")
     w("    # further from the guess than JUMP times the predicted move")
     w(f"    ok = res <= tol and step <= {ROUND!r} and (off <= 1e-9 or off <= {JUMP!r} * move + 1e-9)")
@@ -444,6 +447,7 @@ def source(T):
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
     buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref"
     head = ["a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of ref",
+            "ics = 1.0 / cs  # the column scales' reciprocals: a multiplication costs less than a division",
             "for m in range(lo, hi):"]
     function(f"def values(lo, hi, {args}, {buffers}):", head + ["    " + b for b in body], _JIT)
     alloc = [f"fb = np.zeros(({T.n_bodies}, 8))",
@@ -521,7 +525,7 @@ def _factor(T, w):
         if k == 1:
             # a pivot row's own entry against its whole scaled row
             w(f"a = Jv[{T.diag[b][0]}] * brs[{o}] * bcs[{o}]")
-            w(f"A[{b}, 0, 0] = a")
+            w(f"A[{b}, 0, 0] = 1.0 / a  # (its reciprocal: the solves multiply)")
             w("nm = a * a")
             for i, e in enumerate(T.coup[b]):
                 w(f"v = Jv[{e}] * brs[{o}] * upscale[{_up_offset(T, b) + i}]")
@@ -546,7 +550,7 @@ def _solve(T, w):
             terms = "".join(f" - Jv[{T.coup[b][i * nw + u]}] * x[{T.up[b][u]}]" for u in range(nw))
             w(f"z[{i}] = (rhs[{T.eqs[b][i]}]{terms}) * brs[{o + i}]")
         if k == 1:
-            w(f"x[{T.cols[b][0]}] = z[0] / A[{b}, 0, 0] * bcs[{o}]")
+            w(f"x[{T.cols[b][0]}] = z[0] * A[{b}, 0, 0] * bcs[{o}]")
         else:
             w(f"_lu_solve(A[{b}], P[{b}], z, y, {k})")
             for i in range(k):
