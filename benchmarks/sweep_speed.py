@@ -113,7 +113,7 @@ CASES = {"four-bar + coupler point": case_four_bar, "offset slider-crank": case_
          "Watt six-bar": case_watt, "geared five-bar": case_geared}
 
 
-def timed(f, repeat=3):
+def timed(f, repeat):
     best = np.inf
     for _ in range(repeat):
         t = time.perf_counter()
@@ -129,7 +129,7 @@ def main(argv=None):
     ap.add_argument("--no-peers", action="store_true", help="skip the peer libraries")
     args = ap.parse_args(argv)
     sizes = [1000] if args.quick else args.sizes
-    repeat = 1 if args.quick else 3
+    repeat = 1 if args.quick else peers.REPEAT
     print(f"planar sweep benchmark, numpy {np.__version__}" + (
         f", numba {numba.__version__} ({numba.get_num_threads()} threads)" if numba else ", numba not installed"))
     print(f"{'mechanism':26s} {'engine':6s} {'N':>8s} {'tol':>6s} {'planar us/pos':>13s} {'closed us/pos':>13s} "
