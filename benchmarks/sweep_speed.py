@@ -8,7 +8,7 @@ five-bar at N from 1e3 up, for several solver tolerances; the scaling with the n
 four-bar side by side with every peer library installed (the optional ``bench`` extra; see
 ``peers.py``), with the issue's speed targets.
 
-    python3 benchmarks/sweep_speed.py              # N = 1e3 .. 1e6 (about 8 minutes)
+    python3 benchmarks/sweep_speed.py              # N = 1e3 .. 1e6 (about 3-8 minutes)
     python3 benchmarks/sweep_speed.py --quick      # N = 1e3, slow peers at 200 (a smoke run, ~15 s)
     python3 benchmarks/sweep_speed.py --sizes 1000 100000 --no-peers
 """
