@@ -21,11 +21,11 @@ The generated module is written to a cache directory (``PLANAR_CACHE_DIR``, else
 ``~/.cache/planar``) under a name hashing its source and the kernels' source, and numba caches
 its machine code beside it: the first sweep of a new structure compiles (10-40 s), later ones
 and later processes load it (a fraction of a second). Results agree with the numpy path to
-rounding (the same operations per step, but for a bulk value's cos and sin, taken from its
-anchor's by angle addition, and the blocks' LU: here each block is factored whole with partial
-pivoting, where the numpy path eliminates its constant columns first, :mod:`planar.elimination`,
-the same LU with the columns reordered; the numpy path takes a value's further Newton steps in
-its general solver; the tests compare the two on every joint type and on random linkages).
+rounding (the same operations per step, among them each block's elimination program of
+:mod:`planar.elimination`, its constants taken from the plan as data; but for a bulk value's cos
+and sin, taken from its anchor's by angle addition, and reciprocals where the numpy path
+divides; the numpy path takes a value's further Newton steps in its general solver; the tests
+compare the two on every joint type and on random linkages).
 """
 
 import functools
@@ -58,9 +58,11 @@ Tables = namedtuple("Tables", [
     "kernel", "gamma", "par", "c", "nr", "rows", "nb", "slots", "inp", "e0", "stride",
     # the plan's rows and their scales; its driver rows and their input columns
     "prow", "rs", "drv", "drv_inp",
-    # blocks: size, and per block its equations, columns and their scales, angle columns, the
-    # Jacobian entries of the block and of its couplings to the upstream columns ``up``
-    "bk", "eqs", "cols", "brs", "bcs", "bang", "diag", "up", "upscale", "coup",
+    # blocks: size, and per block its equations, columns and their scales, the Jacobian entries
+    # of the block and of its couplings to the upstream columns ``up``; per block larger than
+    # 1x1 the structure of its elimination program (:func:`_program`), whose constants are in
+    # ``pc``
+    "bk", "eqs", "cols", "brs", "bcs", "diag", "up", "upscale", "coup", "prog", "pc",
     # the coordinates solved with their scales; redundant rows with theirs; sizes
     "pcols", "cs", "red", "red_scale", "n_bodies", "m", "n", "nnz",
 ])
@@ -134,7 +136,7 @@ def _rates_in(a):
 
 
 def _data(T):
-    return T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale
+    return T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale, T.pc
 
 
 def _compiled(model, plan, n):
@@ -176,16 +178,53 @@ def tables(model, plan):
     cs_all = np.r_[model.col_scale, 0.0]
     red = np.asarray(model.redundant_rows, int)
     tup = (lambda a: tuple(int(v) for v in a))
+    prog, pc = [None] * len(B), []
+    for st in plan.stages:
+        for g, b in enumerate(st.index):
+            if B[b].size > 1:
+                prog[b] = _program(st.program, g, pc)
     return Tables(
         tuple(J["kernel"]), tuple(J["gamma"]), par, c, tuple(J["nr"]), tuple(J["rows"]), tuple(J["nb"]),
         tuple(J["slots"]), tuple(J["inp"]), tuple(J["e0"]), tuple(J["stride"]),
         tup(plan.rows), model.row_scale[plan.rows].astype(float), tup(plan.drivers), tup(plan.driver_inputs),
         tuple(b.size for b in B), tuple(tup(b.eqs) for b in B), tuple(tup(b.cols) for b in B),
-        _cat([b.rscale for b in B]), _cat([b.cscale for b in B]), tuple(tuple(bool(a) for a in b.cols % 3 == 2) for b in B),
+        _cat([b.rscale for b in B]), _cat([b.cscale for b in B]),
         tuple(tup(b.diag) for b in B), tuple(tup(b.up) for b in B), _cat([cs_all[b.up] for b in B]),
-        tuple(tup(b.coup) for b in B), tup(plan.cols), model.col_scale[plan.cols].astype(float), tup(red),
+        tuple(tup(b.coup) for b in B), tuple(prog), np.array(pc + [0.0]), tup(plan.cols),
+        model.col_scale[plan.cols].astype(float), tup(red),
         model.row_scale[red].astype(float), sysm.n_bodies, sysm.m, model.n, sysm.entries[0].size + 1,
     )
+
+
+def _program(P, g, pc):
+    """The structure of block g of a stage's elimination program P
+    (:class:`planar.elimination.Program`) for the generated factor and solve, its constants
+    appended to ``pc`` (the structure holds their offsets there, so designs of one structure
+    share the source): the variables' value slots and scales; per form (the Schur complement's
+    entries, row-major, then the pivot rows') its constant and (variable, coefficient); the
+    Schur complement's rows and columns; per constant column's step the pivot row and column,
+    1 / pivot, the rows it updates with their multipliers and the pivot row's (column, form);
+    the det's normalisation (per row its constant and squared variables, unweighted and
+    weighted; lam's constant, variables, whether any column is an angle, the number of length
+    columns); the det's static part."""
+
+    def const(v):
+        pc.append(float(v))
+        return len(pc) - 1
+
+    nv = P.var.shape[0]
+    var = tuple((int(P.var[i, g]), const(P.vscale[i, g, 0])) for i in range(nv))
+    forms = tuple((const(P.form0[f]), tuple((int(k), const(P.forms[f, k])) for k in np.flatnonzero(P.forms[f])))
+                  for f in range(P.form0.size))
+    steps = tuple((p, c, const(1.0 / d), tuple((i, const(m)) for i, m in mults), tuple(us))
+                  for p, c, d, mults, us in P.steps)
+    lam_c, lam_v, any_angle, lengths = P.lam
+    weighted = P._weighted
+    rows = tuple((const(P.c0[i]), tuple(int(k) for k in np.flatnonzero(P.M0[i])),
+                  const(P.c1[i]) if weighted else None, tuple(int(k) for k in np.flatnonzero(P.M1[i])))
+                 for i in range(P.k))
+    norm = (rows, const(lam_c), tuple(int(k) for k in lam_v), bool(any_angle), int(lengths), weighted)
+    return var, forms, tuple(P.rows), tuple(P.cols), steps, norm, const(P.det0)
 
 
 def _cat(arrays):
@@ -218,28 +257,9 @@ def _mx(a, b):
 
 
 @_inline
-def _lu(A, perm, k, ang, dets, b):
-    """LU with partial pivoting of a scaled k x k block and its normalised det, as
-    planar.elimination.Program.factor's: |det| over the product of the row norms, x and y
-    columns weighted by the block's largest lever arm lam, capped by lam. U's diagonal is left
-    as its reciprocals, which _lu_solve multiplies by."""
-    lam, any_angle, lengths = 0.0, False, 0
-    for j in range(k):
-        if ang[j]:
-            any_angle = True
-            for i in range(k):
-                lam = max(lam, abs(A[i, j]))
-        else:
-            lengths += 1
-    lam = min(lam, 1.0) if any_angle else 1.0
-    norms = 1.0
-    for i in range(k):
-        s = 0.0
-        for j in range(k):
-            v = A[i, j] * (1.0 if ang[j] else lam)
-            s += v * v
-        norms *= np.sqrt(s)
-    norms /= lam**lengths
+def _lu_det(A, perm, k):
+    """LU with partial pivoting of a k x k block in place, as planar.elimination._dense_lu: its
+    det. U's diagonal is left as its reciprocals, which _lu_solve multiplies by."""
     sign = 1.0
     for i in range(k):
         perm[i] = i
@@ -263,8 +283,7 @@ def _lu(A, perm, k, ang, dets, b):
     for i in range(k):
         det *= A[i, i]
         A[i, i] = 1.0 / A[i, i]  # (its reciprocal: the solves multiply)
-    nd = det / norms if norms > 0 else 0.0
-    dets[b] = np.sign(nd) * min(abs(nd), lam)
+    return det
 
 
 @_inline
@@ -310,10 +329,10 @@ def source(T):
     function("def gammas(q, qd, u, fb, Phi, c, g, par, jc, ref, near):", body)
     body = []
     _factor(T, body.append)
-    function("def factor(Jv, A, P, brs, bcs, upscale, dets):", body)
+    function("def factor(Jv, A, P, brs, bcs, upscale, dets, pc, EB):", body)
     body = []
     _solve(T, body.append)
-    function("def solve(Jv, A, P, rhs, x, z, y, brs, bcs):", body)
+    function("def solve(Jv, A, P, rhs, x, z, y, brs, bcs, pc, EB, zs, xl):", body)
 
     body = []
     w = body.append
@@ -378,14 +397,14 @@ def source(T):
     w("red = 0.0")
     for r, row in enumerate(T.red):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
-    w("factor(Jv, A, P, brs, bcs, upscale, dets)")
+    w("factor(Jv, A, P, brs, bcs, upscale, dets, pc, EB)")
     w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
     w("sing, branch = 1.0, 1.0")
     for b in range(len(T.bk)):
         w(f"sing = -_mx(-sing, -abs(dets[{b}]))")
         w(f"SIGNS[i, {b}] = 1 if dets[{b}] > 0 else (-1 if dets[{b}] < 0 else 0)  # NaN: 0, as planar.blocks")
         w(f"branch *= SIGNS[i, {b}]")
-    w("solve(Jv, A, P, rhs, x, z, y, brs, bcs)")
+    w("solve(Jv, A, P, rhs, x, z, y, brs, bcs, pc, EB, zs, xl)")
     w("# the step's size, and the distance the pose moves (its finite components)")
     w("step, off = 0.0, 0.0")
     for k, col in enumerate(T.pcols):
@@ -444,8 +463,9 @@ def source(T):
     w("    QD[i, :] = np.nan")
     w("    QDD[i, :] = np.nan")
     args = ("rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
-            "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale")
-    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref"
+            "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale, pc")
+    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref, EB, zs, xl"
+    n_eb = max([len(p[1]) - len(p[2]) ** 2 for p in T.prog if p is not None] + [1])  # the pivot rows' forms
     head = ["a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of ref",
             "ics = 1.0 / cs  # the column scales' reciprocals: a multiplication costs less than a division",
             "for m in range(lo, hi):"]
@@ -456,7 +476,8 @@ def source(T):
              f"Phi, Jv, rhs = np.zeros({T.m}), np.zeros({T.nnz}), np.empty({len(T.prow)})",
              f"x, z, y, qg, qo = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax}), np.empty({T.n}), np.empty({T.n})",
              f"so, dets, ref = np.empty({len(T.bk)}, np.int8), np.empty({len(T.bk)}), np.empty(({T.n_bodies}, 3))",
-             f"A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)"]
+             f"A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)",
+             f"EB, zs, xl = np.empty(({len(T.bk)}, {n_eb})), np.empty({kmax}), np.empty({kmax})"]
     function(f"def loop({args}):", ["N = rows.shape[0]",
              f"for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers"]
              + ["    " + a for a in alloc]
@@ -474,7 +495,7 @@ def _rate(T, w, base, inputs, out):
         w(f"rhs[{r}] = {'0.0' if base is None else f'{base}[{row}]'}")
     for r, col in zip(T.drv, T.drv_inp):  # (one row of rates: the same for every value)
         w(f"rhs[{r}] += {inputs}[i if {inputs}.shape[0] > 1 else 0, {col}]")
-    w("solve(Jv, A, P, rhs, x, z, y, brs, bcs)")
+    w("solve(Jv, A, P, rhs, x, z, y, brs, bcs, pc, EB, zs, xl)")
     for k in range(T.n):
         w(f"{out}[i, {k}] = x[{k}]")
 
@@ -534,11 +555,37 @@ def _factor(T, w):
             w("nd = a / nm if nm > 0 else 0.0")
             w(f"dets[{b}] = np.sign(nd) * min(abs(nd), 1.0)")
         else:
-            for i in range(k):
-                for jj in range(k):
-                    w(f"A[{b}, {i}, {jj}] = Jv[{T.diag[b][i * k + jj]}] * brs[{o + i}] * bcs[{o + jj}]")
-            w(f"_lu(A[{b}], P[{b}], {k}, {T.bang[b]!r}, dets, {b})")
+            _factor_program(T.prog[b], b, w)
         o += k
+
+
+def _factor_program(prog, b, w):
+    """Block b by its elimination program (planar.elimination.Program._factor): the variables'
+    scaled values, the det's normalisation, the forms' values (the Schur complement's into A,
+    the pivot rows' into EB, for the solve) and the LU of the Schur complement."""
+    var, forms, rows, cols, steps, norm, det0 = prog
+    for i, (slot, scale) in enumerate(var):
+        w(f"v{i} = Jv[{slot}] * pc[{scale}]")
+    nrm, lam_c, lam_v, any_angle, lengths, weighted = norm
+    if not any_angle:
+        w("lam = 1.0")
+    else:  # the largest angle-column entry, at least lam's constant part, at most 1 (NaN stays NaN)
+        w(f"lam = pc[{lam_c}]")
+        for k in lam_v:
+            w(f"lam = _mx(lam, abs(v{k}))")
+        w("lam = -_mx(-lam, -1.0)")
+    w("nm = 1.0")
+    for c0, m0, c1, m1 in nrm:
+        w(f"nm *= pc[{c0}]" + "".join(f" + v{k} * v{k}" for k in m0)
+          + (f" + (pc[{c1}]" + "".join(f" + v{k} * v{k}" for k in m1) + ") * lam * lam" if weighted else ""))
+    w("nm = np.sqrt(nm)" + (f" / lam**{lengths}" if lengths else ""))
+    r = len(rows)
+    for f, (c0, terms) in enumerate(forms):
+        value = f"pc[{c0}]" + "".join(f" + v{k} * pc[{coef}]" for k, coef in terms)
+        w(f"A[{b}, {f // r}, {f % r}] = {value}" if f < r * r else f"EB[{b}, {f - r * r}] = {value}")
+    w(f"det = pc[{det0}]" + (f" * _lu_det(A[{b}], P[{b}], {r})" if r else ""))
+    w("nd = det / nm if nm > 0 else 0.0")
+    w(f"dets[{b}] = np.sign(nd) * min(abs(nd), lam)")
 
 
 def _solve(T, w):
@@ -551,10 +598,23 @@ def _solve(T, w):
             w(f"z[{i}] = (rhs[{T.eqs[b][i]}]{terms}) * brs[{o + i}]")
         if k == 1:
             w(f"x[{T.cols[b][0]}] = z[0] * A[{b}, 0, 0] * bcs[{o}]")
-        else:
-            w(f"_lu_solve(A[{b}], P[{b}], z, y, {k})")
+        else:  # planar.elimination.Program.solve: the constant columns' steps, the Schur complement
+            _, _, rows, cols, steps, _, _ = T.prog[b]
+            r = len(rows)
+            for p, _, _, mults, _ in steps:
+                for i, m in mults:
+                    w(f"z[{i}] -= pc[{m}] * z[{p}]")
+            if r:
+                for jj, row in enumerate(rows):
+                    w(f"zs[{jj}] = z[{row}]")
+                w(f"_lu_solve(A[{b}], P[{b}], zs, y, {r})")
+                for jj, col in enumerate(cols):
+                    w(f"xl[{col}] = y[{jj}]")
+            for p, c, inv_d, _, us in reversed(steps):
+                terms = "".join(f" - EB[{b}, {f - r * r}] * xl[{j}]" for j, f in us)
+                w(f"xl[{c}] = (z[{p}]{terms}) * pc[{inv_d}]")
             for i in range(k):
-                w(f"x[{T.cols[b][i]}] = y[{i}] * bcs[{o + i}]")
+                w(f"x[{T.cols[b][i]}] = xl[{i}] * bcs[{o + i}]")
         o += k
 
 
