@@ -58,11 +58,10 @@ Tables = namedtuple("Tables", [
     "kernel", "gamma", "par", "c", "nr", "rows", "nb", "slots", "inp", "e0", "stride",
     # the plan's rows and their scales; its driver rows and their input columns
     "prow", "rs", "drv", "drv_inp",
-    # blocks: size, and per block its equations, columns and their scales, the Jacobian entries
-    # of the block and of its couplings to the upstream columns ``up``; per block larger than
-    # 1x1 the structure of its elimination program (:func:`_program`), whose constants are in
-    # ``pc``
-    "bk", "eqs", "cols", "brs", "bcs", "diag", "up", "upscale", "coup", "prog", "pc",
+    # blocks: size, and per block its equations, columns and their scales, the upstream columns
+    # ``up`` and the Jacobian entries coupling to them; per block the structure of its
+    # elimination program (:func:`_program`), whose constants are in ``pc``
+    "bk", "eqs", "cols", "brs", "bcs", "up", "coup", "prog", "pc",
     # the coordinates solved with their scales; redundant rows with theirs; sizes
     "pcols", "cs", "red", "red_scale", "n_bodies", "m", "n", "nnz",
 ])
@@ -136,7 +135,7 @@ def _rates_in(a):
 
 
 def _data(T):
-    return T.par, T.c, T.rs, T.brs, T.bcs, T.upscale, T.cs, T.red_scale, T.pc
+    return T.par, T.c, T.rs, T.brs, T.bcs, T.cs, T.red_scale, T.pc
 
 
 def _compiled(model, plan, n):
@@ -175,21 +174,18 @@ def tables(model, plan):
     for j, (p, cj) in enumerate(zip(J["par"], J["c"])):
         par[j, : len(p)], c[j, : len(cj)] = p, cj
     B = plan.blocks
-    cs_all = np.r_[model.col_scale, 0.0]
     red = np.asarray(model.redundant_rows, int)
     tup = (lambda a: tuple(int(v) for v in a))
     prog, pc = [None] * len(B), []
     for st in plan.stages:
         for g, b in enumerate(st.index):
-            if B[b].size > 1:
-                prog[b] = _program(st.program, g, pc)
+            prog[b] = _program(st.program, g, pc)
     return Tables(
         tuple(J["kernel"]), tuple(J["gamma"]), par, c, tuple(J["nr"]), tuple(J["rows"]), tuple(J["nb"]),
         tuple(J["slots"]), tuple(J["inp"]), tuple(J["e0"]), tuple(J["stride"]),
         tup(plan.rows), model.row_scale[plan.rows].astype(float), tup(plan.drivers), tup(plan.driver_inputs),
         tuple(b.size for b in B), tuple(tup(b.eqs) for b in B), tuple(tup(b.cols) for b in B),
-        _cat([b.rscale for b in B]), _cat([b.cscale for b in B]),
-        tuple(tup(b.diag) for b in B), tuple(tup(b.up) for b in B), _cat([cs_all[b.up] for b in B]),
+        _cat([b.rscale for b in B]), _cat([b.cscale for b in B]), tuple(tup(b.up) for b in B),
         tuple(tup(b.coup) for b in B), tuple(prog), np.array(pc + [0.0]), tup(plan.cols),
         model.col_scale[plan.cols].astype(float), tup(red),
         model.row_scale[red].astype(float), sysm.n_bodies, sysm.m, model.n, sysm.entries[0].size + 1,
@@ -224,6 +220,8 @@ def _program(P, g, pc):
                   const(P.c1[i]) if weighted else None, tuple(int(k) for k in np.flatnonzero(P.M1[i])))
                  for i in range(P.k))
     norm = (rows, const(lam_c), tuple(int(k) for k in lam_v), bool(any_angle), int(lengths), weighted)
+    if nv == 0:  # a block of constants: its normalised det too, once (as the numpy path factors it)
+        norm = const(P._constant[3][g, 0])
     return var, forms, tuple(P.rows), tuple(P.cols), steps, norm, const(P.det0)
 
 
@@ -328,8 +326,9 @@ def source(T):
     _joints(T, w, "gamma", "g")
     function("def gammas(q, qd, u, fb, Phi, c, g, par, jc, ref, near):", body)
     body = []
-    _factor(T, body.append)
-    function("def factor(Jv, A, P, brs, bcs, upscale, dets, pc, EB):", body)
+    for b, prog in enumerate(T.prog):
+        _factor(prog, b, body.append)
+    function("def factor(Jv, A, P, dets, pc, EB):", body)
     body = []
     _solve(T, body.append)
     function("def solve(Jv, A, P, rhs, x, z, y, brs, bcs, pc, EB, zs, xl):", body)
@@ -397,7 +396,7 @@ def source(T):
     w("red = 0.0")
     for r, row in enumerate(T.red):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
-    w("factor(Jv, A, P, brs, bcs, upscale, dets, pc, EB)")
+    w("factor(Jv, A, P, dets, pc, EB)")
     w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
     w("sing, branch = 1.0, 1.0")
     for b in range(len(T.bk)):
@@ -463,9 +462,9 @@ def source(T):
     w("    QD[i, :] = np.nan")
     w("    QDD[i, :] = np.nan")
     args = ("rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
-            "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, upscale, cs, red_scale, pc")
+            "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, cs, red_scale, pc")
     buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref, EB, zs, xl"
-    n_eb = max([len(p[1]) - len(p[2]) ** 2 for p in T.prog if p is not None] + [1])  # the pivot rows' forms
+    n_eb = max([len(p[1]) - len(p[2]) ** 2 for p in T.prog] + [1])  # the pivot rows' forms
     head = ["a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of ref",
             "ics = 1.0 / cs  # the column scales' reciprocals: a multiplication costs less than a division",
             "for m in range(lo, hi):"]
@@ -540,32 +539,22 @@ def _joints(T, w, which, out):
                     w(f"Jv[{T.e0[j] + (r * nc + col) * T.stride[j]}] = jac[{r}, {col}]")
 
 
-def _factor(T, w):
-    o = 0
-    for b, k in enumerate(T.bk):
-        if k == 1:
-            # a pivot row's own entry against its whole scaled row
-            w(f"a = Jv[{T.diag[b][0]}] * brs[{o}] * bcs[{o}]")
-            w(f"A[{b}, 0, 0] = 1.0 / a  # (its reciprocal: the solves multiply)")
-            w("nm = a * a")
-            for i, e in enumerate(T.coup[b]):
-                w(f"v = Jv[{e}] * brs[{o}] * upscale[{_up_offset(T, b) + i}]")
-                w("nm += v * v")
-            w("nm = np.sqrt(nm)")
-            w("nd = a / nm if nm > 0 else 0.0")
-            w(f"dets[{b}] = np.sign(nd) * min(abs(nd), 1.0)")
-        else:
-            _factor_program(T.prog[b], b, w)
-        o += k
-
-
-def _factor_program(prog, b, w):
+def _factor(prog, b, w):
     """Block b by its elimination program (planar.elimination.Program._factor): the variables'
-    scaled values, the det's normalisation, the forms' values (the Schur complement's into A,
-    the pivot rows' into EB, for the solve) and the LU of the Schur complement."""
+    scaled values, the forms' values (the Schur complement's into A, the pivot rows' into EB,
+    for the solve), the LU of the Schur complement and the det's normalisation."""
     var, forms, rows, cols, steps, norm, det0 = prog
+    r = len(rows)
     for i, (slot, scale) in enumerate(var):
         w(f"v{i} = Jv[{slot}] * pc[{scale}]")
+    for f, (c0, terms) in enumerate(forms):
+        value = f"pc[{c0}]" + "".join(f" + v{k} * pc[{coef}]" for k, coef in terms)
+        w(f"A[{b}, {f // r}, {f % r}] = {value}" if f < r * r else f"EB[{b}, {f - r * r}] = {value}")
+    if not var:  # a block of constants: its det was normalised once
+        if r:
+            w(f"_lu_det(A[{b}], P[{b}], {r})")
+        w(f"dets[{b}] = pc[{norm}]")
+        return
     nrm, lam_c, lam_v, any_angle, lengths, weighted = norm
     if not any_angle:
         w("lam = 1.0")
@@ -579,10 +568,6 @@ def _factor_program(prog, b, w):
         w(f"nm *= pc[{c0}]" + "".join(f" + v{k} * v{k}" for k in m0)
           + (f" + (pc[{c1}]" + "".join(f" + v{k} * v{k}" for k in m1) + ") * lam * lam" if weighted else ""))
     w("nm = np.sqrt(nm)" + (f" / lam**{lengths}" if lengths else ""))
-    r = len(rows)
-    for f, (c0, terms) in enumerate(forms):
-        value = f"pc[{c0}]" + "".join(f" + v{k} * pc[{coef}]" for k, coef in terms)
-        w(f"A[{b}, {f // r}, {f % r}] = {value}" if f < r * r else f"EB[{b}, {f - r * r}] = {value}")
     w(f"det = pc[{det0}]" + (f" * _lu_det(A[{b}], P[{b}], {r})" if r else ""))
     w("nd = det / nm if nm > 0 else 0.0")
     w(f"dets[{b}] = np.sign(nd) * min(abs(nd), lam)")
@@ -596,30 +581,24 @@ def _solve(T, w):
         for i in range(k):
             terms = "".join(f" - Jv[{T.coup[b][i * nw + u]}] * x[{T.up[b][u]}]" for u in range(nw))
             w(f"z[{i}] = (rhs[{T.eqs[b][i]}]{terms}) * brs[{o + i}]")
-        if k == 1:
-            w(f"x[{T.cols[b][0]}] = z[0] * A[{b}, 0, 0] * bcs[{o}]")
-        else:  # planar.elimination.Program.solve: the constant columns' steps, the Schur complement
-            _, _, rows, cols, steps, _, _ = T.prog[b]
-            r = len(rows)
-            for p, _, _, mults, _ in steps:
-                for i, m in mults:
-                    w(f"z[{i}] -= pc[{m}] * z[{p}]")
-            if r:
-                for jj, row in enumerate(rows):
-                    w(f"zs[{jj}] = z[{row}]")
-                w(f"_lu_solve(A[{b}], P[{b}], zs, y, {r})")
-                for jj, col in enumerate(cols):
-                    w(f"xl[{col}] = y[{jj}]")
-            for p, c, inv_d, _, us in reversed(steps):
-                terms = "".join(f" - EB[{b}, {f - r * r}] * xl[{j}]" for j, f in us)
-                w(f"xl[{c}] = (z[{p}]{terms}) * pc[{inv_d}]")
-            for i in range(k):
-                w(f"x[{T.cols[b][i]}] = xl[{i}] * bcs[{o + i}]")
+        # planar.elimination.Program.solve: the constant columns' steps, the Schur complement
+        _, _, rows, cols, steps, _, _ = T.prog[b]
+        r = len(rows)
+        for p, _, _, mults, _ in steps:
+            for i, m in mults:
+                w(f"z[{i}] -= pc[{m}] * z[{p}]")
+        if r:
+            for jj, row in enumerate(rows):
+                w(f"zs[{jj}] = z[{row}]")
+            w(f"_lu_solve(A[{b}], P[{b}], zs, y, {r})")
+            for jj, col in enumerate(cols):
+                w(f"xl[{col}] = y[{jj}]")
+        for p, c, inv_d, _, us in reversed(steps):
+            terms = "".join(f" - EB[{b}, {f - r * r}] * xl[{j}]" for j, f in us)
+            w(f"xl[{c}] = (z[{p}]{terms}) * pc[{inv_d}]")
+        for i in range(k):
+            w(f"x[{T.cols[b][i]}] = xl[{i}] * bcs[{o + i}]")
         o += k
-
-
-def _up_offset(T, b):
-    return sum(len(u) for u in T.up[:b])
 
 
 # ---- loading: a module file in the cache directory, so numba can cache its machine code --------
