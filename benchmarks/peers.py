@@ -37,7 +37,7 @@ from tests import oracles  # noqa: E402
 LENGTHS = (4.0, 2.0, 3.5, 3.0)  # r1 ground, r2 crank, r3 coupler, r4 rocker
 PQ = (1.0, 0.8)  # coupler point: along A -> B, to its left
 SCALE = 4.0  # positions are compared relative to the largest link, as in sweep_speed.error
-REPEAT = 5  # runs per timing, the best taken (sweep_speed.py's too): first runs read up to 2x slower here
+REPEAT = 5  # runs per timing, the best taken (sweep_speed.py's too): first runs read up to 3x slower here
 
 
 def closed_form(th):
