@@ -215,13 +215,13 @@ def _program(P, g, pc):
     steps = tuple((p, c, const(1.0 / d), tuple((i, const(m)) for i, m in mults), tuple(us))
                   for p, c, d, mults, us in P.steps)
     lam_c, lam_v, any_angle, lengths = P.lam
-    weighted = P._weighted
+    weighted = P.weighted
     rows = tuple((const(P.c0[i]), tuple(int(k) for k in np.flatnonzero(P.M0[i])),
                   const(P.c1[i]) if weighted else None, tuple(int(k) for k in np.flatnonzero(P.M1[i])))
                  for i in range(P.k))
     norm = (rows, const(lam_c), tuple(int(k) for k in lam_v), bool(any_angle), int(lengths), weighted)
     if nv == 0:  # a block of constants: its normalised det too, once (as the numpy path factors it)
-        norm = const(P._constant[3][g, 0])
+        norm = const(P.constant[3][g, 0])
     return var, forms, tuple(P.rows), tuple(P.cols), steps, norm, const(P.det0)
 
 

@@ -167,7 +167,7 @@ class Program:
         are (None without ``dets``: a Newton iteration only solves). A block of constants is
         factored once (its det broadcasts over the poses)."""
         if self.var.shape[0] == 0:
-            A, perm, E, det = self._constant
+            A, perm, E, det = self.constant
         else:
             A, perm, E, det = self._factor(Jv[self.var] * self.vscale, dets)
         C = [None if c is not None else Jv[slots] for _, _, c, slots in self.coup]
@@ -182,12 +182,13 @@ class Program:
         return np.array(self.cols)
 
     @cached_property
-    def _weighted(self):
+    def weighted(self):
         """Whether any row norm has weighted (x and y column) terms."""
         return bool(self.M1.any() or self.c1.any())
 
     @cached_property
-    def _constant(self):
+    def constant(self):
+        """The factors of a block of constants (no variables), once: (A, perm, E, det)."""
         return self._factor(np.zeros((0,) + self.var.shape[1:] + (1,)))
 
     def _factor(self, v, dets=True):
@@ -208,7 +209,7 @@ class Program:
             lam = np.abs(v[lam_v]).max(axis=0) if lam_v else np.full(shape, lam_c)
             lam = np.minimum(np.maximum(lam, lam_c), 1.0)
         rows = self.M0 @ sq + self.c0[:, None]
-        if self._weighted:
+        if self.weighted:
             rows = rows + (self.M1 @ sq + self.c1[:, None]) * np.reshape(lam, (1, -1)) ** 2
         norms = np.sqrt(np.prod(rows, axis=0)).reshape(shape)
         if lengths:
