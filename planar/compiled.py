@@ -301,6 +301,11 @@ def _lu_solve(A, perm, z, y, k):
 
 
 _JIT = '@numba.njit(cache=True, error_model="numpy", nogil=True)'
+# ``values`` allocates nothing (its buffers come from ``loop`` and ``serial``), so it is compiled
+# without numba's reference counting (``_nrt``): with it, each array passed to an inlined helper
+# (evaluate, factor, solve, a joint kernel) and each view took an atomic increment and decrement
+# per value, on counters the threads share (~10% of the four-bar's loop on one thread)
+_JIT_VALUES = _JIT.replace("nogil=True", "nogil=True, _nrt=False")
 
 
 def source(T):
@@ -463,12 +468,11 @@ def source(T):
     w("    QDD[i, :] = np.nan")
     args = ("rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, "
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, cs, red_scale, pc")
-    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref, EB, zs, xl"
+    buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref, EB, zs, xl, ics"
     n_eb = max([len(p[1]) - len(p[2]) ** 2 for p in T.prog] + [1])  # the pivot rows' forms
     head = ["a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of ref",
-            "ics = 1.0 / cs  # the column scales' reciprocals: a multiplication costs less than a division",
             "for m in range(lo, hi):"]
-    function(f"def values(lo, hi, {args}, {buffers}):", head + ["    " + b for b in body], _JIT)
+    function(f"def values(lo, hi, {args}, {buffers}):", head + ["    " + b for b in body], _JIT_VALUES)
     alloc = [f"fb = np.zeros(({T.n_bodies}, 8))",
              "fb[0, 3] = 1.0",
              "c, phi, jac, g = np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2)",
@@ -476,7 +480,8 @@ def source(T):
              f"x, z, y, qg, qo = np.zeros({T.n + 1}), np.empty({kmax}), np.empty({kmax}), np.empty({T.n}), np.empty({T.n})",
              f"so, dets, ref = np.empty({len(T.bk)}, np.int8), np.empty({len(T.bk)}), np.empty(({T.n_bodies}, 3))",
              f"A, P = np.empty(({len(T.bk)}, {kmax}, {kmax})), np.empty(({len(T.bk)}, {kmax}), np.int64)",
-             f"EB, zs, xl = np.empty(({len(T.bk)}, {n_eb})), np.empty({kmax}), np.empty({kmax})"]
+             f"EB, zs, xl = np.empty(({len(T.bk)}, {n_eb})), np.empty({kmax}), np.empty({kmax})",
+             "ics = 1.0 / cs  # the column scales' reciprocals: a multiplication costs less than a division"]
     function(f"def loop({args}):", ["N = rows.shape[0]",
              f"for chunk in numba.prange((N + {CHUNK - 1}) // {CHUNK}):  # chunks on all cores, each its own buffers"]
              + ["    " + a for a in alloc]
