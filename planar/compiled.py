@@ -333,7 +333,7 @@ def source(T):
     body = []
     for b, prog in enumerate(T.prog):
         _factor(prog, b, body.append)
-    function("def factor(Jv, A, P, dets, pc, EB):", body)
+    function("def factor(Jv, A, P, dets, pc, EB):", ["sn, sd = 1.0, 1.0"] + body + ["return np.sqrt(sn / sd)"])
     body = []
     _solve(T, body.append)
     function("def solve(Jv, A, P, rhs, x, z, y, brs, bcs, pc, EB, zs, xl):", body)
@@ -374,18 +374,20 @@ def source(T):
     w("            so[j] = SIGNS[i, j]")
     w("    # the quintic Hermite guess between anchors a and a + 1 (HQ: planar.sweep._quintic and")
     w("    # _horner), and the predicted move from a")
-    w("    u0 = U[G[a], 0]")
-    w("    t = (U[i, 0] - u0) / (U[G[a + 1], 0] - u0)")
+    w("    if a != a_ref:  # the interval's start and 1 / length; the anchor's angles, their cos and")
+    w("        # sin: the reference of _frames")
+    w("        u0 = U[G[a], 0]")
+    w("        iu = 1.0 / (U[G[a + 1], 0] - u0)")
+    for b in range(1, T.n_bodies):
+        w(f"        ref[{b}, 0] = HQ[a, 0, {3 * b - 1}]")
+        w(f"        ref[{b}, 1], ref[{b}, 2] = _cos_sin(ref[{b}, 0])")
+    w("        a_ref = a")
+    w("    t = (U[i, 0] - u0) * iu")
     w("    for j in range(HQ.shape[2]):  # Horner's rule, highest power first")
     w("        v = HQ[a, 5, j]")
     w("        for k in range(4, -1, -1):")
     w("            v = HQ[a, k, j] + t * v")
     w("        q[j] = v")
-    w("    if a != a_ref:  # the anchor's angles, their cos and sin: the reference of _frames")
-    for b in range(1, T.n_bodies):
-        w(f"        ref[{b}, 0] = HQ[a, 0, {3 * b - 1}]")
-        w(f"        ref[{b}, 1], ref[{b}, 2] = _cos_sin(ref[{b}, 0])")
-    w("        a_ref = a")
     w("    move = 0.0")
     for k, col in enumerate(T.pcols):
         w(f"    move = _mx(move, abs((q[{col}] - HQ[a, 0, {col}]) * ics[{k}]))")
@@ -401,11 +403,11 @@ def source(T):
     w("red = 0.0")
     for r, row in enumerate(T.red):
         w(f"red = _mx(red, abs(Phi[{row}] * red_scale[{r}]))")
-    w("factor(Jv, A, P, dets, pc, EB)")
-    w("# the singularity measure (the smallest |det|) and the branch (the product of the signs)")
-    w("sing, branch = 1.0, 1.0")
+    w("# the singularity measure (the smallest normalised |det|, at most 1) and the branch (the")
+    w("# product of the signs)")
+    w("sing = factor(Jv, A, P, dets, pc, EB)")
+    w("branch = 1.0")
     for b in range(len(T.bk)):
-        w(f"sing = -_mx(-sing, -abs(dets[{b}]))")
         w(f"SIGNS[i, {b}] = 1 if dets[{b}] > 0 else (-1 if dets[{b}] < 0 else 0)  # NaN: 0, as planar.blocks")
         w(f"branch *= SIGNS[i, {b}]")
     w("solve(Jv, A, P, rhs, x, z, y, brs, bcs, pc, EB, zs, xl)")
@@ -470,7 +472,8 @@ def source(T):
             "STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, par, jc, rs, brs, bcs, cs, red_scale, pc")
     buffers = "fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref, EB, zs, xl, ics"
     n_eb = max([len(p[1]) - len(p[2]) ** 2 for p in T.prog] + [1])  # the pivot rows' forms
-    head = ["a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of ref",
+    head = ["a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of ref, u0 and iu",
+            "u0, iu = 0.0, 0.0",
             "for m in range(lo, hi):"]
     function(f"def values(lo, hi, {args}, {buffers}):", head + ["    " + b for b in body], _JIT_VALUES)
     alloc = [f"fb = np.zeros(({T.n_bodies}, 8))",
@@ -529,7 +532,8 @@ def _frames(T, w, rates):
 
 def _joints(T, w, which, out):
     """Each joint's kernel (``which``: "kernel" or "gamma") and the scatter of its rows (and
-    Jacobian entries) into Phi (and Jv)."""
+    of the Jacobian entries that factor and solve read) into Phi (and Jv)."""
+    read = _read(T)
     for j, name in enumerate(getattr(T, which)):
         for r in range(T.nr[j]):
             w(f"c[{r}] = jc[{j}, {r}]")
@@ -541,7 +545,16 @@ def _joints(T, w, which, out):
             w(f"Phi[{T.rows[j][r]}] = {out.split(',')[0]}[{r}]")
             if which == "kernel":
                 for col in range(nc):
-                    w(f"Jv[{T.e0[j] + (r * nc + col) * T.stride[j]}] = jac[{r}, {col}]")
+                    e = T.e0[j] + (r * nc + col) * T.stride[j]
+                    if e in read:
+                        w(f"Jv[{e}] = jac[{r}, {col}]")
+
+
+def _read(T):
+    """The Jacobian entries factor and solve read: the blocks' variables and their coupling
+    entries but the zero slot (the others are constants of the elimination programs)."""
+    read = {slot for prog in T.prog for slot, _ in prog[0]} | {e for coup in T.coup for e in coup}
+    return read - {T.nnz - 1}
 
 
 def _factor(prog, b, w):
@@ -559,6 +572,8 @@ def _factor(prog, b, w):
         if r:
             w(f"_lu_det(A[{b}], P[{b}], {r})")
         w(f"dets[{b}] = pc[{norm}]")
+        w(f"dd, nm = dets[{b}] * dets[{b}], 1.0")
+        _smallest(w)
         return
     nrm, lam_c, lam_v, any_angle, lengths, weighted = norm
     if not any_angle:
@@ -572,10 +587,23 @@ def _factor(prog, b, w):
     for c0, m0, c1, m1 in nrm:
         w(f"nm *= pc[{c0}]" + "".join(f" + v{k} * v{k}" for k in m0)
           + (f" + (pc[{c1}]" + "".join(f" + v{k} * v{k}" for k in m1) + ") * lam * lam" if weighted else ""))
-    w("nm = np.sqrt(nm)" + (f" / lam**{lengths}" if lengths else ""))
+    if lengths:
+        w(f"nm /= lam**{2 * lengths}")
     w(f"det = pc[{det0}]" + (f" * _lu_det(A[{b}], P[{b}], {r})" if r else ""))
-    w("nd = det / nm if nm > 0 else 0.0")
-    w(f"dets[{b}] = np.sign(nd) * min(abs(nd), lam)")
+    w("# the normalised det nd = det / sqrt(nm), capped by lam, as its square dd / nm (the sign in")
+    w("# dets; NaN stays NaN, and nm <= 0 reads 0 as in planar.elimination)")
+    w("dd = det * det if nm > 0 else 0.0")
+    w("if dd > lam * lam * nm:")
+    w("    dd, nm = lam * lam, 1.0")
+    w(f"dets[{b}] = det if dd > 0 else 0.0")
+    _smallest(w)
+
+
+def _smallest(w):
+    """The smallest |nd| so far, as sn / sd with the block's dd / nm (NaN stays NaN): the
+    singularity measure takes one square root and one division, not one of each per block."""
+    w("if dd * sd < sn * nm or dd != dd:")
+    w("    sn, sd = dd, nm")
 
 
 def _solve(T, w):
@@ -584,7 +612,8 @@ def _solve(T, w):
     for b, k in enumerate(T.bk):
         nw = len(T.up[b])
         for i in range(k):
-            terms = "".join(f" - Jv[{T.coup[b][i * nw + u]}] * x[{T.up[b][u]}]" for u in range(nw))
+            terms = "".join(f" - Jv[{T.coup[b][i * nw + u]}] * x[{T.up[b][u]}]" for u in range(nw)
+                            if T.coup[b][i * nw + u] != T.nnz - 1)  # (not the zero slot)
             w(f"z[{i}] = (rhs[{T.eqs[b][i]}]{terms}) * brs[{o + i}]")
         # planar.elimination.Program.solve: the constant columns' steps, the Schur complement
         _, _, rows, cols, steps, _, _ = T.prog[b]
