@@ -122,6 +122,20 @@ def timed(f, repeat):
     return best, out
 
 
+def rounds(runs, repeat):
+    """(best seconds, output) of each of ``runs`` (key -> function), timed in ``repeat`` rounds
+    that each call every function once, so that the times compared run under the same
+    conditions: this machine's speed drifts over minutes (the same sweep read up to 1.3x slower
+    minutes later), and a ratio of two times taken minutes apart drifts with it."""
+    best, out = dict.fromkeys(runs, np.inf), {}
+    for _ in range(repeat):
+        for key, run in runs.items():
+            t = time.perf_counter()
+            out[key] = run()
+            best[key] = min(best[key], time.perf_counter() - t)
+    return best, out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="N = 1e3 only, best of one run, a short chain (a smoke run)")
@@ -145,10 +159,18 @@ def main(argv=None):
             th = model.u0[0] + np.linspace(0, 2 * np.pi, N, endpoint=False)
             if name == "geared five-bar":
                 th = np.linspace(0, np.radians(200), N)  # inside the range of its sketched branch
-            tc, ref = timed(lambda: closed(th), 1 if name == "geared five-bar" else repeat)
+            tols = [1e-12] if N > 1000 else [1e-8, 1e-10, 1e-12]
+            runs = {(e, tol): (lambda e=e, tol=tol: model.sweep(th, tol=tol, engine=e)) for e in ENGINES for tol in tols}
+            if name == "geared five-bar":  # its closed form is a continuation (~100 us per value): once
+                tc, ref = timed(lambda: closed(th), 1)
+            else:
+                runs["closed"] = lambda: closed(th)
+            best, out = rounds(runs, repeat)
+            if "closed" in runs:
+                tc, ref = best["closed"], out["closed"]
             for engine in ENGINES:
-                for tol in ([1e-12] if N > 1000 else [1e-8, 1e-10, 1e-12]):
-                    tp, res = timed(lambda: model.sweep(th, tol=tol, engine=engine), repeat)
+                for tol in tols:
+                    tp, res = best[engine, tol], out[engine, tol]
                     errs = error(ref, ours(res), L)
                     print(f"{name:26s} {engine:6s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
                           f"{tp / tc:6.3g}  " + _errs(errs.values()))
@@ -173,6 +195,7 @@ def main(argv=None):
         print(f"\npeak memory of a four-bar sweep at N = 1e6: {peak / 2**20:.0f} MiB (numpy allocations)")
     if not args.no_peers:
         side_by_side(sizes, args.quick, repeat, four_bar_runs)
+    targets(sizes, repeat, not args.no_peers)
 
 
 def side_by_side(sizes, quick, repeat, four_bar_runs):
@@ -186,7 +209,6 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
     by_n = {}
     for r in rows:
         by_n.setdefault(r["N"], []).append(r)
-    planar_rows = {}  # (N, label) -> seconds
     line = "{:48s} {:9s} {:8d} {:9.3f} {:8.3g}  {}"
     for N in sorted(set(sizes) | set(by_n)):
         th = np.linspace(0, 2 * np.pi, N, endpoint=False)
@@ -202,7 +224,6 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
                     tp, res = timed(lambda: model.sweep(th, engine=engine), repeat)
                     errs = error(ref, ours(res), L)
                 tq, res = timed(lambda: model.sweep(th, rates=False, engine=engine), repeat)
-            planar_rows[N, label], planar_rows[N, label + " rates=False"] = tp, tq
             print(line.format(label, "full", N, tp / N * 1e6, tp / tc, _errs(errs.values())))
             print(line.format(label + " rates=False", "positions", N, tq / N * 1e6, tq / tc,
                               _errs(error({"C": ref["C"]}, {"C": res.position("C")}, L).values())))
@@ -219,7 +240,6 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
     missing = peers.not_installed()
     if missing:
         print("not installed (pip install -e '.[bench]'): " + ", ".join(missing))
-    targets(four_bar_runs, rows, planar_rows)
 
 
 class _threads:
@@ -238,24 +258,45 @@ class _threads:
             numba.set_num_threads(self.was)
 
 
-def targets(four_bar_runs, rows, planar_rows):
-    """The issue's speed targets for the four-bar at N >= 1e5, measured in this run."""
-    big = sorted({N for N, _ in four_bar_runs if N >= 100_000})
+TARGET_PEERS = {"full": "pylinkage+numba step_fast_with_kinematics", "positions": "pylinkage+numba step_fast"}
+
+
+def targets(sizes, repeat, with_peers=True):
+    """The issue's speed targets for the four-bar at N >= 1e5, timed in rounds (:func:`rounds`)
+    of the closed form, pylinkage's two numba loops (when installed) and planar's two sweeps on
+    each engine."""
+    big = [N for N in sizes if N >= 100_000]
     if not big:
         return
-    print("\ntargets (four-bar; full kinematics against the closed form and step_fast_with_kinematics,"
-          " positions only against step_fast):")
+    m, closed, _, _ = case_four_bar()
+    model = m.compile()
+    found = [p for p in peers.PEERS if p.label in TARGET_PEERS.values() and peers.installed(p)] if with_peers else []
+    configs = [(e, t) for e in ENGINES for t in (None, 1)[: 2 if e == "numba" else 1]]
+    print(f"\ntargets (four-bar; full kinematics against the closed form and step_fast_with_kinematics, "
+          f"positions only against step_fast; in rounds, best of {repeat}):")
     for N in big:
-        peer = {r["label"]: r["seconds"] for r in rows if r["N"] == N}
-        tc = four_bar_runs[N, "numpy"][1]
-        for label in sorted({lab for n, lab in planar_rows if n == N and not lab.endswith("rates=False")}):
-            tp, tq = planar_rows[N, label], planar_rows[N, label + " rates=False"]
-            print(f"  N = {N:.0e}, {label[len('planar Model.sweep '):]}: planar / closed form = {tp / tc:.1f} "
-                  f"(target <= 2)", end="")
-            for peer_label, goal, ours_t in (("pylinkage+numba step_fast_with_kinematics", "< 1", tp),
-                                             ("pylinkage+numba step_fast", "<= 1", tq)):
-                if peer_label in peer:
-                    print(f"; / {peer_label} = {ours_t / peer[peer_label]:.1f} (target {goal})", end="")
+        th = peers.inputs(N)
+        # (a pylinkage linkage is built once: a second run repeats the same work from where the
+        # first left the crank)
+        runs = {"closed": lambda: closed(th)} | {p.label: p.prepare(th, p.kinematics) for p in found}
+        for engine, threads in configs:
+            for what, rates in (("full", True), ("positions", False)):
+                def run(e=engine, n=threads, r=rates):
+                    with _threads(n):
+                        model.sweep(th, engine=e, rates=r)  # (the result dropped: ~300 MB at N = 1e6)
+                runs[engine, threads, what] = run
+        best, _ = rounds(runs, repeat)
+        print(f"  N = {N:.0e}: closed form {best['closed'] / N * 1e6:.3f} us" + "".join(
+            f", {TARGET_PEERS[w]} {best[TARGET_PEERS[w]] / N * 1e6:.3f} us" for w in TARGET_PEERS
+            if TARGET_PEERS[w] in best))
+        for engine, threads in configs:
+            label = f"engine={engine}" + (" (1 thread)" if threads else "")
+            full, pos = best[engine, threads, "full"], best[engine, threads, "positions"]
+            print(f"  N = {N:.0e}, {label}: {full / N * 1e6:.3f} us full, {pos / N * 1e6:.3f} us positions; "
+                  f"planar / closed form = {full / best['closed']:.2f} (target <= 2)", end="")
+            for what, goal, ours in (("full", "< 1", full), ("positions", "<= 1", pos)):
+                if TARGET_PEERS[what] in best:
+                    print(f"; / {TARGET_PEERS[what]} = {ours / best[TARGET_PEERS[what]]:.2f} (target {goal})", end="")
             print()
 
 

@@ -49,3 +49,28 @@ def test_peer_errors_show_failed_points():
     errs = peers.error(ref, got)
     assert np.isnan(errs["C"])
     assert errs["C_vel"] == 0.5 / 2
+
+
+def test_rounds_alternate_the_runs_and_keep_the_best_of_each():
+    sweep_speed = _load("sweep_speed")
+    calls = []
+    best, out = sweep_speed.rounds({"a": lambda: calls.append("a") or 1, "b": lambda: calls.append("b") or 2}, 3)
+    assert calls == ["a", "b"] * 3
+    assert out == {"a": 1, "b": 2}
+    assert set(best) == {"a", "b"} and all(0 < t < 1 for t in best.values())
+
+
+def test_targets_print_every_engine_against_the_closed_form_and_the_installed_peers(capsys):
+    sweep_speed = _load("sweep_speed")
+    sweep_speed.targets([1000, 100_000], 1)
+    out = capsys.readouterr().out
+    assert "N = 1e+03" not in out  # the targets are at N >= 1e5
+    configs = [f"engine={e}" for e in sweep_speed.ENGINES] + (["engine=numba (1 thread)"] if sweep_speed.numba else [])
+    for label in configs:
+        line = re.search(rf"^  N = 1e\+05, {re.escape(label)}: ([\d.]+) us full, ([\d.]+) us positions; "
+                         rf"planar / closed form = ([\d.]+) \(target <= 2\)(.*)$", out, re.M)
+        assert line, label
+        assert min(float(line[1]), float(line[2]), float(line[3])) > 0
+        for peer in sweep_speed.TARGET_PEERS.values():
+            installed = sweep_speed.peers.installed(next(p for p in sweep_speed.peers.PEERS if p.label == peer))
+            assert (f"/ {peer} = " in line[4]) == installed, (label, peer)
