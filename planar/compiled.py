@@ -258,7 +258,7 @@ def _mx(a, b):
 def _lu_det(A, perm, k):
     """LU with partial pivoting of a k x k block in place, as planar.elimination._dense_lu: its
     det. U's diagonal is left as its reciprocals, which _lu_solve multiplies by."""
-    sign = 1.0
+    det = 1.0
     for i in range(k):
         perm[i] = i
     for j in range(k - 1):
@@ -270,17 +270,17 @@ def _lu_det(A, perm, k):
             for col in range(k):
                 A[j, col], A[piv, col] = A[piv, col], A[j, col]
             perm[j], perm[piv] = perm[piv], perm[j]
-            sign = -sign
+            det = -det
         r = 1.0 / A[j, j]
         for i in range(j + 1, k):
             l = A[i, j] * r
             A[i, j] = l
             for col in range(j + 1, k):
                 A[i, col] -= l * A[j, col]
-    det = sign
-    for i in range(k):
-        det *= A[i, i]
-        A[i, i] = 1.0 / A[i, i]  # (its reciprocal: the solves multiply)
+        det *= A[j, j]
+        A[j, j] = r  # (the pivot's reciprocal: the solves multiply)
+    det *= A[k - 1, k - 1]
+    A[k - 1, k - 1] = 1.0 / A[k - 1, k - 1]
     return det
 
 
@@ -587,12 +587,11 @@ def _factor(prog, b, w):
     for c0, m0, c1, m1 in nrm:
         w(f"nm *= pc[{c0}]" + "".join(f" + v{k} * v{k}" for k in m0)
           + (f" + (pc[{c1}]" + "".join(f" + v{k} * v{k}" for k in m1) + ") * lam * lam" if weighted else ""))
-    if lengths:
-        w(f"nm /= lam**{2 * lengths}")
     w(f"det = pc[{det0}]" + (f" * _lu_det(A[{b}], P[{b}], {r})" if r else ""))
-    w("# the normalised det nd = det / sqrt(nm), capped by lam, as its square dd / nm (the sign in")
-    w("# dets; NaN stays NaN, and nm <= 0 reads 0 as in planar.elimination)")
-    w("dd = det * det if nm > 0 else 0.0")
+    w(f"# the normalised det nd = det / sqrt(nm){' * lam**' + str(lengths) if lengths else ''}, capped by lam, as "
+      "its square dd / nm (the")
+    w("# sign in dets; NaN stays NaN, and nm <= 0 reads 0 as in planar.elimination)")
+    w("dd = det * det" + (f" * lam**{2 * lengths}" if lengths else "") + " if nm > 0 else 0.0")
     w("if dd > lam * lam * nm:")
     w("    dd, nm = lam * lam, 1.0")
     w(f"dets[{b}] = det if dd > 0 else 0.0")
