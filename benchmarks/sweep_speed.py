@@ -123,17 +123,19 @@ def timed(f, repeat):
 
 
 def rounds(runs, repeat):
-    """(best seconds, output) of each of ``runs`` (key -> function), timed in ``repeat`` rounds
-    that each call every function once, so that the times compared run under the same
-    conditions: this machine's speed drifts over minutes (the same sweep read up to 1.3x slower
-    minutes later), and a ratio of two times taken minutes apart drifts with it."""
-    best, out = dict.fromkeys(runs, np.inf), {}
+    """The best seconds of each of ``runs`` (key -> function), timed in ``repeat`` rounds that
+    each call every function once, so that the times compared run under the same conditions:
+    this machine's speed drifts over minutes (the same sweep read up to 1.3x slower minutes
+    later), and a ratio of two times taken minutes apart drifts with it. Each output is dropped
+    at once, as in a loop that keeps no result: kept, the sweeps' ~300 MB at N = 1e6 made the
+    closed form's next arrays fault in afresh (0.37 against 0.28 us per value)."""
+    best = dict.fromkeys(runs, np.inf)
     for _ in range(repeat):
         for key, run in runs.items():
             t = time.perf_counter()
-            out[key] = run()
+            run()
             best[key] = min(best[key], time.perf_counter() - t)
-    return best, out
+    return best
 
 
 def main(argv=None):
@@ -148,7 +150,7 @@ def main(argv=None):
         f", numba {numba.__version__} ({numba.get_num_threads()} threads)" if numba else ", numba not installed"))
     print(f"{'mechanism':26s} {'engine':6s} {'N':>8s} {'tol':>6s} {'planar us/pos':>13s} {'closed us/pos':>13s} "
           f"{'ratio':>6s}  max error (pos | vel | acc, relative)")
-    four_bar_runs = {}  # (N, engine) -> (planar s, closed s, errors) at the default tolerance
+    four_bar_runs = {}  # (N, engine) -> (planar s, errors) at the default tolerance
     for name, build in CASES.items():
         m, closed, ours, L = build()
         model = m.compile()
@@ -165,17 +167,17 @@ def main(argv=None):
                 tc, ref = timed(lambda: closed(th), 1)
             else:
                 runs["closed"] = lambda: closed(th)
-            best, out = rounds(runs, repeat)
+            best = rounds(runs, repeat)
             if "closed" in runs:
-                tc, ref = best["closed"], out["closed"]
+                tc, ref = best["closed"], closed(th)
             for engine in ENGINES:
                 for tol in tols:
-                    tp, res = best[engine, tol], out[engine, tol]
+                    tp, res = best[engine, tol], model.sweep(th, tol=tol, engine=engine)  # (its outputs: untimed)
                     errs = error(ref, ours(res), L)
                     print(f"{name:26s} {engine:6s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
                           f"{tp / tc:6.3g}  " + _errs(errs.values()))
                     if case_four_bar is build and tol == 1e-12:
-                        four_bar_runs[N, engine] = (tp, tc, errs)
+                        four_bar_runs[N, engine] = (tp, errs)
     # scaling with the number of loops: a chain of k drag-link loops, each driven by the one before
     ks, n_chain = ((1, 10), 100) if args.quick else ((1, 10, 30, 100), 2000)
     print(f"\nchain of k drag-link four-bar loops (every loop turns a full turn), N = {n_chain} positions:")
@@ -219,7 +221,7 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
             label = f"planar Model.sweep engine={engine}" + (" (1 thread)" if threads else "")
             with _threads(threads):
                 if (N, engine) in four_bar_runs and not threads:
-                    tp, tc, errs = four_bar_runs[N, engine]
+                    tp, errs = four_bar_runs[N, engine]  # (its ratio: to this table's closed form)
                 else:  # a peer's own (smaller) N, or one thread: time planar here
                     tp, res = timed(lambda: model.sweep(th, engine=engine), repeat)
                     errs = error(ref, ours(res), L)
@@ -283,9 +285,9 @@ def targets(sizes, repeat, with_peers=True):
             for what, rates in (("full", True), ("positions", False)):
                 def run(e=engine, n=threads, r=rates):
                     with _threads(n):
-                        model.sweep(th, engine=e, rates=r)  # (the result dropped: ~300 MB at N = 1e6)
+                        model.sweep(th, engine=e, rates=r)
                 runs[engine, threads, what] = run
-        best, _ = rounds(runs, repeat)
+        best = rounds(runs, repeat)
         print(f"  N = {N:.0e}: closed form {best['closed'] / N * 1e6:.3f} us" + "".join(
             f", {TARGET_PEERS[w]} {best[TARGET_PEERS[w]] / N * 1e6:.3f} us" for w in TARGET_PEERS
             if TARGET_PEERS[w] in best))

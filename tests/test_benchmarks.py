@@ -54,9 +54,8 @@ def test_peer_errors_show_failed_points():
 def test_rounds_alternate_the_runs_and_keep_the_best_of_each():
     sweep_speed = _load("sweep_speed")
     calls = []
-    best, out = sweep_speed.rounds({"a": lambda: calls.append("a") or 1, "b": lambda: calls.append("b") or 2}, 3)
+    best = sweep_speed.rounds({"a": lambda: calls.append("a"), "b": lambda: calls.append("b")}, 3)
     assert calls == ["a", "b"] * 3
-    assert out == {"a": 1, "b": 2}
     assert set(best) == {"a", "b"} and all(0 < t < 1 for t in best.values())
 
 
