@@ -23,8 +23,9 @@ its machine code beside it: the first sweep of a new structure compiles (10-40 s
 and later processes load it (a fraction of a second). Results agree with the numpy path to
 rounding (the same operations per step, among them each block's elimination program of
 :mod:`planar.elimination`, its constants taken from the plan as data; but for a bulk value's cos
-and sin, taken from its anchor's by angle addition, and reciprocals where the numpy path
-divides; the numpy path takes a value's further Newton steps in its general solver; the tests
+and sin, taken from its anchor's by angle addition, reciprocals where the numpy path divides,
+and the singularity measure from the blocks' squared normalised dets, one square root per value;
+the numpy path takes a value's further Newton steps in its general solver; the tests
 compare the two on every joint type and on random linkages).
 """
 
