@@ -45,7 +45,7 @@ EVENT_TOL = 1e-9  # scaled input distance within which a value is on a located e
 BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
 ROUND = 1e-13  # scaled Newton correction below which a guess is at rounding level
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
-HEAP_KEEP = 24 << 20  # bytes: see _keep_freed_memory
+HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
 
 
@@ -469,12 +469,16 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
 
 def _keep_freed_memory():
     """Free one untouched block of HEAP_KEEP bytes, so that glibc's malloc keeps what a sweep
-    frees for its next chunk instead of handing it back to the system: its mmap threshold
-    follows the largest block freed (up to 32 MB) and it trims the heap's free top beyond twice
-    that. With the threshold below a chunk's temporaries (~10 MB at CHUNK values), each chunk
-    and each sweep faulted its memory in afresh, ~0.3 ms per MB on the benchmark machine
-    (docs/benchmarks.md, session 6). The process may keep up to 2 HEAP_KEEP of freed memory;
-    with other allocators this costs one mmap and munmap."""
+    frees for its next chunk and its next call instead of handing it back to the system: its
+    mmap threshold follows the largest mmapped block freed, up to 32 MiB and only for blocks no
+    larger than that (hence 8 KiB under it: malloc's header and page rounding), and it trims
+    the heap's free top beyond twice that (64 MiB). With the threshold below a chunk's
+    temporaries (~10 MB at CHUNK values), each chunk and each sweep faulted its memory in
+    afresh, ~0.3 ms per MB on the benchmark machine (docs/benchmarks.md, session 6). With it at
+    24 MiB a numpy sweep of the slider-crank or the four-bar at N = 1e5 (~60 MB of heap at its
+    peak, results included) still faulted ~32 MB in afresh at each call, as the heap was trimmed
+    once its result was dropped (session 12). The process may keep up to 2 HEAP_KEEP of freed
+    memory; with other allocators this costs one mmap and munmap."""
     np.empty(HEAP_KEEP, np.uint8)
 
 
