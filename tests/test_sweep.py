@@ -118,7 +118,7 @@ def test_the_bulk_of_a_sweep_is_one_newton_step_per_value(build):
 def test_repeated_sweeps_reuse_their_memory():
     """A sweep's freed memory is malloc's to reuse at the next call, not faulted in afresh
     (planar.sweep._keep_freed_memory): with the heap trimmed after each call this sweep
-    faulted ~8000 pages in at every call (~10 % of its time)."""
+    faulted ~8000 pages in at every call (~20 % of its time here)."""
     import resource  # (POSIX only: glibc implies it)
 
     model = slider_crank(2, 5, offset=1).compile()
