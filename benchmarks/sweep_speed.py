@@ -180,11 +180,12 @@ def main(argv=None):
                         four_bar_runs[N, engine] = (tp, errs)
     # scaling with the number of loops: a chain of k drag-link loops, each driven by the one before
     ks, n_chain = ((1, 10), 100) if args.quick else ((1, 10, 30, 100), 2000)
-    print(f"\nchain of k drag-link four-bar loops (every loop turns a full turn), N = {n_chain} positions:")
+    print(f"\nchain of k drag-link four-bar loops (every loop turns a full turn), N = {n_chain} positions, "
+          f"best of {repeat}:")
     for k in ks:
         model = chain(k).compile()
         th = np.linspace(0, 2 * np.pi, n_chain)
-        t, res = timed(lambda: model.sweep(th), 1)
+        t, res = timed(lambda: model.sweep(th), repeat)
         print(f"  k = {k:3d}: {t / n_chain * 1e6:9.1f} us per position, {t / n_chain / k * 1e6:7.2f} us per loop,"
               f" all solved: {bool(res.ok.all())}")
     if not args.quick and max(sizes) >= 1_000_000:
