@@ -540,7 +540,7 @@ def parser():
                              "(--num values in all; no --start or --stop)")
     r.add_argument("--engine", choices=("numpy", "numba"), default="numpy",
                    help="numba: the compiled engine for long sweeps (the fast extra; compiles once per mechanism "
-                        "structure, 10-40 s, then cached)")
+                        "structure, 10-65 s, then cached)")
     r.add_argument("--angle-unit", choices=("deg", "rad"), help="angle unit of the outputs and of --start/--stop")
     r.add_argument("--rate-unit", choices=tuple(RATE_UNITS), help="unit of angular rates in the outputs")
     _outputs(r)

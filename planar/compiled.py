@@ -19,7 +19,7 @@ written in place into the sweep's arrays).
 
 The generated module is written to a cache directory (``PLANAR_CACHE_DIR``, else
 ``~/.cache/planar``) under a name hashing its source and the kernels' source, and numba caches
-its machine code beside it: the first sweep of a new structure compiles (10-40 s), later ones
+its machine code beside it: the first sweep of a new structure compiles (10-65 s), later ones
 and later processes load it (a fraction of a second). Results agree with the numpy path to
 rounding (the same operations per step, among them each block's elimination program of
 :mod:`planar.elimination`, its constants taken from the plan as data; but for a bulk value's cos

@@ -409,7 +409,7 @@ class Model:
         and accelerations NaN: the velocity and acceleration solves are skipped), ``engine``
         ("numpy", or "numba": the per-value work in a loop compiled for the mechanism's
         structure, 4-6x faster at large N; needs the ``fast`` extra; the first sweep of a
-        structure compiles for 10-40 s, then it is cached on disk; see :mod:`planar.compiled`).
+        structure compiles for 10-65 s, then it is cached on disk; see :mod:`planar.compiled`).
         """
         from planar.sweep import run_sweep
 
