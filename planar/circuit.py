@@ -153,15 +153,15 @@ def _trace(model, p, tr, max_step, tol):
     y, t, det = tr.start(model.q0)
     Y, T, limits, marks = [y], [t], [], []
     dets = tr.block_dets(y)
-    h, travel = min(max_step, 0.1 * tr.d), 0.0
+    h, travel, gap = min(max_step, 0.1 * tr.d), 0.0, None
     phi = np.zeros(model.n, bool)
     phi[2::3] = True
     for _ in range(int(40 * MAX_TURNS * TURN / max_step)):
-        st = tr.step(y, t, h)
+        st = tr.step(y, t, h, gap)
         if st is None:
             raise AssemblyError(f"the circuit of {model.name!r} could not be followed past input "
                                 f"{float(tr.u_of(y)[0]):.12g} (a degenerate pose): sweep it with Model.sweep")
-        y1, t1, det1, h_used, h = st
+        y1, t1, det1, h_used, h, gap = st
         dets1 = tr.block_dets(y1)
         if np.sign(t1[-1]) != np.sign(t[-1]) and t[-1] != 0:
             # the input turns back between y and y1: a limit position

@@ -46,7 +46,7 @@ import numpy as np
 from planar.errors import InputError
 from planar.events import NEAR, SINGULAR
 from planar.results import Status
-from planar.sweep import JUMP, ROUND
+from planar.sweep import CERT, JUMP, ROUND, certified
 
 _TABLES = weakref.WeakKeyDictionary()
 CHUNK = 1024  # values per task of the parallel loop (a call with fewer runs on one thread)
@@ -238,8 +238,10 @@ import numpy as np
 import numba
 
 from planar.joints.scalar import {kernels}
+from planar.sweep import certified
 
 _inline = numba.njit(inline="always", error_model="numpy")
+_certified = _inline(certified)
 
 
 @_inline
@@ -440,8 +442,9 @@ def source(T):
     for k, col in enumerate(T.pcols):
         w(f"    off = _mx(off, abs((q[{col}] - qg[{col}]) * ics[{k}]))")
     w("    # planar.sweep's acceptance of a batch value: converged, the source anchor's modes, no")
-    w("    # further from the guess than JUMP times the predicted move")
+    w("    # further from the guess than JUMP times the predicted move, certified on its branch")
     w(f"    ok = res <= tol and step <= {ROUND!r} and (off <= 1e-9 or off <= {JUMP!r} * move + 1e-9)")
+    w("    ok = ok and _certified(off, sing)")
     for b in range(len(T.bk)):
         w(f"    ok = ok and SIGNS[i, {b}] == SA[a, {b}]")
     w("    OK[m] = ok")
@@ -648,7 +651,8 @@ def _load(src):
 
     # the source of what the loop compiles in: a change to it is a new module (numba's cache
     # keys on the module's own file only)
-    key = hashlib.sha1((src + inspect.getsource(scalar)).encode()).hexdigest()[:20]
+    key = hashlib.sha1((src + inspect.getsource(scalar) + inspect.getsource(certified) + repr((CERT, ROUND))).encode()
+                       ).hexdigest()[:20]
     path = _cache_dir() / f"plan_{key}.py"
     if not path.exists():
         tmp = path.with_suffix(f".{os.getpid()}.tmp")

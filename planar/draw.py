@@ -622,7 +622,7 @@ def draw_paths(res, points=None, *, ax=None, events=True, units=None):
     ax = _axes(ax)
     for k, name in enumerate(_path_points(res, points)):
         p = res.position(name)
-        ax.plot(p[:, 0], p[:, 1], color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
+        ax.plot(*_broken(res, p[:, 0], p[:, 1]), color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
                 label=f"path of {name}", zorder=1.8)
         if events:
             b, s = res.model.points[name]
@@ -832,8 +832,8 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     for a, (kind, specs) in zip(axes, panels.items()):
         title, unit_kind, _ = OUTPUTS[kind]
         for k, spec in enumerate(specs):
-            a.plot(x, output_values(res, spec, units), lw=1.6, color=PATH_COLOURS[k % len(PATH_COLOURS)],
-                   label=spec.partition(":")[2])
+            a.plot(*_broken(res, x, output_values(res, spec, units)), lw=1.6,
+                   color=PATH_COLOURS[k % len(PATH_COLOURS)], label=spec.partition(":")[2])
         unit = units.label(unit_kind)
         a.set_ylabel(f"{title}" + (f"\n[{unit}]" if unit else ""), fontsize=9)
         for at, kind in events_at:
@@ -846,6 +846,18 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
             a.spines[side].set_visible(False)
     axes[-1].set_xlabel(xlabel)
     return axes
+
+
+def _broken(res, *series):
+    """The (N,) series with a NaN put before each JUMPED value, so a line is not drawn across
+    the jump.
+
+    >>> from types import SimpleNamespace
+    >>> _broken(SimpleNamespace(status=np.array([0, 0, Status.JUMPED])), np.arange(3.0))[0].tolist()
+    [0.0, 1.0, nan, 2.0]
+    """
+    at = np.flatnonzero(np.asarray(res.status) == Status.JUMPED)
+    return [np.insert(np.asarray(v, float), at, np.nan) for v in series]
 
 
 def _runs(mask):

@@ -28,6 +28,13 @@ from planar.results import Status
 NEAR = 1e-4  # normalised |det| below which a stretch is near-singular
 SINGULAR = 1e-10  # ... and below which a point sits on the singular position itself
 MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
+# a traced step is certified to stay on its solution curve when it is no longer than MOVE, and
+# its correction no larger than CERT, times the distance to the nearest other curve (scaled)
+MOVE, CERT = 0.5, 0.1
+GAP_CROSS = 1e-5  # scaled distance below which another curve is taken to cross this one
+CROSS_STEP = 1e-3  # scaled arclength of a step over a crossing
+ROUNDING = 1e-12  # scaled correction at the corrector's own tolerance: no jump
+NEAR_CURVE = 1e-2  # scaled distance to another solution curve below which a crossing is reported
 
 
 def status_of(sing):
@@ -189,16 +196,35 @@ class Tracer:
         t, det = self.tangent(A, t)
         return y, t, det
 
+    def gap(self, A, t):
+        """The smallest singular value of the augmented matrix [A; t]: near another solution
+        curve (an avoided crossing, a crossing branch) it is about the distance to it."""
+        with np.errstate(all="ignore"):
+            M = np.vstack((A, t))
+            if not np.all(np.isfinite(M)):
+                return 0.0
+            return float(np.linalg.svd(M, compute_uv=False)[-1])
+
     @_quiet
-    def step(self, y, t, h):
-        """One accepted step from (y, t) with step control; returns (y, t, det, h_used, h_next)."""
+    def step(self, y, t, h, gap=None):
+        """One certified step from (y, t) with step control; returns (y, t, det, h_used,
+        h_next, gap at the new point). ``gap`` (:meth:`gap` at y) bounds the step: no longer
+        than MOVE times the distance to another solution curve, and the corrector's move no
+        more than CERT times that distance at the new point, so the step cannot land on a
+        neighbouring curve. Closer than GAP_CROSS the curves are taken to cross: the step is
+        at least CROSS_STEP, over the crossing to where the curves are apart again."""
+        if gap is None:
+            gap = self.gap(self.H(y)[1], t)
+        h = min(h, MOVE * gap) if gap >= GAP_CROSS else max(h, CROSS_STEP)
         while h > 1e-13:
             got = self.correct(y + h * t, t)
             if got is not None:
                 y1, A1 = got
                 t1, det1 = self.tangent(A1, t)
-                if np.linalg.norm(y1 - (y + h * t)) <= 0.3 * h and t1 @ t > 0.8:
-                    return y1, t1, det1, h, min(2 * h, self.h_max)
+                gap1 = self.gap(A1, t1)
+                moved = np.linalg.norm(y1 - (y + h * t))
+                if moved <= 0.3 * h and t1 @ t > 0.8 and moved <= max(CERT * gap1, ROUNDING):
+                    return y1, t1, det1, h, min(2 * h, self.h_max), gap1
             h /= 2
         return None
 
@@ -319,13 +345,14 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
     y, t, det = tr.start(q)
     dets = tr.block_dets(y)
     sing_min, y_min = np.min(np.abs(dets)), y
-    h = min(max_step, 0.1 * tr.d)
+    h, gap = min(max_step, 0.1 * tr.d), None
+    gap_min, y_gap = np.inf, y
     last_regular = (q, np.array(u_a, float))
     for _ in range(int(20 * tr.d / max_step) + 400):  # bounded: a degenerate curve is given up
-        st = tr.step(y, t, h)
+        st = tr.step(y, t, h, gap)
         if st is None:
             return out
-        y1, t1, det1, h_used, h = st
+        y1, t1, det1, h_used, h, gap = st
         if t1[-1] < 0 < t[-1]:
             # the input turned back: a limit position between y and y1
             pt = tr.locate(y, t, h_used, lambda yy, tt, dd: tt[-1])
@@ -364,6 +391,7 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
                         return out
                     y1 = got[0]
                     t1, det1 = tr.tangent(got[1], T)
+                    gap = None
         dets1 = tr.block_dets(y1)
         flips = np.flatnonzero(np.sign(dets1) != np.sign(dets))
         if flips.size and not (out.events and out.events[-1].kind == "bifurcation"
@@ -393,6 +421,8 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
             sing_min, y_min = sing, y1
         if sing > NEAR:
             last_regular = (tr.q_of(y1), tr.u_of(y1))
+        if gap is not None and gap < gap_min:
+            gap_min, y_gap = gap, y1
         if y1[-1] >= tr.d:
             # passed the target: back to the input as the parameter, from the nearer point
             w = (tr.d - y[-1]) / (y1[-1] - y[-1]) if y1[-1] != y[-1] else 1.0
@@ -400,11 +430,18 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
             out.q = guess
             break
         y, t, det = y1, t1, det1
-    if 0 < sing_min < NEAR and not any(e.kind in ("bifurcation", "singular") for e in out.events):
-        out.events.append(Event("near_singular", _scalar(tr.u_of(y_min)), index, tr.q_of(y_min),
-                                singularity=float(sing_min), error=float(np.finfo(float).eps / sing_min),
-                                note="the branch passes close to a singular position: values near here are "
-                                     "sensitive to small changes of the dimensions"))
+    if not any(e.kind in ("bifurcation", "singular") for e in out.events):
+        if 0 < sing_min < NEAR:
+            out.events.append(Event("near_singular", _scalar(tr.u_of(y_min)), index, tr.q_of(y_min),
+                                    singularity=float(sing_min), error=float(np.finfo(float).eps / sing_min),
+                                    note="the branch passes close to a singular position: values near here are "
+                                         "sensitive to small changes of the dimensions"))
+        elif gap_min < NEAR_CURVE:
+            out.events.append(Event("near_singular", _scalar(tr.u_of(y_gap)), index, tr.q_of(y_gap),
+                                    singularity=float(np.min(np.abs(tr.block_dets(y_gap)))),
+                                    error=float(np.finfo(float).eps / gap_min),
+                                    note=f"an avoided crossing: another branch passes within {gap_min:.2g} "
+                                         "(scaled); this one was kept"))
     return out
 
 
@@ -438,12 +475,12 @@ def around(model, plan, q, u, signs, max_step, reach):
             y, t, _ = tr.start(q)
         except np.linalg.LinAlgError:
             return None
-        h, turned = min(max_step, 0.1 * tr.d), False
+        h, turned, gap = min(max_step, 0.1 * tr.d), False, None
         for _ in range(int(2 * reach / max_step) + 50):
-            st = tr.step(y, t, h)
+            st = tr.step(y, t, h, gap)
             if st is None:
                 break
-            y1, t1, _, _, h = st
+            y1, t1, _, _, h, gap = st
             turned = turned or (t1[-1] < 0 < t[-1])
             if turned and y1[-1] <= 0:
                 w = y[-1] / (y[-1] - y1[-1])

@@ -12,8 +12,8 @@ from planar.geometry import perp
 class Status(IntEnum):
     """What happened at one input value.
 
-    SOLVED, NEAR_SINGULAR and BRANCH_EVENT points carry valid positions, velocities and
-    accelerations. A SINGULAR point has valid positions; its rates are NaN (the Jacobian is
+    SOLVED, NEAR_SINGULAR, BRANCH_EVENT and JUMPED points carry valid positions, velocities
+    and accelerations. A SINGULAR point has valid positions; its rates are NaN (the Jacobian is
     singular there). The others are NaN in every output.
     """
 
@@ -25,15 +25,18 @@ class Status(IntEnum):
     NOT_CONVERGED = 5  # assemblable, but not reached on the tracked branch
     INCONSISTENT = 6  # a redundant joint does not hold at the solved pose
     LIMIT = 7  # positions valid at a limit position (the input cannot go further), rates NaN
+    # valid, but not continuously reachable from the value before it: the branch was re-entered
+    # past limit positions that lie between the two (plots break their lines there)
+    JUMPED = 8
 
     @property
     def valid(self):
-        return self <= Status.BRANCH_EVENT
+        return self <= Status.BRANCH_EVENT or self == Status.JUMPED
 
     @property
     def posed(self):
         """Positions valid (rates may not be)."""
-        return self <= Status.SINGULAR or self == Status.LIMIT
+        return self <= Status.SINGULAR or self in (Status.LIMIT, Status.JUMPED)
 
 
 VALID = np.array([s.valid for s in Status])

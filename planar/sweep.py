@@ -31,9 +31,10 @@ from dataclasses import replace
 import numpy as np
 
 from planar.blocks import plan as block_plan
-from planar.errors import InputError
-from planar.events import NEAR, Event, around, cross, status_of
+from planar.errors import AssemblyError, InputError
+from planar.events import NEAR, NEAR_CURVE, SINGULAR, Event, around, cross, status_of
 from planar.results import POSED as POSED_MASK
+from planar.results import VALID as VALID_MASK
 from planar.results import Status, Sweep
 from planar.solver import least_squares_gap, newton, velocity, acceleration
 
@@ -46,7 +47,21 @@ BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come fr
 ROUND = 1e-13  # scaled Newton correction below which a guess is at rounding level
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
+TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
+CERT = 0.1  # accepted correction, as a fraction of the singularity measure at the solution
 WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
+
+
+def certified(off, sing):
+    """A solve that moved its guess by ``off`` (scaled) to a pose of singularity measure
+    ``sing`` stayed on the guess's branch: the move is at rounding level or no more than CERT
+    times the distance to the nearest other solution, which ``sing`` estimates (scalars or
+    arrays; the compiled engine's loop calls it too).
+
+    >>> bool(certified(1e-3, 0.3)), bool(certified(1e-3, 3e-3)), bool(certified(1e-14, 0.0))
+    (True, False, True)
+    """
+    return (off <= CERT * sing) | (off <= ROUND)
 
 
 def _scale(model):
@@ -104,22 +119,31 @@ class _Branch:
     def solve(self, q_pred, u, max_iter=8):
         return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p, engine=self.compiled)
 
-    def signs(self, q, u):
+    def modes(self, q, u):
+        """(signs, sing): the blocks' det signs and the singularity measure at poses q."""
         if self.compiled is not None:
-            return self.compiled.final(self.m, self.p, q, u, u, u, rates=False)["signs"]
-        return self._at(q, u).signs
+            f = self.compiled.final(self.m, self.p, q, u, u, u, rates=False)
+            return f["signs"], f["sing"]
+        lu = self._at(q, u)
+        return lu.signs, lu.sing
 
-    def accept(self, q, q_pred, origin, conv, signs, signs_ref, off=None):
-        """Converged, in the same assembly modes, and no further from the predictor than JUMP
+    def signs(self, q, u):
+        return self.modes(q, u)[0]
+
+    def accept(self, q, q_pred, origin, conv, signs, signs_ref, sing, off=None):
+        """Converged, in the same assembly modes, no further from the predictor than JUMP
         times the predicted move (``origin(rows)``: the poses the steps of those rows started
         from; asked only where the solve moved off the predictor by more than 1e-9; ``off``:
-        that distance, scaled, when the solve knows it)."""
+        that distance, scaled, when the solve knows it), and certified: the correction no more
+        than CERT times the singularity measure ``sing`` at the solution (about the scaled
+        distance to the nearest other solution), so that it cannot have come from a
+        neighbouring branch."""
         c = self.p.cols
         if off is None:
             off = np.max(np.abs((q - q_pred)[:, c] / self.cs), axis=1)
         # the modes agree where the signs differ nowhere (a NaN det reads 0: it differs): block by
         # block, whole columns of poses (a reduction over rows of a few blocks costs ~2x more)
-        ok = conv.copy()
+        ok = conv & certified(off, sing)
         for j in range(signs.shape[1]):
             ok &= signs[:, j] == signs_ref[:, j]
         far = np.flatnonzero(ok & ~(off <= 1e-9))
@@ -153,8 +177,8 @@ class _Walker:
             u_next = u0 + (t + dt) * (target - u0)
             q_pred, _ = br.predict(q[None], u[None], (u_next - u)[None])
             qn, conv, _, _ = br.solve(q_pred, u_next[None])
-            sn = br.signs(qn, u_next[None])
-            if br.accept(qn, q_pred, lambda k: q[None], conv, sn, signs[None])[0]:
+            sn, sg = br.modes(qn, u_next[None])
+            if br.accept(qn, q_pred, lambda k: q[None], conv, sn, signs[None], sg)[0]:
                 q, u, t = qn[0], u_next, t + dt
                 h = min(2 * h, self.max_step / total)
                 halvings = 0
@@ -342,13 +366,17 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             ev = replace(got[1], index=index(got[1].input))
             if not any(_same(ev, e, model) for e in events):
                 events.append(ev)
+                if back is None:
+                    stops.append(ev.index)
             limits.append((ev, np.sign(U[i] - start[1])))
         return got
 
     # 1. the sequential walk over anchors, from the assembled sketch
     chosen = br.signs(model.q0[None], model.u0[None])[0]
+    _check_sketch(model, p)
     state = (model.q0, model.u0, chosen)
     limits = []  # (limit event, direction of the input that hit it)
+    stops = []  # indices of the limits the walk stopped at, moving with the sweep
     anchors = _anchors(model, U, max_step)
     kin = _Kin()  # the anchors' kinematic coefficients where known (one input)
     coef = None  # those of the state, where known
@@ -460,11 +488,61 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             failed_from = j
             continue
         q[i], solved[i], signs[i], newest = got[1], True, got[2], i
+    # a limit with no value between it and the re-entered branch (a pair of limits inside one
+    # step): the limit on the gap's far side, located walking back from the value past it, up
+    # to a turn of the input
+    at_event = _at_events(model, U, events)
+    for j in list(stops):
+        if 0 < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
+            reach = np.flatnonzero(_scaled_norm(model, U[:j] - U[j]) <= TURN)
+            walk((q[j], U[j], signs[j]), int(reach[0] if reach.size else j - 1), -1, back=j)
     at_event = _at_events(model, U, events)
     for i, ev in at_event.items():
         q[i], solved[i], done[i] = ev.q, True, True
     events.sort(key=lambda e: e.index)
-    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event)
+    # values left unsolved past a limit the walk met (from the solved value before them) are
+    # out of the branch's reach, however small their least-squares gap
+    beyond = np.zeros(N, bool)
+    miss = np.flatnonzero(~solved)
+    if miss.size and limits:
+        last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
+        prev = np.where(miss > 0, last[np.maximum(miss - 1, 0)], -1)
+        u_from = np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
+        beyond[miss] = _past_limit(limits, u_from, U[miss])
+    res = _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond)
+    _mark_jumps(res.status, stops)
+    return res
+
+
+def _mark_jumps(status, stops):
+    """JUMPED for the first value past each limit the walk stopped at (``stops``: the events'
+    indices) where it is valid and the value before it posed: the branch was re-entered past the
+    limit with no unassemblable value between to show the gap (a pair of limits inside one step).
+    (The result's arrays are read-only: set in place.)"""
+    posed, valid = POSED_MASK[status], VALID_MASK[status]
+    for j in stops:
+        j += int(j < status.size and status[j] == Status.LIMIT)
+        if 0 < j < status.size and valid[j] and posed[j - 1]:
+            status.flags.writeable = True
+            status[j] = Status.JUMPED
+            status.flags.writeable = False
+
+
+def _check_sketch(model, p):
+    """A sketch drawn on a singular position leaves the branch to follow undefined (a
+    parallelogram drawn flat moves on as a parallelogram or as an antiparallelogram): refused,
+    naming the bodies whose loop is singular there."""
+    with np.errstate(all="ignore"):
+        dets = p.factor(p.evaluate(model.q0[None], model.u0[None])[2]).dets[0]
+    bad = np.flatnonzero(~(np.abs(dets) >= SINGULAR))
+    if bad.size:
+        blk = p.blocks[int(bad[0])]
+        bodies = sorted({model.body_names[int(c) // 3 + 1] for c in blk.cols}, key=model.body_names.index)
+        raise AssemblyError(
+            f"the sketch of {model.name!r} sits on a singular position (bodies {', '.join(bodies)}: normalised det "
+            f"{abs(dets[bad[0]]):.1e}), where more than one branch passes and none is the one drawn; sketch it "
+            f"off the singular position (for a catalogue mechanism, another start value) and sweep through it: "
+            f"the sweep locates the singular position and follows the smooth branch (or branch='other')")
 
 
 def _keep_freed_memory():
@@ -549,7 +627,8 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, kin
         else:
             qp, _ = br.predict(q[s_], U[s_], du)
         r = _final(br, qp, U[at], Ud[at], Udd[at])
-        ok = br.accept(r["q"], qp, lambda k: q[s_[k]], r["conv"], r["signs"], np.take(signs, s_, axis=0), r["off"])
+        ok = br.accept(r["q"], qp, lambda k: q[s_[k]], r["conv"], r["signs"], np.take(signs, s_, axis=0), r["sing"],
+                       r["off"])
         if ok.all():
             ok, put = slice(None), at
         else:
@@ -585,10 +664,10 @@ def _wave(br, state, U, idx, coef=None):
         else:
             q_pred, _ = br.predict(np.repeat(q0[None], M, 0), np.repeat(u0[None], M, 0), Ut - u0)
             qn, conv, _, _ = br.solve(q_pred, Ut)
-            qd, qdd, sn, _ = br.state(qn, Ut, np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f)))))
+            qd, qdd, sn, sg = br.state(qn, Ut, np.vstack((Ut[1:] - Ut[:-1], np.zeros((1, f)))))
             q_step = np.vstack((q_pred[:1], (qn + qd + 0.5 * qdd)[:-1]))
     q_from = np.vstack((q0[None], qn[:-1]))
-    ok = br.accept(qn, q_step, lambda k: q_from[k], conv, sn, s0[None])
+    ok = br.accept(qn, q_step, lambda k: q_from[k], conv, sn, s0[None], sg)
     a = M if ok.all() else int(np.argmin(ok))
     return a, qn[:a], ((QU[:a], QUU[:a], sg[:a]) if f == 1 else None)
 
@@ -821,7 +900,7 @@ def _redundant(model, full):
     return np.max(np.abs(full[:, red] * model.row_scale[red]), axis=1)
 
 
-def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event):
+def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond):
     N, n = q.shape
     p = br.p
     idx = np.flatnonzero(solved & ~done)
@@ -852,7 +931,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         guess = np.where(np.isnan(guess), model.q0, guess)
         _, g = least_squares_gap(model, guess, U[i])
         gap[i] = g
-        status[i] = np.where(g > GAP, Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
+        status[i] = np.where((g > GAP) | beyond[i], Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
     events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
     return Sweep(model, U, Ud, Udd, q, out.qd, out.qdd, status, out.residual,
@@ -920,18 +999,24 @@ def _on_branch(model, br, ev, u, ud, udd):
 
 
 def _near_stretches(model, U, sing, status, events):
-    """One near-singular event per run of NEAR_SINGULAR points not already explained."""
+    """One near-singular event per run of valid values closer to another branch than
+    NEAR_CURVE (the singularity measure), at its closest value, unless another event lies
+    within the run or next to it (a limit or a crossing explains it)."""
     out = []
-    flag = status == Status.NEAR_SINGULAR
+    with np.errstate(invalid="ignore"):
+        flag = VALID_MASK[status] & (sing < NEAR_CURVE)
     if not flag.any():
         return out
-    known = list(events)
+    known = [e.index for e in events]
     edges = np.flatnonzero(np.diff(np.r_[0, flag.astype(int), 0]))
     for a, b in zip(edges[::2], edges[1::2]):
         k = a + int(np.nanargmin(sing[a:b]))
-        if any(a <= e.index <= b for e in known):
+        if any(a - 1 <= i <= b + 1 for i in known):
             continue
-        out.append(Event("near_singular", U[k, 0] if U.shape[1] == 1 else U[k].copy(), int(a),
+        near = int(np.sum(status[a:b] == Status.NEAR_SINGULAR))
+        out.append(Event("near_singular", U[k, 0] if U.shape[1] == 1 else U[k].copy(), int(k),
                          singularity=float(sing[k]), error=float(np.finfo(float).eps / sing[k]),
-                         note=f"{b - a} value(s) close to a singular position: valid but sensitive"))
+                         note=f"{b - a} value(s) close to another branch (an avoided crossing or a close approach, "
+                              f"singularity down to {sing[k]:.2g}; {near} of them NEAR_SINGULAR): valid but sensitive; "
+                              "the branch was kept"))
     return out
