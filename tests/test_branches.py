@@ -201,12 +201,6 @@ def _property(case, N, engine):
         assert _event_near(coarse, lo, hi) or _event_near(fine, lo, hi), (k, u[k], coarse.events, fine.events)
 
 
-@settings(max_examples=max(10, settings().max_examples // 4))
-@given(near_singular_four_bars(), st.integers(13, 200))
-def test_coarse_agrees_with_finer_near_change_points_folds_and_limits(case, N):
-    _property(case, N, "numpy")
-
-
 @settings(max_examples=max(5, settings().max_examples // 10))
 @given(near_singular_four_bars(), st.integers(13, 200))
 def test_coarse_agrees_with_finer_on_the_compiled_engine(case, N):
