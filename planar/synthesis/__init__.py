@@ -17,7 +17,10 @@ way (not assemblable over the range, branch events, change of circuit, wrong ord
 from planar.errors import SynthesisError
 from planar.synthesis.function import (freudenstein, function_four_bar, function_slider_crank,
                                        four_bar_lengths, precision_points, slider_crank_dimensions)
+from planar.synthesis.motion import dyad, motion_four_bar
+from planar.synthesis.path import path_check, path_four_bar
 from planar.synthesis.result import Synthesis
 
 __all__ = ["Synthesis", "SynthesisError", "precision_points", "freudenstein", "four_bar_lengths",
-           "slider_crank_dimensions", "function_four_bar", "function_slider_crank"]
+           "slider_crank_dimensions", "function_four_bar", "function_slider_crank",
+           "dyad", "motion_four_bar", "path_four_bar", "path_check"]

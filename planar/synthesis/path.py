@@ -1,0 +1,250 @@
+"""Path generation: a four-bar whose coupler point passes N target points.
+
+The search works on the targets moved to their centre and scaled to unit size. A design is
+nine numbers: the crank pivot O2, the logarithms of the link lengths r1 ... r4 (so they stay
+positive), the frame angle th1 and the coupler point (p, q) in the coupler's frame, with an
+assembly mode sigma (+1: B left of the directed line A -> O4). The coupler point follows in
+closed form, vectorised over a batch of designs and crank angles::
+
+    A = O2 + r2 e^{i th2},  d = O4 - A,  cos(gamma) = (r3^2 + |d|^2 - r4^2) / (2 r3 |d|)
+    th3 = arg d + sigma gamma,  C = A + (p + i q) e^{i th3}
+
+1. Global search: ``designs`` random designs from a seeded generator, in batches. Without
+   timing, each target takes the crank angle (on a grid of one turn) where the coupler curve
+   passes nearest; with timing (the crank angles of the targets relative to the first), the
+   first target's crank angle is searched on the grid. Designs whose targets come out of
+   order, or with a stretch between them where the linkage does not assemble, are dropped.
+2. Local refinement: the best ``refine`` designs, with the crank angles at the targets (free
+   timing) or the first one (prescribed timing), go to :func:`scipy.optimize.least_squares`
+   on the distances to the targets (and a penalty where a target's pose does not assemble).
+3. Check: each refined design is built with :func:`planar.mechanisms.four_bar` and swept by
+   planar from the first target's crank angle through every target's, in order; the first
+   whose errors are all within ``tol`` of the targets' size and that has no defect is the
+   answer.
+
+>>> import numpy as np
+>>> from planar.synthesis.path import coupler_points
+>>> X = np.array([[0.0, 0.0, np.log(4), 0.0, np.log(2), np.log(3), np.log(4), 1.0, 0.5]])
+>>> C, gap = coupler_points(X, np.array([1.0]), np.array([[np.pi / 3]]))
+>>> np.round(C, 6).tolist(), gap.tolist()
+[[(1.197218+3.305485j)], [0.0]]
+"""
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from planar.errors import InputError, SynthesisError
+from planar.mechanisms import four_bar
+from planar.synthesis.result import check
+
+GRID = 120  # crank angles per turn in the global search
+BATCH = 2000  # designs per batch
+PENALTY = 10.0  # weight of the assembly gap at a target in the refinement
+
+
+def coupler_points(X, sigma, th2):
+    """Coupler points C (D, K) complex and assembly gaps (D, K) (max(|cos gamma| - 1, 0): 0
+    where the pose exists) of designs X (D, 9) in modes sigma (D,) at crank angles th2 (D, K).
+    Where the gap is positive, C is that of the nearest pose (cos gamma clipped to +-1)."""
+    O2 = X[:, 0] + 1j * X[:, 1]
+    r1, r2, r3, r4 = (np.exp(X[:, k])[:, None] for k in (2, 4, 5, 6))
+    O4 = (O2 + r1[:, 0] * np.exp(1j * X[:, 3]))[:, None]
+    A = O2[:, None] + r2 * np.exp(1j * th2)
+    d = O4 - A
+    L = np.maximum(np.abs(d), 1e-300)
+    c = (r3**2 + L**2 - r4**2) / (2 * r3 * L)
+    gap = np.maximum(np.abs(c) - 1, 0.0)
+    th3 = np.angle(d) + sigma[:, None] * np.arccos(np.clip(c, -1, 1))
+    return A + (X[:, 7] + 1j * X[:, 8])[:, None] * np.exp(1j * th3), gap
+
+
+def path_check(design, inputs, targets):
+    """Build ``four_bar(**design)`` (with a coupler point) and check it: a
+    :class:`planar.synthesis.Synthesis` with its coupler point's distance to each target at
+    the crank angles ``inputs`` (radians, in target order) and its defects."""
+    T = _targets(targets)
+    mech = four_bar(**design)
+    size = float(np.ptp(T, axis=0).max())
+    return check(mech, four_bar, design, inputs, T, lambda res, i: res.position("C")[i],
+                 lambda got, want: np.hypot(*(got - want).T), period=2 * np.pi, point="C", size=size)
+
+
+def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, seed=0, progress=None,
+                  name="path_four_bar"):
+    """A four-bar whose coupler point C passes every target point (N, 2) in order, found as the
+    module describes.
+
+    Parameters
+    ----------
+    targets : (N, 2) array
+        The points, in the order the coupler point is to pass them (N >= 2).
+    timing : (N,) array, optional
+        The crank angles at the targets, relative to the first (radians); default free.
+    designs : int
+        Random designs in the global search.
+    refine : int
+        Designs refined and checked, best first.
+    tol : float
+        Largest distance to a target, relative to the targets' size.
+    seed : int
+        Seed of the random generator: the same call gives the same linkage.
+    progress : callable, optional
+        ``progress(done, total)`` after each batch of the search and each refinement.
+
+    Returns
+    -------
+    planar.synthesis.Synthesis
+        The first defect-free design within ``tol``; ``notes["candidates"]`` says how many
+        were refined and checked.
+
+    Raises
+    ------
+    planar.errors.SynthesisError
+        When none of the refined designs passes; the message gives the best one's error and
+        defects.
+    """
+    T = _targets(targets)
+    centre = T.mean(axis=0)
+    size = float(np.ptp(T, axis=0).max())
+    if size == 0:
+        raise InputError("the target points all coincide: give distinct points")
+    t = (T - centre) / size
+    tz = t[:, 0] + 1j * t[:, 1]
+    tau = None if timing is None else _timing(timing, len(T))
+    rng = np.random.default_rng(seed)
+    total = -(-int(designs) // BATCH) + int(refine)
+    pool = _search(tz, tau, int(designs), int(refine), rng, progress, total)
+    best, tried = None, 0
+    for k, (X, sigma, th) in enumerate(pool):
+        X, th, fit = _refine(X, sigma, th, tz, tau)
+        if progress is not None:
+            progress(-(-int(designs) // BATCH) + k + 1, total)
+        tried += 1
+        if fit > 1e3 * tol:
+            best = _better(best, (fit, None))
+            continue
+        s = path_check(_design(X, sigma, th[0], centre, size, name), th, T)
+        score = (s.max_error / size if np.isfinite(s.max_error) else np.inf, s)
+        if s.ok and s.max_error <= tol * size:
+            s.notes["candidates"] = tried
+            return s
+        best = _better(best, score)
+    what = "no candidate came near" if best is None or best[1] is None else (
+        f"the best design misses by {best[0]:.3g} of the targets' size"
+        + (f" with defects: {'; '.join(best[1].defects)}" if best[1].defects else ""))
+    raise SynthesisError(f"path generation through {len(T)} targets found no defect-free four-bar within "
+                         f"{tol:g} of their size after {tried} refined designs ({what}): raise designs or refine, "
+                         "try another seed, or relax tol")
+
+
+def _better(best, new):
+    return new if best is None or new[0] < best[0] else best
+
+
+def _targets(targets):
+    T = np.asarray(targets, float)
+    if T.ndim != 2 or T.shape[1] != 2 or len(T) < 2 or not np.all(np.isfinite(T)):
+        raise InputError(f"targets must be an (N, 2) array of finite points with N >= 2, got shape {T.shape}")
+    return T
+
+
+def _timing(timing, N):
+    tau = np.asarray(timing, float)
+    if tau.shape != (N,) or not np.all(np.isfinite(tau)):
+        raise InputError(f"timing must hold one finite crank angle per target ({N}), got shape {tau.shape}")
+    return tau - tau[0]
+
+
+def _sample(rng, D):
+    """D random designs around unit-size targets centred on the origin."""
+    X = np.empty((D, 9))
+    X[:, 0:2] = rng.uniform(-1.5, 1.5, (D, 2))
+    X[:, [2, 4, 5, 6]] = rng.uniform(np.log(0.15), np.log(2.5), (D, 4))
+    X[:, 3] = rng.uniform(-np.pi, np.pi, D)
+    X[:, 7:9] = rng.uniform(-1.5, 1.5, (D, 2))
+    return X, rng.choice([-1.0, 1.0], D)
+
+
+def _search(tz, tau, designs, keep, rng, progress, total):
+    """The ``keep`` best designs of the global search, best first, as (X, sigma, crank angles)."""
+    grid = np.linspace(-np.pi, np.pi, GRID, endpoint=False)
+    scores, found = [], []
+    done = 0
+    for batch in range(-(-designs // BATCH)):
+        D = min(BATCH, designs - done)
+        done += D
+        X, sigma = _sample(rng, D)
+        score, th = (_score_free if tau is None else _score_timed)(X, sigma, tz, tau, grid)
+        best = np.argsort(score)[:keep]
+        best = best[np.isfinite(score[best])]
+        scores.append(score[best])
+        found += [(X[i], sigma[i], th[i]) for i in best]
+        if progress is not None:
+            progress(batch + 1, total)
+    scores = np.concatenate(scores)
+    return [found[i] for i in np.argsort(scores, kind="stable")[:keep]]
+
+
+def _score_free(X, sigma, tz, tau, grid):
+    D, M = len(X), len(grid)
+    C, gap = coupler_points(X, sigma, np.broadcast_to(grid, (D, M)))
+    C = np.where(gap > 0, np.nan, C)
+    dist = np.abs(C[:, None, :] - tz[None, :, None])  # (D, N, M)
+    dist = np.where(np.isnan(dist), np.inf, dist)
+    k = np.argmin(dist, axis=2)  # (D, N)
+    dmin = np.take_along_axis(dist, k[..., None], axis=2)[..., 0]
+    score = np.sqrt(np.mean(dmin**2, axis=1))
+    # in order along one turn, either way, and assemblable between the first and last target
+    fine = np.zeros(D, bool)
+    bad = np.cumsum(np.concatenate((gap > 0, gap > 0), axis=1), axis=1)
+    for sign in (1, -1):
+        off = np.mod(sign * (k - k[:, :1]), M)
+        inorder = np.all(np.diff(off, axis=1) > 0, axis=1)
+        lo = np.where(sign > 0, k[:, 0], k[:, 0] - off[:, -1]) % M
+        span = off[:, -1]
+        hole = np.take_along_axis(bad, (lo + span)[:, None], 1)[:, 0] - np.take_along_axis(bad, lo[:, None], 1)[:, 0]
+        fine |= inorder & (hole == 0)
+    score = np.where(fine & np.isfinite(score), score, np.inf)
+    return score, grid[k]
+
+
+def _score_timed(X, sigma, tz, tau, grid):
+    D, M, N = len(X), len(grid), len(tz)
+    th = (grid[:, None] + tau[None, :]).ravel()
+    C, gap = coupler_points(X, sigma, np.broadcast_to(th, (D, M * N)))
+    err = np.abs(C - np.tile(tz, M)[None, :]) ** 2 + np.where(gap > 0, np.inf, 0.0)
+    err = np.sqrt(err.reshape(D, M, N).mean(axis=2))
+    j = np.argmin(err, axis=1)
+    return err[np.arange(D), j], grid[j][:, None] + tau[None, :]
+
+
+def _refine(X, sigma, th, tz, tau):
+    """Least squares on the distances to the targets from one searched design; returns the
+    design, the crank angles at the targets and the largest distance (targets' size 1)."""
+    n = len(tz)
+    s = np.array([sigma])
+
+    def unpack(z):
+        return z[:9], (z[9:] if tau is None else z[9] + tau)
+
+    def residual(z):
+        x, angles = unpack(z)
+        C, gap = coupler_points(x[None], s, angles[None])
+        r = C[0] - tz
+        return np.concatenate((r.real, r.imag, PENALTY * gap[0]))
+
+    z0 = np.concatenate((X, th if tau is None else th[:1]))
+    sol = least_squares(residual, z0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200 * len(z0))
+    x, angles = unpack(sol.x)
+    r = residual(sol.x)
+    fit = max(np.max(np.hypot(r[:n], r[n:2 * n])), np.max(r[2 * n:]))
+    return x, angles, fit
+
+
+def _design(X, sigma, start, centre, size, name):
+    """The four_bar keyword arguments of a normalised design, at the targets' place and size."""
+    L = np.exp(X[[2, 4, 5, 6]]) * size
+    return dict(ground=float(L[0]), crank=float(L[1]), coupler=float(L[2]), rocker=float(L[3]),
+                frame_angle=float(X[3]), coupler_point=(float(X[7] * size), float(X[8] * size)),
+                crossed=bool(sigma < 0), start=float(start),
+                pivot=(float(centre[0] + X[0] * size), float(centre[1] + X[1] * size)), name=name)
