@@ -40,9 +40,11 @@ def dyad(positions, rotations):
     """The dyad (W, Z), complex link vectors in position 1, whose link W turns by
     ``rotations`` (beta_2, beta_3) while the coupler moves through the three ``positions``.
 
-    >>> W, Z = dyad([(0, 0, 0), (1, 0, 0), (1, 1, 0)], [np.pi / 2, np.pi])   # a pure translation
+    >>> beta, alpha = np.array([0, np.pi / 2, np.pi]), np.array([0, np.pi / 6, np.pi / 3])
+    >>> P = 1.0 * np.exp(1j * beta) + 0.5j * np.exp(1j * alpha)   # made by W = 1, Z = 0.5i about O = 0
+    >>> W, Z = dyad(np.column_stack((P.real, P.imag, alpha)), beta[1:])
     >>> complex(np.round(W, 12)), complex(np.round(Z, 12))
-    ((-0.5+0.5j), 0j)
+    ((1+0j), 0.5j)
     """
     P = positions_array(positions, 3)
     b = np.asarray(rotations, float)

@@ -26,8 +26,8 @@ closed form, vectorised over a batch of designs and crank angles::
 >>> from planar.synthesis.path import coupler_points
 >>> X = np.array([[0.0, 0.0, np.log(4), 0.0, np.log(2), np.log(3), np.log(4), 1.0, 0.5]])
 >>> C, gap = coupler_points(X, np.array([1.0]), np.array([[np.pi / 3]]))
->>> np.round(C, 6).tolist(), gap.tolist()
-[[(1.197218+3.305485j)], [0.0]]
+>>> np.round(C, 6).tolist(), gap.tolist()   # four_bar(4, 2, 3, 4, coupler_point=(1, 0.5)) at 60 deg
+([[(1.333494+2.799188j)]], [[0.0]])
 """
 
 import numpy as np

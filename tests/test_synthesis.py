@@ -1,0 +1,196 @@
+"""Synthesis against textbook closed forms and known linkages; every result is checked on the
+built mechanism by a sweep of its own, not by the formula that made it."""
+
+import numpy as np
+import pytest
+
+from planar.errors import InputError, SynthesisError
+from planar.mechanisms import four_bar, slider_crank
+from planar.synthesis import (dyad, freudenstein, function_four_bar, function_slider_crank, motion_four_bar,
+                              path_check, path_four_bar, precision_points, slider_crank_dimensions)
+from tests.oracles import four_bar as fb_oracle
+from tests.oracles import slider_crank as sc_oracle
+
+
+def wrap(a):
+    return np.angle(np.exp(1j * np.asarray(a)))
+
+
+# ---- function generation -----------------------------------------------------------------------
+
+
+def test_three_point_freudenstein_log10():
+    """y = log10(x) on 1 <= x <= 2, crank 45 -> 105 deg, rocker 135 -> 225 deg, Chebyshev
+    spacing: K1, K2, K3 by Cramer's rule here, the linkage's rocker angles by the closed form."""
+    j = np.arange(1, 4)
+    x = 1.5 - 0.5 * np.cos((2 * j - 1) * np.pi / 6)
+    th2 = np.radians(45 + 60 * (x - 1))
+    th4 = np.radians(135 + 90 * np.log10(x) / np.log10(2))
+    M = np.stack((np.cos(th4), -np.cos(th2), np.ones(3)), axis=1)
+    rhs = np.cos(th2 - th4)
+    K = [np.linalg.det(np.where(np.arange(3) == k, rhs[:, None], M)) / np.linalg.det(M) for k in range(3)]
+    r2, r4 = 1 / K[0], 1 / K[1]
+    r3 = np.sqrt(1 + r2**2 + r4**2 - 2 * r2 * r4 * K[2])
+
+    s = function_four_bar(np.log10, (1, 2), np.radians([45, 105]), np.radians([135, 225]))
+    assert np.allclose(precision_points((1, 2)), x, atol=1e-15)
+    assert np.allclose(freudenstein(th2, th4), K, rtol=1e-12)
+    d = s.design
+    # r4 < 0: the rocker is built pointing the other way, its angles half a turn on
+    assert r2 > 0 and r4 < 0 and s.notes["shift"] == (0.0, np.pi)
+    assert np.allclose([d["ground"], d["crank"], d["coupler"], d["rocker"]], [1, r2, r3, -r4], rtol=1e-12)
+    sigma = -1 if d["crossed"] else 1
+    got = fb_oracle(1.0, r2, r3, -r4, th2, sigma=sigma)["th4"]
+    assert np.allclose(wrap(got - th4 - np.pi), 0, atol=1e-12)
+    assert s.ok and s.max_error < 1e-12
+    # planar's own sweep of the built four-bar, through the precision points
+    res = four_bar(**d).sweep(np.r_[np.radians(45), th2])
+    assert np.allclose(wrap(res.angle("rocker")[1:] - th4 - np.pi), 0, atol=1e-10)
+    # the structural error between the precision points is small but not zero
+    assert 1e-4 < s.notes["structural_error"] < np.radians(0.5)
+
+
+def test_freudenstein_recovers_a_known_four_bar_by_least_squares():
+    r1, r2, r3, r4 = 5.0, 2.0, 4.5, 4.0
+    th2 = np.radians(np.linspace(30, 150, 9))
+    th4 = fb_oracle(r1, r2, r3, r4, th2)["th4"]
+    K = freudenstein(th2, th4)
+    assert np.allclose(K, [r1 / r2, r1 / r4, (r1**2 + r2**2 - r3**2 + r4**2) / (2 * r2 * r4)], rtol=1e-10)
+    # the same as function generation over many points: the generated function is met exactly
+    xs, ys = np.degrees(th2), th4
+
+    def g(x):
+        return fb_oracle(r1, r2, r3, r4, np.radians(x))["th4"]
+
+    s = function_four_bar(g, (xs[0], xs[-1]), th2[[0, -1]], ys[[0, -1]], points=9, spacing="even", ground=r1)
+    assert s.ok and s.max_error < 1e-9 and s.notes["structural_error"] < 1e-9
+    assert np.allclose([s.design[k] for k in ("crank", "coupler", "rocker")], [r2, r3, r4], rtol=1e-9)
+
+
+def test_slider_crank_function_generator():
+    r2, r3, e = 2.0, 5.0, 1.0
+    th2 = np.radians([20.0, 70.0, 130.0])
+    s_ = sc_oracle(r2, r3, th2, offset=e)["r1"]
+    assert np.allclose(slider_crank_dimensions(th2, s_), (r2, r3, e), rtol=1e-12)
+
+    s = function_slider_crank(np.sqrt, (1, 4), np.radians([30, 150]), (6.0, 3.0))
+    assert s.ok and s.max_error < 1e-12
+    res = slider_crank(**s.design).sweep(s.inputs)
+    assert np.allclose(res.coordinate("slide"), s.targets, atol=1e-10)
+
+
+def test_function_generation_refuses_bad_ranges():
+    with pytest.raises(InputError, match="output range"):
+        function_four_bar(np.cos, (0, 2 * np.pi), (0, 1), (0, 1))
+    with pytest.raises(InputError, match="three"):
+        function_four_bar(np.log10, (1, 2), (0, 1), (2, 3), points=[1.2, 1.5])
+
+
+# ---- motion generation -------------------------------------------------------------------------
+
+
+def test_three_positions_recover_a_known_four_bar():
+    """Positions made by a known four-bar (pivot at (1, 2)), with its crank's and rocker's
+    rotations as the free choices: the dyads give back the same linkage."""
+    r1, r2, r3, r4, p, q = 4.0, 1.5, 3.5, 3.0, 1.5, 1.0
+    th2 = np.radians([40.0, 75.0, 120.0])
+    o = fb_oracle(r1, r2, r3, r4, th2, p=p, q=q)
+    P = np.column_stack((o["C"] + (1, 2), o["th3"]))
+    s = motion_four_bar(P, beta=th2[1:] - th2[0], gamma=wrap(o["th4"][1:] - o["th4"][0]))
+    d = s.design
+    assert np.allclose([d["ground"], d["crank"], d["coupler"], d["rocker"]], [r1, r2, r3, r4], rtol=1e-10)
+    assert np.allclose(d["pivot"], (1, 2), atol=1e-10) and np.allclose(d["coupler_point"], (p, q), atol=1e-10)
+
+
+def test_three_positions_are_passed_in_point_and_angle():
+    P = np.array([(1.0, 2.0, np.radians(10)), (2.2, 2.9, np.radians(35)), (3.0, 2.5, np.radians(70))])
+    s = motion_four_bar(P, beta=np.radians([40, 95]), gamma=np.radians([15, 50]))
+    assert s.ok
+    # planar's own sweep of the built four-bar, at the crank angles of the positions
+    res = four_bar(**s.design).sweep(s.inputs)
+    assert np.allclose(res.position("C"), P[:, :2], atol=1e-9, rtol=0)
+    th = res.angle("coupler") - res.angle("coupler")[0] + P[0, 2]
+    assert np.allclose(wrap(th - P[:, 2]), 0, atol=1e-9)
+    assert s.errors.shape == (3, 2) and s.max_error < 1e-9
+    assert np.allclose(s.inputs - s.inputs[0], [0, *np.radians([40, 95])])
+
+
+def test_dyad_refuses_a_singular_choice():
+    P = [(0, 0, 0), (1, 0, 0.3), (2, 1, 0.6)]
+    with pytest.raises(SynthesisError, match="singular"):
+        dyad(P, [0.3, 0.6])  # the coupler's own rotations: W and Z parallel
+    assert np.all(np.isfinite(dyad(P, [0.5, 1.0])))
+
+
+# ---- path generation ---------------------------------------------------------------------------
+
+
+def known_targets(u):
+    m = four_bar(4, 1.5, 3.5, 3, coupler_point=(1.5, 1.0), pivot=(1, 2), frame_angle=0.3)
+    return m.sweep(np.r_[0.0, u]).position("C")[1:]
+
+
+def check_found(s, T):
+    size = np.ptp(T, axis=0).max()
+    res = four_bar(**s.design).sweep(s.inputs)
+    assert np.all(np.hypot(*(res.position("C") - T).T) < 1e-6 * size)
+    assert s.ok and s.max_error < 1e-6 * size
+    assert s.sweep.ok.all()
+    assert not [e for e in s.sweep.events if e.kind in ("limit", "bifurcation", "singular")]
+
+
+def test_path_generation_free_timing_is_reproducible():
+    T = known_targets(np.radians(np.linspace(20, 250, 6)))
+    s = path_four_bar(T, seed=1)
+    check_found(s, T)
+    assert path_four_bar(T, seed=1).design == s.design
+
+
+def test_path_generation_with_prescribed_timing():
+    u = np.radians(np.linspace(20, 250, 6))
+    T = known_targets(u)
+    s = path_four_bar(T, timing=u, seed=1)
+    check_found(s, T)
+    assert np.allclose(s.inputs - s.inputs[0], u - u[0], atol=1e-12)
+
+
+def test_path_generation_says_when_it_fails():
+    T = np.random.default_rng(3).uniform(0, 1, (12, 2))  # 24 equations, 21 unknowns
+    with pytest.raises(SynthesisError, match="found no defect-free four-bar"):
+        path_four_bar(T, designs=2000, refine=1)
+    with pytest.raises(InputError, match="coincide"):
+        path_four_bar(np.zeros((3, 2)))
+
+
+# ---- defects -----------------------------------------------------------------------------------
+
+
+def test_defect_not_assemblable():
+    d = dict(ground=4, crank=3, coupler=3, rocker=3, coupler_point=(1, 1))  # a triple rocker: +-117 deg
+    s = path_check(d, np.radians([0, 60, 150]), np.zeros((3, 2)))
+    assert any(m.startswith("not assemblable") for m in s.defects)
+    assert path_check(d, np.radians([0, 60, 110]), np.zeros((3, 2))).ok
+
+
+def test_defect_branch_event_and_change_of_circuit():
+    d = dict(ground=4, crank=2, coupler=4, rocker=2, coupler_point=(1, 1), start=0.5)  # a parallelogram
+    s = path_check(d, [0.5, 2.0, 4.0], np.zeros((3, 2)))
+    assert any("bifurcation" in m for m in s.defects)
+    assert any(m.startswith("change of circuit") for m in s.defects)
+    assert path_check(d, [0.5, 2.0, 3.0], np.zeros((3, 2))).ok
+
+
+def test_defect_wrong_order():
+    d = dict(ground=4, crank=2, coupler=3, rocker=4, coupler_point=(1, 1))
+    s = path_check(d, [0.0, 1.0, 0.5, 2.0], np.zeros((4, 2)))
+    assert any(m.startswith("wrong order") for m in s.defects)
+    assert path_check(d, [0.0, 0.5, 1.0, 2.0], np.zeros((4, 2))).ok
+
+
+def test_draw_shows_the_targets():
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    P = np.array([(1.0, 2.0, np.radians(10)), (2.2, 2.9, np.radians(35)), (3.0, 2.5, np.radians(70))])
+    ax = motion_four_bar(P, beta=np.radians([40, 95]), gamma=np.radians([15, 50])).draw()
+    marks = [ln for ln in ax.lines if ln.get_label() == "targets"]
+    assert len(marks) == 1 and np.allclose(marks[0].get_xydata(), P[:, :2])
