@@ -194,3 +194,36 @@ def test_draw_shows_the_targets():
     ax = motion_four_bar(P, beta=np.radians([40, 95]), gamma=np.radians([15, 50])).draw()
     marks = [ln for ln in ax.lines if ln.get_label() == "targets"]
     assert len(marks) == 1 and np.allclose(marks[0].get_xydata(), P[:, :2])
+
+
+# ---- command line ------------------------------------------------------------------------------
+
+
+def test_cli_synth_path_writes_a_mechanism_file_through_the_targets(tmp_path, capsys):
+    from planar import io
+    from planar.cli import main
+
+    u = np.linspace(20, 250, 6)
+    T = known_targets(np.radians(u))
+    csv = tmp_path / "targets.csv"
+    csv.write_text("x,y,input\n" + "".join(f"{x:.17g},{y:.17g},{a:.17g}\n" for (x, y), a in zip(T, u)))
+    assert main(["synth", "path", str(csv), "--timing", "--seed", "1", "--no-plot"]) == 0
+    assert "no defects" in capsys.readouterr().out
+    doc = io.load(tmp_path / "targets-synth.json")
+    model = doc.mechanism.compile()
+    U, _, _ = doc.sweep.values(model, doc.units)
+    start = U[0, 0]
+    res = model.sweep(start + np.radians(u - u[0]))
+    assert np.allclose(res.position("C"), T, atol=1e-6 * np.ptp(T, axis=0).max())
+
+
+def test_cli_synth_reports_bad_files(tmp_path, capsys):
+    from planar.cli import main
+
+    csv = tmp_path / "bad.csv"
+    csv.write_text("x,y,angle\n1,2,10\n2,oops,20\n3,1,30\n")
+    assert main(["synth", "motion", str(csv), "--beta", "40", "95", "--gamma", "15", "50"]) == 1
+    assert "line 3, column y" in capsys.readouterr().err
+    csv.write_text("x,y\n1,2\n2,3\n3,1\n")
+    assert main(["synth", "path", str(csv), "--timing"]) == 1
+    assert "input column" in capsys.readouterr().err
