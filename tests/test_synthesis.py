@@ -6,7 +6,7 @@ import pytest
 
 from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar, slider_crank
-from planar.synthesis import (dyad, freudenstein, function_four_bar, function_slider_crank, motion_four_bar,
+from planar.synthesis import (burmester_curves, burmester_points, compatible, dyad, freudenstein, function_four_bar, function_slider_crank, motion_four_bar,
                               path_check, path_four_bar, precision_points, slider_crank_dimensions)
 from tests.oracles import four_bar as fb_oracle
 from tests.oracles import slider_crank as sc_oracle
@@ -113,6 +113,48 @@ def test_three_positions_are_passed_in_point_and_angle():
     assert np.allclose(wrap(th - P[:, 2]), 0, atol=1e-9)
     assert s.errors.shape == (3, 2) and s.max_error < 1e-9
     assert np.allclose(s.inputs - s.inputs[0], [0, *np.radians([40, 95])])
+
+
+@pytest.fixture
+def five_positions():
+    """Five positions of a known four-bar's coupler, with its crank's and rocker's rotations."""
+    r1, r2, r3, r4, p, q = 4.0, 1.5, 3.5, 3.0, 1.5, 1.0
+    th2 = np.radians([40.0, 60, 85, 110.0, 135])
+    o = fb_oracle(r1, r2, r3, r4, th2, p=p, q=q)
+    return np.column_stack((o["C"], o["th3"])), th2[1:] - th2[0], wrap(o["th4"][1:] - o["th4"][0])
+
+
+def test_four_positions_by_the_compatibility_equation(five_positions):
+    P, beta, gamma = five_positions
+    P, beta, gamma = P[:4], beta[:3], gamma[:3]
+    assert any(np.allclose(b, beta, atol=1e-12) for b in compatible(P, beta[0]))
+    assert any(np.allclose(g, gamma, atol=1e-12) for g in compatible(P, gamma[0]))
+    # every compatible set makes a dyad through all four positions
+    for b in compatible(P, 1.0) + compatible(P, 2.5):
+        W, Z = dyad(P, b)
+        z = P[:, 0] + 1j * P[:, 1]
+        assert np.allclose(z[0] - Z - W + W * np.exp(1j * np.r_[0, b]) + Z * np.exp(1j * (P[:, 2] - P[0, 2])), z,
+                           atol=1e-12)
+    with pytest.raises(SynthesisError, match="compatible"):
+        dyad(P, [beta[0], beta[1], beta[2] + 0.1])
+    s = motion_four_bar(P, beta=beta, gamma=gamma)
+    assert s.ok and s.max_error < 1e-9
+    beta2, centre, circle = burmester_curves(P, samples=720)
+    # the crank's pivots on the curves: its ground pivot O2 = 0, its moving pivot A in position 1
+    k = np.argmin(np.abs(beta2 - beta[0]))
+    A1 = 1.5 * np.exp(1j * np.radians(40))
+    assert np.nanmin(np.abs(centre[k - 1:k + 2])) < 0.05 and np.nanmin(np.abs(circle[k - 1:k + 2] - A1)) < 0.05
+
+
+def test_five_positions_by_burmester_points(five_positions):
+    P, beta, gamma = five_positions
+    found = burmester_points(P)
+    assert len(found) in (2, 4)
+    for true in (beta, gamma):
+        assert any(np.allclose(np.exp(1j * f), np.exp(1j * true), atol=1e-9) for f in found)
+    s = motion_four_bar(P, beta=beta, gamma=gamma)
+    res = four_bar(**s.design).sweep(s.inputs)
+    assert np.allclose(res.position("C"), P[:, :2], atol=1e-9)
 
 
 def test_dyad_refuses_a_singular_choice():

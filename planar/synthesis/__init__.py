@@ -4,7 +4,8 @@
   output follows y = f(x), exactly through three precision points or in the least squares
   sense through more (Chebyshev spacing offered);
 - motion generation (:mod:`planar.synthesis.motion`): a four-bar whose coupler passes three
-  prescribed positions, both dyads in closed form with the free choices exposed;
+  prescribed positions, both dyads in closed form with the free choices exposed; four and
+  five positions by Burmester's compatibility equation;
 - path generation (:mod:`planar.synthesis.path`): a four-bar whose coupler point passes N
   target points, with or without prescribed timing, by a seeded global search over batches of
   designs and local refinement.
@@ -17,10 +18,10 @@ way (not assemblable over the range, branch events, change of circuit, wrong ord
 from planar.errors import SynthesisError
 from planar.synthesis.function import (freudenstein, function_four_bar, function_slider_crank,
                                        four_bar_lengths, precision_points, slider_crank_dimensions)
-from planar.synthesis.motion import dyad, motion_four_bar
+from planar.synthesis.motion import burmester_curves, burmester_points, compatible, dyad, motion_four_bar
 from planar.synthesis.path import path_check, path_four_bar
 from planar.synthesis.result import Synthesis
 
 __all__ = ["Synthesis", "SynthesisError", "precision_points", "freudenstein", "four_bar_lengths",
            "slider_crank_dimensions", "function_four_bar", "function_slider_crank",
-           "dyad", "motion_four_bar", "path_four_bar", "path_check"]
+           "dyad", "compatible", "burmester_curves", "burmester_points", "motion_four_bar", "path_four_bar", "path_check"]
