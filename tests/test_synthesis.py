@@ -229,6 +229,14 @@ def test_defect_wrong_order():
     assert path_check(d, [0.0, 0.5, 1.0, 2.0], np.zeros((4, 2))).ok
 
 
+def test_defect_poor_transmission():
+    d = dict(ground=4, crank=2, coupler=3, rocker=4, coupler_point=(1, 1))  # 28.96 deg at worst over a turn
+    u = np.radians([0, 90, 180, 270, 350])
+    s = path_check(d, u, np.zeros((5, 2)), min_transmission=np.radians(35))
+    assert any(m.startswith("transmission angle down to 29") for m in s.defects)
+    assert path_check(d, u, np.zeros((5, 2)), min_transmission=np.radians(25)).ok
+
+
 def test_draw_shows_the_targets():
     matplotlib = pytest.importorskip("matplotlib")
     matplotlib.use("Agg")

@@ -1,6 +1,6 @@
 """``planar synth``: path or motion generation from a CSV file of targets.
 
-    planar synth path TARGETS.csv [--timing] [--seed S] [--designs N] [--tol T] [-o FILE]
+    planar synth path TARGETS.csv [--timing] [--min-transmission A] [--seed S] [--designs N] [--tol T] [-o FILE]
     planar synth motion POSITIONS.csv --beta B2 B3 --gamma G2 G3 [-o FILE]
 
 The CSV has a header row. Path targets: columns ``x``, ``y`` (and ``input``, the crank angle
@@ -27,6 +27,7 @@ def add_parser(sub):
     s.add_argument("--seed", type=int, default=0, help="path: seed of the search (default 0)")
     s.add_argument("--designs", type=int, default=20000, help="path: random designs searched (default 20000)")
     s.add_argument("--tol", type=float, default=1e-6, help="path: largest error relative to the targets' size")
+    s.add_argument("--min-transmission", type=float, help="path: smallest transmission angle allowed")
     s.add_argument("--beta", type=float, nargs=2, help="motion: the crank's rotations to positions 2 and 3")
     s.add_argument("--gamma", type=float, nargs=2, help="motion: the rocker's rotations to positions 2 and 3")
     s.add_argument("--angle-unit", choices=("deg", "rad"), default="deg", help="angles in the CSV and options")
@@ -73,8 +74,9 @@ def cmd_synth(args):
         if args.timing and "input" not in cols:
             raise FileFormatError(f"{args.file}: --timing needs an input column (the crank angle at each target)")
         timing = units.angle_to_internal(cols["input"]) if args.timing else None
+        mu = None if args.min_transmission is None else units.angle_to_internal(args.min_transmission)
         s = path_four_bar(np.column_stack((cols["x"], cols["y"])), timing=timing, designs=args.designs,
-                          tol=args.tol, seed=args.seed, progress=_Progress("search step"))
+                          tol=args.tol, min_transmission=mu, seed=args.seed, progress=_Progress("search step"))
     else:
         if args.beta is None or args.gamma is None:
             raise InputError("motion generation needs the free choices --beta B2 B3 and --gamma G2 G3")

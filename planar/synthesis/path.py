@@ -30,9 +30,12 @@ closed form, vectorised over a batch of designs and crank angles::
 ([[(1.333494+2.799188j)]], [[0.0]])
 """
 
+from dataclasses import replace
+
 import numpy as np
 from scipy.optimize import least_squares
 
+from planar.analysis import transmission_angle
 from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar
 from planar.synthesis.result import check
@@ -58,19 +61,29 @@ def coupler_points(X, sigma, th2):
     return A + (X[:, 7] + 1j * X[:, 8])[:, None] * np.exp(1j * th3), gap
 
 
-def path_check(design, inputs, targets):
+def path_check(design, inputs, targets, min_transmission=None):
     """Build ``four_bar(**design)`` (with a coupler point) and check it: a
     :class:`planar.synthesis.Synthesis` with its coupler point's distance to each target at
-    the crank angles ``inputs`` (radians, in target order) and its defects."""
+    the crank angles ``inputs`` (radians, in target order) and its defects; with
+    ``min_transmission`` (radians), a transmission angle (at B, between coupler and rocker)
+    further than that from a straight line is one too. ``notes["transmission"]`` holds the
+    worst transmission angle over the range (0 to pi/2)."""
     T = _targets(targets)
     mech = four_bar(**design)
     size = float(np.ptp(T, axis=0).max())
-    return check(mech, four_bar, design, inputs, T, lambda res, i: res.position("C")[i],
-                 lambda got, want: np.hypot(*(got - want).T), period=2 * np.pi, point="C", size=size)
+    s = check(mech, four_bar, design, inputs, T, lambda res, i: res.position("C")[i],
+              lambda got, want: np.hypot(*(got - want).T), period=2 * np.pi, point="C", size=size)
+    mu = transmission_angle(s.sweep, ("B", "A"), ("B", "O4"))
+    mu = np.minimum(mu, np.pi - mu)[np.isfinite(mu)]
+    s.notes["transmission"] = worst = float(mu.min()) if mu.size else float("nan")
+    if min_transmission is not None and not worst >= min_transmission:
+        s = replace(s, defects=s.defects + (f"transmission angle down to {np.degrees(worst):.3g} deg, below the "
+                                            f"{np.degrees(min_transmission):.3g} deg asked for",))
+    return s
 
 
-def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, seed=0, progress=None,
-                  name="path_four_bar"):
+def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, min_transmission=None, seed=0,
+                  progress=None, name="path_four_bar"):
     """A four-bar whose coupler point C passes every target point (N, 2) in order, found as the
     module describes.
 
@@ -86,6 +99,8 @@ def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, s
         Designs refined and checked, best first.
     tol : float
         Largest distance to a target, relative to the targets' size.
+    min_transmission : float, optional
+        Smallest transmission angle allowed between the first and last target (radians).
     seed : int
         Seed of the random generator: the same call gives the same linkage.
     progress : callable, optional
@@ -123,7 +138,7 @@ def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, s
         if fit > 1e3 * tol:
             best = _better(best, (fit, None))
             continue
-        s = path_check(_design(X, sigma, th[0], centre, size, name), th, T)
+        s = path_check(_design(X, sigma, th[0], centre, size, name), th, T, min_transmission)
         score = (s.max_error / size if np.isfinite(s.max_error) else np.inf, s)
         if s.ok and s.max_error <= tol * size:
             s.notes["candidates"] = tried
