@@ -21,6 +21,8 @@ Slider-crank (slide line y = e, travel s = x of the pin B)::
 (True, True)
 """
 
+from dataclasses import replace
+
 import numpy as np
 
 from planar.errors import InputError, SynthesisError
@@ -135,9 +137,7 @@ def _checked(builder, design, th2, out, input_range, output_range, x_range, f, s
     u = s.sweep.inputs[:, 0]
     xs = x_range[0] + (u - span[0]) / (span[1] - span[0]) * (x_range[1] - x_range[0])
     want = _map(np.vectorize(f)(xs), f, x_range, output_range)
-    s.notes["structural_error"] = float(np.max(error(read(s.sweep), want)))
-    s.notes["shift"] = shift
-    return s
+    return replace(s, notes={"structural_error": float(np.max(error(read(s.sweep), want))), "shift": shift})
 
 
 def _mapped(f, x_range, input_range, output_range, points, spacing):

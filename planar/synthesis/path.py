@@ -43,6 +43,7 @@ from planar.synthesis.result import check
 GRID = 120  # crank angles per turn in the global search
 BATCH = 2000  # designs per batch
 PENALTY = 10.0  # weight of the assembly gap at a target in the refinement
+STEP = 1e-6  # central-difference step of the refinement's Jacobian (the design is of unit size)
 
 
 def coupler_points(X, sigma, th2):
@@ -75,11 +76,12 @@ def path_check(design, inputs, targets, min_transmission=None):
               lambda got, want: np.hypot(*(got - want).T), period=2 * np.pi, point="C", size=size)
     mu = transmission_angle(s.sweep, ("B", "A"), ("B", "O4"))
     mu = np.minimum(mu, np.pi - mu)[np.isfinite(mu)]
-    s.notes["transmission"] = worst = float(mu.min()) if mu.size else float("nan")
+    worst = float(mu.min()) if mu.size else float("nan")
+    defects = s.defects
     if min_transmission is not None and not worst >= min_transmission:
-        s = replace(s, defects=s.defects + (f"transmission angle down to {np.degrees(worst):.3g} deg, below the "
-                                            f"{np.degrees(min_transmission):.3g} deg asked for",))
-    return s
+        defects += (f"transmission angle down to {np.degrees(worst):.3g} deg, below the "
+                    f"{np.degrees(min_transmission):.3g} deg asked for",)
+    return replace(s, defects=defects, notes={"transmission": worst})
 
 
 def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, min_transmission=None, seed=0,
@@ -141,8 +143,7 @@ def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, m
         s = path_check(_design(X, sigma, th[0], centre, size, name), th, T, min_transmission)
         score = (s.max_error / size if np.isfinite(s.max_error) else np.inf, s)
         if s.ok and s.max_error <= tol * size:
-            s.notes["candidates"] = tried
-            return s
+            return replace(s, notes={**s.notes, "candidates": tried})
         best = _better(best, score)
     what = "no candidate came near" if best is None or best[1] is None else (
         f"the best design misses by {best[0]:.3g} of the targets' size"
@@ -237,19 +238,46 @@ def _refine(X, sigma, th, tz, tau):
     """Least squares on the distances to the targets from one searched design; returns the
     design, the crank angles at the targets and the largest distance (targets' size 1)."""
     n = len(tz)
-    s = np.array([sigma])
 
     def unpack(z):
         return z[:9], (z[9:] if tau is None else z[9] + tau)
 
+    def residuals(Xs, ths):
+        C, gap = coupler_points(Xs, np.full(len(Xs), sigma), ths)
+        r = C - tz
+        return np.concatenate((r.real, r.imag, PENALTY * gap), axis=1)
+
     def residual(z):
         x, angles = unpack(z)
-        C, gap = coupler_points(x[None], s, angles[None])
-        r = C[0] - tz
-        return np.concatenate((r.real, r.imag, PENALTY * gap[0]))
+        return residuals(x[None], angles[None])[0]
+
+    def jacobian(z):
+        # central differences, all in one batch: each target's residuals depend on the nine
+        # design numbers and on its own crank angle only, so one shift of every angle at once
+        # gives their columns
+        x, angles = unpack(z)
+        Xs, ths = np.repeat(x[None], 20, axis=0), np.repeat(angles[None], 20, axis=0)
+        for k in range(9):
+            Xs[2 * k, k] += STEP
+            Xs[2 * k + 1, k] -= STEP
+        ths[18] += STEP
+        ths[19] -= STEP
+        R = residuals(Xs, ths)
+        dR = (R[0::2] - R[1::2]) / (2 * STEP)
+        J = np.zeros((3 * n, len(z)))
+        J[:, :9] = dR[:9].T
+        if tau is None:
+            rows = np.arange(3 * n)
+            J[rows, 9 + rows % n] = dR[9]
+        else:
+            J[:, 9] = dR[9]
+        return J
 
     z0 = np.concatenate((X, th if tau is None else th[:1]))
-    sol = least_squares(residual, z0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200 * len(z0))
+    # Levenberg-Marquardt where there are as many residuals as unknowns, else the trust region
+    method = "lm" if 3 * n >= len(z0) else "trf"
+    sol = least_squares(residual, z0, jac=jacobian, method=method, xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                        max_nfev=100 * len(z0))
     x, angles = unpack(sol.x)
     r = residual(sol.x)
     fit = max(np.max(np.hypot(r[:n], r[n:2 * n])), np.max(r[2 * n:]))

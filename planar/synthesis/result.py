@@ -30,7 +30,8 @@ class Synthesis:
     point's distance and the angle's error). ``sweep`` is the checking sweep from the first
     target's input to the last (``index`` (N,) locates the targets in it), ``defects`` the
     reasons the design fails (empty when it is usable), ``size`` the targets' size (the
-    scale of ``errors``) and ``point`` the name of the traced point (or None).
+    scale of ``errors``), ``point`` the name of the traced point (or None) and ``notes`` what
+    else the problem reports (each function says which).
     """
 
     mechanism: object
