@@ -3,10 +3,12 @@ built mechanism by a sweep of its own, not by the formula that made it."""
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings, strategies as st
 
 from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar, slider_crank
-from planar.synthesis import (burmester_curves, burmester_points, compatible, dyad, freudenstein, function_four_bar, function_slider_crank, motion_four_bar,
+from planar.synthesis import (burmester_curves, burmester_points, compatible, dyad, four_bar_lengths, freudenstein,
+                              function_four_bar, function_slider_crank, motion_four_bar,
                               path_check, path_four_bar, precision_points, slider_crank_dimensions)
 from tests.oracles import four_bar as fb_oracle
 from tests.oracles import slider_crank as sc_oracle
@@ -86,7 +88,40 @@ def test_function_generation_refuses_bad_ranges():
         function_four_bar(np.log10, (1, 2), (0, 1), (2, 3), points=[1.2, 1.5])
 
 
+@given(lengths=st.tuples(*[st.floats(0.5, 5.0)] * 4), th2=st.tuples(*[st.floats(-np.pi, np.pi)] * 3),
+       sigma=st.sampled_from([1, -1]))
+def test_freudenstein_recovers_any_four_bar(lengths, th2, sigma):
+    r1, r2, r3, r4 = lengths
+    th4 = fb_oracle(r1, r2, r3, r4, np.array(th2), sigma=sigma)["th4"]
+    assume(np.all(np.isfinite(th4)))
+    M = np.stack((np.cos(th4), -np.cos(th2), np.ones(3)), axis=1)
+    assume(np.linalg.cond(M) < 1e6)
+    K = [r1 / r2, r1 / r4, (r1**2 + r2**2 - r3**2 + r4**2) / (2 * r2 * r4)]
+    assert np.allclose(freudenstein(th2, th4), K, rtol=1e-6, atol=1e-6)
+    assert np.allclose(four_bar_lengths(K, r1), lengths, rtol=1e-12)
+
+
+def test_pivot_moves_the_whole_four_bar():
+    u = np.radians([0.0, 50.0, 100.0])
+    here = four_bar(coupler_point=(1, 1), frame_angle=0.4).sweep(u)
+    there = four_bar(coupler_point=(1, 1), frame_angle=0.4, pivot=(2.5, -1.0)).sweep(u)
+    for name in ("O2", "A", "B", "O4", "C"):
+        assert np.allclose(there.position(name), here.position(name) + (2.5, -1.0), atol=1e-12)
+
+
 # ---- motion generation -------------------------------------------------------------------------
+
+
+@settings(max_examples=100)
+@given(W=st.complex_numbers(min_magnitude=0.3, max_magnitude=3), Z=st.complex_numbers(min_magnitude=0.0, max_magnitude=3),
+       beta=st.tuples(*[st.floats(0.2, 6.0)] * 2), alpha=st.tuples(*[st.floats(-3.0, 3.0)] * 2))
+def test_dyad_recovers_the_dyad_that_made_the_positions(W, Z, beta, alpha):
+    b, a = np.r_[0.0, beta], np.r_[0.0, alpha]
+    P = W * np.exp(1j * b) + Z * np.exp(1j * a)  # the ground pivot at the origin
+    M = np.column_stack((np.exp(1j * b[1:]) - 1, np.exp(1j * a[1:]) - 1))
+    assume(abs(np.linalg.det(M)) > 1e-3)
+    Wf, Zf = dyad(np.column_stack((P.real, P.imag, a)), beta)
+    assert abs(Wf - W) < 1e-8 and abs(Zf - Z) < 1e-8
 
 
 def test_three_positions_recover_a_known_four_bar():
@@ -235,6 +270,17 @@ def test_defect_poor_transmission():
     s = path_check(d, u, np.zeros((5, 2)), min_transmission=np.radians(35))
     assert any(m.startswith("transmission angle down to 29") for m in s.defects)
     assert path_check(d, u, np.zeros((5, 2)), min_transmission=np.radians(25)).ok
+
+
+def test_save_writes_a_mechanism_file_over_the_targets(tmp_path):
+    from planar import io
+
+    P = np.array([(1.0, 2.0, np.radians(10)), (2.2, 2.9, np.radians(35)), (3.0, 2.5, np.radians(70))])
+    s = motion_four_bar(P, beta=np.radians([40, 95]), gamma=np.radians([15, 50]))
+    doc = io.load(s.save(tmp_path / "m.json"))
+    assert np.allclose(doc.sweep.start + doc.sweep.stop, np.degrees(s.inputs[[0, -1]]))
+    res = doc.mechanism.sweep(s.inputs)
+    assert np.allclose(res.position("C"), P[:, :2], atol=1e-9)
 
 
 def test_draw_shows_the_targets():

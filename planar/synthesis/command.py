@@ -63,7 +63,6 @@ def read_targets(path, columns, optional=()):
 
 
 def cmd_synth(args):
-    from planar import io
     from planar.cli import EXIT_OK, _Progress, _write
     from planar.synthesis import motion_four_bar, path_four_bar
     from planar.units import Units
@@ -87,9 +86,7 @@ def cmd_synth(args):
         print(line)
     stem = Path(args.file).with_suffix("")
     path = Path(args.output or f"{stem}-synth.json")
-    ends = tuple(float(units.angle_from_internal(s.inputs[k])) for k in (0, -1))
-    sweep = io.SweepSettings(start=(ends[0],), stop=(ends[1],), num=181)
-    _write(path, io.save, s.mechanism, path, units, sweep)
+    _write(path, s.save, path, units)
     written = [path]
     if not args.no_plot:
         import matplotlib

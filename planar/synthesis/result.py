@@ -63,6 +63,17 @@ class Synthesis:
         state = "ok" if self.ok else f"{len(self.defects)} defect(s)"
         return f"Synthesis({self.mechanism.name!r}, targets={len(self.inputs)}, max error={self.max_error:.3g}, {state})"
 
+    def save(self, path, units=None):
+        """Write the mechanism to a mechanism file (see :mod:`planar.io`) with a sweep from the
+        first target's input to the last (181 values), in ``units`` (default degrees); returns
+        the path."""
+        from planar import io
+        from planar.units import Units
+
+        units = Units() if units is None else units
+        ends = [float(units.angle_from_internal(self.inputs[k])) for k in (0, -1)]
+        return io.save(self.mechanism, path, units, io.SweepSettings(start=(ends[0],), stop=(ends[1],), num=181))
+
     def draw(self, ax=None, pose=0):
         """The mechanism at target ``pose`` (an index into the targets), the path of its
         traced point over the checking sweep and the targets (motion generation: with their
