@@ -125,29 +125,37 @@ def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, m
     size = float(np.ptp(T, axis=0).max())
     if size == 0:
         raise InputError("the target points all coincide: give distinct points")
+    for what, v in (("designs", designs), ("refine", refine)):
+        if not isinstance(v, (int, np.integer)) or v < 1:
+            raise InputError(f"{what} must be a positive integer, got {v!r}")
+    if not tol > 0:
+        raise InputError(f"tol must be a positive number (relative to the targets' size), got {tol!r}")
     t = (T - centre) / size
     tz = t[:, 0] + 1j * t[:, 1]
     tau = None if timing is None else _timing(timing, len(T))
     rng = np.random.default_rng(seed)
-    total = -(-int(designs) // BATCH) + int(refine)
-    pool = _search(tz, tau, int(designs), int(refine), rng, progress, total)
+    batches = -(-designs // BATCH)
+    total = batches + refine
+    pool = _search(tz, tau, designs, refine, rng, progress, total)
     best, tried = None, 0
-    for k, (X, sigma, th) in enumerate(pool):
+    for X, sigma, th in pool:
         X, th, fit = _refine(X, sigma, th, tz, tau)
-        if progress is not None:
-            progress(-(-int(designs) // BATCH) + k + 1, total)
         tried += 1
+        if progress is not None:
+            progress(total if tried == len(pool) else batches + tried, total)
         if fit > 1e3 * tol:
             best = _better(best, (fit, None))
             continue
         s = path_check(_design(X, sigma, th[0], centre, size, name), th, T, min_transmission)
         score = (s.max_error / size if np.isfinite(s.max_error) else np.inf, s)
         if s.ok and s.max_error <= tol * size:
+            if progress is not None and tried < len(pool):
+                progress(total, total)
             return replace(s, notes={**s.notes, "candidates": tried})
         best = _better(best, score)
-    what = "no candidate came near" if best is None or best[1] is None else (
+    what = "the search found no design with the targets in order" if best is None else (
         f"the best design misses by {best[0]:.3g} of the targets' size"
-        + (f" with defects: {'; '.join(best[1].defects)}" if best[1].defects else ""))
+        + (f" with defects: {'; '.join(best[1].defects)}" if best[1] is not None and best[1].defects else ""))
     raise SynthesisError(f"path generation through {len(T)} targets found no defect-free four-bar within "
                          f"{tol:g} of their size after {tried} refined designs ({what}): raise designs or refine, "
                          "try another seed, or relax tol")
