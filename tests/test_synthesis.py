@@ -231,6 +231,11 @@ def test_path_generation_with_prescribed_timing():
     assert np.allclose(s.inputs - s.inputs[0], u - u[0], atol=1e-12)
 
 
+def test_path_generation_follows_a_curve_of_many_points():
+    T = known_targets(np.radians(np.linspace(10, 330, 25)))  # more targets than a four-bar has freedoms
+    check_found(path_four_bar(T), T)
+
+
 def test_path_generation_says_when_it_fails():
     T = np.random.default_rng(3).uniform(0, 1, (12, 2))  # 24 equations, 21 unknowns
     with pytest.raises(SynthesisError, match="found no defect-free four-bar"):
