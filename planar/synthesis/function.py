@@ -91,7 +91,7 @@ def slider_crank_dimensions(th2, s):
 
 def function_four_bar(f, x_range, input_range, output_range, *, points=3, spacing="chebyshev", ground=1.0,
                       name="function_four_bar"):
-    """A crank-rocker whose rocker angle follows ``f`` (see the module): precision points
+    """A four-bar whose rocker angle follows ``f`` (see the module): precision points
     ``points`` (a count, spaced by ``spacing``, or the x values themselves), ``ground`` the
     length r1 (it scales the linkage). Returns a :class:`planar.synthesis.Synthesis` whose
     targets are the rocker angles at the precision points, checked by a sweep of the built
