@@ -318,6 +318,29 @@ def test_cli_synth_path_writes_a_mechanism_file_through_the_targets(tmp_path, ca
     assert np.allclose(res.position("C"), T, atol=1e-6 * np.ptp(T, axis=0).max())
 
 
+def test_cli_synth_function_from_a_table(tmp_path, capsys):
+    from planar import io
+    from planar.cli import main
+
+    csv = tmp_path / "log.csv"
+    x = np.linspace(1, 2, 101)
+    csv.write_text("x,y\n" + "".join(f"{a:.17g},{np.log10(a):.17g}\n" for a in x))
+    assert main(["synth", "function", str(csv), "--input-range", "45", "105", "--output-range", "135", "225",
+                 "--no-plot"]) == 0
+    assert "no defects" in capsys.readouterr().out
+    # the table's interpolation is close to log10: the design is close to the exact one's
+    exact = function_four_bar(np.log10, (1, 2), np.radians([45, 105]), np.radians([135, 225])).design
+    doc = io.load(tmp_path / "log-synth.json")
+    assert np.allclose(doc.data["sweep"]["start"], 45 + 60 * (precision_points((1, 2))[0] - 1))
+    got = four_bar_lengths(freudenstein(*_angles(doc.mechanism)), 1.0)
+    assert np.allclose(np.abs(got), [exact[k] for k in ("ground", "crank", "coupler", "rocker")], rtol=1e-3)
+
+
+def _angles(mech):
+    res = mech.sweep(np.radians([50.0, 75.0, 100.0]))
+    return res.angle("crank"), res.angle("rocker")
+
+
 def test_cli_synth_reports_bad_files(tmp_path, capsys):
     from planar.cli import main
 
