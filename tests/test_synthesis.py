@@ -9,7 +9,8 @@ from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar, slider_crank
 from planar.synthesis import (burmester_curves, burmester_points, compatible, dyad, four_bar_lengths, freudenstein,
                               function_four_bar, function_slider_crank, motion_four_bar,
-                              path_check, path_four_bar, precision_points, slider_crank_dimensions)
+                              path_check, path_four_bar, path_six_bar, precision_points, slider_crank_dimensions,
+                              stephenson_tracer)
 from tests.oracles import four_bar as fb_oracle
 from tests.oracles import slider_crank as sc_oracle
 
@@ -220,7 +221,13 @@ def test_path_generation_free_timing_is_reproducible():
     T = known_targets(np.radians(np.linspace(20, 250, 6)))
     s = path_four_bar(T, seed=1)
     check_found(s, T)
-    assert path_four_bar(T, seed=1).design == s.design
+    # the same seed, the same linkage: to rounding, as the refinement ends anywhere on the family of
+    # exact solutions (15 unknowns for 12 equations), where last-bit differences of vectorised
+    # functions leave it
+    again = path_four_bar(T, seed=1).design
+    assert again.keys() == s.design.keys() and again["crossed"] == s.design["crossed"]
+    for k in ("ground", "crank", "coupler", "rocker", "frame_angle", "start", "pivot", "coupler_point"):
+        assert np.allclose(again[k], s.design[k], rtol=1e-6, atol=1e-6 * np.ptp(T, axis=0).max())
 
 
 def test_path_generation_with_prescribed_timing():
@@ -234,6 +241,35 @@ def test_path_generation_with_prescribed_timing():
 def test_path_generation_follows_a_curve_of_many_points():
     T = known_targets(np.radians(np.linspace(10, 330, 25)))  # more targets than a four-bar has freedoms
     check_found(path_four_bar(T), T)
+
+
+SIX = dict(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, coupler_point=(2.0, 1.5), link_5=4.0, link_6=3.0,
+           pivot_6=(2.0, 6.0))
+
+
+def test_stephenson_tracer_is_the_catalogue_six_bar_with_a_tracer():
+    from planar.mechanisms import stephenson_six_bar
+    from planar.synthesis.path import tracer_points
+
+    u = np.radians(np.arange(0.0, 360.0, 30.0))
+    ours = stephenson_tracer(**SIX, tracer=(1.0, 0.5)).sweep(u)
+    theirs = stephenson_six_bar(**SIX).sweep(u)
+    for name in ("A", "B", "C", "D", "O6"):
+        assert np.allclose(ours.position(name), theirs.position(name), atol=1e-12)
+    # the search's closed form: the same tracer
+    X = np.r_[0, 0, np.log(4), 0, np.log([1.5, 4.0, 3.5]), 2.0, 1.5, 2.0, 6.0, np.log([4.0, 3.0]), 1.0, 0.5]
+    P, gap = tracer_points(X[None], np.array([[1.0, 1.0]]), u[None])
+    assert np.allclose(np.column_stack((P[0].real, P[0].imag)), ours.position("P"), atol=1e-12) and not gap.any()
+
+
+def test_six_bar_path_generation_through_more_points_than_a_four_bar_can():
+    m = stephenson_tracer(**{**SIX, "pivot_6": (3.0, 4.0)}, tracer=(1.0, 0.5), pivot=(1.0, -2.0))
+    T = m.sweep(np.radians(np.linspace(0, 300, 11))).position("P")
+    s = path_six_bar(T, seed=1)
+    size = np.ptp(T, axis=0).max()
+    res = s.builder(**s.design).sweep(s.inputs)
+    assert np.all(np.hypot(*(res.position("P") - T).T) < 1e-6 * size)
+    assert s.ok and s.max_error < 1e-6 * size and s.sweep.ok.all()
 
 
 def test_path_generation_says_when_it_fails():

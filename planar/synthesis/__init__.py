@@ -6,9 +6,9 @@
 - motion generation (:mod:`planar.synthesis.motion`): a four-bar whose coupler passes three
   prescribed positions, both dyads in closed form with the free choices exposed; four and
   five positions by Burmester's compatibility equation;
-- path generation (:mod:`planar.synthesis.path`): a four-bar whose coupler point passes N
-  target points, with or without prescribed timing, by a seeded global search over batches of
-  designs and local refinement.
+- path generation (:mod:`planar.synthesis.path`): a four-bar (or a Stephenson six-bar) whose
+  coupler point passes N target points, with or without prescribed timing, by a seeded global
+  search over batches of designs and local refinement.
 
 Every result is a :class:`Synthesis`: the mechanism, built with the catalogue's builders, and
 its error at each target, read from planar's own sweep of it, with the defects found on the
@@ -19,9 +19,10 @@ from planar.errors import SynthesisError
 from planar.synthesis.function import (freudenstein, function_four_bar, function_slider_crank,
                                        four_bar_lengths, precision_points, slider_crank_dimensions)
 from planar.synthesis.motion import burmester_curves, burmester_points, compatible, dyad, motion_four_bar
-from planar.synthesis.path import path_check, path_four_bar
+from planar.synthesis.path import path_check, path_four_bar, path_six_bar, stephenson_tracer
 from planar.synthesis.result import Synthesis
 
 __all__ = ["Synthesis", "SynthesisError", "precision_points", "freudenstein", "four_bar_lengths",
            "slider_crank_dimensions", "function_four_bar", "function_slider_crank",
-           "dyad", "compatible", "burmester_curves", "burmester_points", "motion_four_bar", "path_four_bar", "path_check"]
+           "dyad", "compatible", "burmester_curves", "burmester_points", "motion_four_bar", "path_four_bar", "path_six_bar", "stephenson_tracer",
+           "path_check"]
