@@ -1,6 +1,6 @@
 """``planar synth``: path, motion or function generation from a CSV file of targets.
 
-    planar synth path TARGETS.csv [--timing] [--min-transmission A] [--seed S] [--designs N] [--tol T] [-o FILE]
+    planar synth path TARGETS.csv [--six-bar] [--timing] [--min-transmission A] [--seed S] [--designs N] [--tol T]
     planar synth motion POSITIONS.csv --beta B2 B3 --gamma G2 G3 [-o FILE]
     planar synth function TABLE.csv --input-range A0 A1 --output-range B0 B1 [--points N] [--slider] [-o FILE]
 
@@ -33,6 +33,7 @@ def add_parser(sub):
     s.add_argument("--designs", type=int, default=20000, help="path: random designs searched (default 20000)")
     s.add_argument("--tol", type=float, default=1e-6, help="path: largest error relative to the targets' size")
     s.add_argument("--min-transmission", type=float, help="path: smallest transmission angle allowed")
+    s.add_argument("--six-bar", action="store_true", help="path: a Stephenson six-bar (tracer P on link 5)")
     s.add_argument("--beta", type=float, nargs=2, help="motion: the crank's rotations to positions 2 and 3")
     s.add_argument("--gamma", type=float, nargs=2, help="motion: the rocker's rotations to positions 2 and 3")
     s.add_argument("--input-range", type=float, nargs=2, help="function: crank angles at the first and last x")
@@ -75,7 +76,8 @@ def read_targets(path, columns, optional=()):
 
 def cmd_synth(args):
     from planar.cli import EXIT_OK, _Progress, _write
-    from planar.synthesis import function_four_bar, function_slider_crank, motion_four_bar, path_four_bar
+    from planar.synthesis import (function_four_bar, function_slider_crank, motion_four_bar, path_four_bar,
+                                  path_six_bar)
     from planar.units import Units
 
     units = Units(angle=args.angle_unit)
@@ -85,8 +87,9 @@ def cmd_synth(args):
             raise FileFormatError(f"{args.file}: --timing needs an input column (the crank angle at each target)")
         timing = units.angle_to_internal(cols["input"]) if args.timing else None
         mu = None if args.min_transmission is None else units.angle_to_internal(args.min_transmission)
-        s = path_four_bar(np.column_stack((cols["x"], cols["y"])), timing=timing, designs=args.designs,
-                          tol=args.tol, min_transmission=mu, seed=args.seed, progress=_Progress("search step"))
+        s = (path_six_bar if args.six_bar else path_four_bar)(
+            np.column_stack((cols["x"], cols["y"])), timing=timing, designs=args.designs, tol=args.tol,
+            min_transmission=mu, seed=args.seed, progress=_Progress("search step"))
     elif args.problem == "function":
         if args.input_range is None or args.output_range is None:
             raise InputError("function generation needs --input-range A0 A1 and --output-range B0 B1")
@@ -131,7 +134,7 @@ def report(s, units):
     for k, v in s.design.items():
         if k == "frame_angle":
             parts.append(f"frame angle {units.angle_from_internal(v):.6g} {units.angle}")
-        elif k not in ("name", "start", "crossed"):
+        elif k not in ("name", "start") and not k.startswith("crossed"):
             parts.append(f"{k.replace('_', ' ')} " + (f"{v:.6g}" if np.ndim(v) == 0 else
                                                      str(tuple(round(float(c), 6) for c in v))))
     lines = [f"{s.mechanism.name}: " + ", ".join(parts)]
