@@ -87,6 +87,8 @@ def test_function_generation_refuses_bad_ranges():
         function_four_bar(np.cos, (0, 2 * np.pi), (0, 1), (0, 1))
     with pytest.raises(InputError, match="three"):
         function_four_bar(np.log10, (1, 2), (0, 1), (2, 3), points=[1.2, 1.5])
+    with pytest.raises(InputError, match="not finite"):
+        function_four_bar(lambda x: 1 / (x - 1.5) if x != 1.5 else np.nan, (1, 2), (0, 1), (2, 3))
 
 
 @given(lengths=st.tuples(*[st.floats(0.5, 5.0)] * 4), th2=st.tuples(*[st.floats(-np.pi, np.pi)] * 3),

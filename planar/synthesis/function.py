@@ -148,7 +148,11 @@ def _mapped(f, x_range, input_range, output_range, points, spacing):
     if x.ndim != 1 or len(x) < 3 or not np.all(np.isfinite(x)):
         raise InputError(f"function generation needs at least three finite precision points, got {points!r}")
     th2 = a0 + (x - x0) / (xf - x0) * (af - a0)
-    return x, th2, _map(np.array([f(v) for v in x], float), f, (x0, xf), output_range)
+    y = np.array([f(v) for v in x], float)
+    if not np.all(np.isfinite(y)):
+        raise InputError(f"f is not finite at the precision points {np.round(x[~np.isfinite(y)], 12).tolist()}: "
+                         "give an f defined over all of x_range")
+    return x, th2, _map(y, f, (x0, xf), output_range)
 
 
 def _map(y, f, x_range, output_range):
