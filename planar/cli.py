@@ -4,6 +4,7 @@
     planar run FILE [options]          sweep a mechanism file; write tables, plots and an animation
     planar info FILE                   mobility, redundancy, Grashof class, motion ranges, events
     planar example NAME [-o FILE]      write a catalogue mechanism to a file (no NAME: list them)
+    planar synth path|motion|function CSV  design a four-bar for target points, positions or y = f(x)
 
 Exit codes: 0 done; 1 the mechanism, file or sweep is wrong (the message says which field or
 joint and what to do); 2 the command line is wrong; 3 an output could not be written.
@@ -554,6 +555,10 @@ def parser():
     e.add_argument("name", nargs="?", help="catalogue name, e.g. four_bar")
     e.add_argument("-o", "--output", help="file to write (default NAME.json)")
     e.set_defaults(func=cmd_example)
+
+    from planar.synthesis.command import add_parser
+
+    add_parser(sub)
     return p
 
 

@@ -39,3 +39,8 @@ class InputError(PlanarError, ValueError):
 
 class FileFormatError(ModelError):
     """A mechanism file is malformed: its message names the file, the field and what is wrong."""
+
+
+class SynthesisError(PlanarError):
+    """No mechanism meets the synthesis targets: the message says which target or design
+    failed, and what to change (other free choices, ranges, more designs or another seed)."""

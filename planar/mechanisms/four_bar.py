@@ -44,7 +44,7 @@ def loop_pose(O2, O4, crank, coupler, rocker, driver, start, crossed):
 
 
 def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0, coupler_point=None,
-             crossed=False, driver="crank", start=0.0, name="four_bar"):
+             crossed=False, driver="crank", start=0.0, pivot=(0.0, 0.0), name="four_bar"):
     """A four-bar sketched at input ``start`` and driven.
 
     Parameters
@@ -52,7 +52,7 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     ground, crank, coupler, rocker : float
         Link lengths r1 (O2 to O4), r2 (O2 to A), r3 (A to B), r4 (O4 to B).
     frame_angle : float
-        Angle th1 of O2 -> O4 (radians); O2 is at the origin.
+        Angle th1 of O2 -> O4 (radians).
     coupler_point : (p, q), optional
         Adds point ``C`` on the coupler, p along A -> B and q to its left.
     crossed : bool
@@ -61,6 +61,8 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
         The input: the absolute angle of O2 -> A, A -> B or O4 -> B.
     start : float
         Input value of the sketch (radians): sweeps continue from there.
+    pivot : (x, y)
+        Where O2 is (default the origin).
 
     Returns
     -------
@@ -81,7 +83,7 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     _checks.choice(driver, DRIVERS, "driver")
     pq = _checks.point_pair(coupler_point, "coupler_point")
 
-    O2 = np.zeros(2)
+    O2 = np.asarray(_checks.point_pair(pivot, "pivot", required=True), dtype=float)
     O4 = polar(O2, r1, th1)
     A, B = loop_pose(O2, O4, r2, r3, r4, driver, start, bool(crossed))
     # the driven link gets the exact start angle, so the input is not wrapped to (-pi, pi]
