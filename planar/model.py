@@ -29,6 +29,7 @@ from planar.errors import (AssemblyError, ConnectivityError, InputError, Mobilit
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic,
                            RackPinion, Revolute, RollingContact, Slot)
 from planar.joints.base import SketchFrames
+from planar.mass import compile_mass
 from planar.blocks import plan as block_plan
 from planar.system import build_system
 
@@ -89,6 +90,9 @@ class Mechanism:
         self._drivers = []
         self._names = {GROUND}
         self._model = None
+        self._mass = {}  # body -> (mass, sketch centre of mass, inertia about it)
+        self._loads = []  # (body, sketch point, force, torque, fixed)
+        self._gravity = None
 
     def sketch(self):
         """What has been drawn so far, read-only: a :class:`Sketch`.
@@ -129,12 +133,64 @@ class Mechanism:
             raise ModelError(f"joint {joint!r} joins body {a!r} to itself: a joint needs two different bodies")
         return a, b
 
-    def add_body(self, name, angle=0.0):
+    def add_body(self, name, angle=0.0, *, mass=None, com=None, inertia=0.0):
         """Add a moving body. ``angle`` is its angle in the sketch (radians): results report
         it plus the body's rotation since, so giving the direction of a link makes
-        ``angle(body)`` that link's absolute angle."""
+        ``angle(body)`` that link's absolute angle. ``mass``, ``com`` and ``inertia``: see
+        :meth:`set_mass` (``planar.bar``, ``disc`` and ``plate`` give them for simple shapes)."""
         self._bodies[self._new_name(name, "body")] = float(_finite(angle, f"angle of body {name!r}", ()))
+        if mass is not None:
+            self.set_mass(name, mass, com, inertia)
         return Body(name)
+
+    def set_mass(self, body, mass, com, inertia=0.0):
+        """Give ``body`` its ``mass``, centre of mass ``com`` (a sketch point, like ``at``) and
+        moment of inertia about it, for :meth:`planar.Sweep.forces` (bodies without are massless).
+
+        >>> import planar
+        >>> m = planar.Mechanism()
+        >>> link = m.add_body("link", **planar.bar(2.0, (0, 0), (1, 0)))
+        >>> m.set_mass("link", 3.0, (0.5, 0), 0.25)
+        """
+        b = self._body(body)
+        if b == GROUND:
+            raise ModelError("the ground does not move: give mass to a moving body")
+        mass, inertia = _finite(mass, f"mass of body {b!r}", ()), _finite(inertia, f"inertia of body {b!r}", ())
+        if mass < 0 or inertia < 0:
+            raise ModelError(f"body {b!r}: mass and inertia must be >= 0, got {float(mass)!r} and {float(inertia)!r}")
+        if com is None:
+            raise ModelError(f"body {b!r}: give com, the sketch point of its centre of mass")
+        self._mass[b] = (float(mass), _point(com, f"com of body {b!r}"), float(inertia))
+        self._model = None
+
+    @property
+    def gravity(self):
+        """Gravitational acceleration, a world 2-vector such as (0, -9.81), or None (none)."""
+        return self._gravity
+
+    @gravity.setter
+    def gravity(self, g):
+        self._gravity = None if g is None else tuple(_point(g, "gravity").tolist())
+        self._model = None
+
+    def add_load(self, body, force=(0.0, 0.0), at=None, torque=0.0, *, fixed="world"):
+        """An external ``force`` at sketch point ``at`` of ``body`` and a ``torque`` on it. Each is
+        a constant, or a function of the sweep's input values (N, f) giving (N, 2) or (N,).
+        ``fixed="world"`` keeps the force's direction; ``"body"`` turns it with the body (it is
+        then given as it acts at the sketch). ``at`` may be left out for a torque alone."""
+        b = self._body(body)
+        if b == GROUND:
+            raise ModelError("a load on the ground moves nothing: put it on a moving body")
+        if fixed not in ("world", "body"):
+            raise ModelError(f"load on {b!r}: fixed must be 'world' or 'body', got {fixed!r}")
+        if not callable(force):
+            force = _point(force, f"load force on {b!r}")
+        if not callable(torque):
+            torque = _finite(torque, f"load torque on {b!r}", ())
+        if at is None and (callable(force) or np.any(force != 0)):
+            raise ModelError(f"load on {b!r}: give at, the sketch point the force acts at")
+        self._loads.append((b, np.zeros(2) if at is None else _point(at, f"load on {b!r} at"), force, torque, fixed))
+        self._model = None
 
     def add_point(self, name, body, at):
         """Name the point of ``body`` that is at ``at`` in the sketch."""
@@ -359,6 +415,11 @@ class Model:
     grubler: int
     redundant_joints: tuple
     coordinates: dict  # joint name -> (system of its coordinate rows, row)
+    mass: np.ndarray = None  # (n_bodies,) masses (0: massless)
+    com: np.ndarray = None  # (n_bodies, 2) centres of mass in the body frames
+    inertia: np.ndarray = None  # (n_bodies,) moments of inertia about the centres of mass
+    gravity: np.ndarray = None  # (2,) world gravitational acceleration
+    loads: tuple = ()  # planar.mass.Load
 
     @property
     def n(self):
@@ -547,7 +608,8 @@ def _compile(mech):
         row_scale=row_scale, col_scale=col_scale, active_rows=active,
         driver_rows_active=np.arange(len(independent), len(active)), redundant_rows=redundant,
         input_lengths=np.array([d.length_rows[0] for d in drivers], bool), rank=rank,
-        grubler=n - joint_rows.size, redundant_joints=redundant_joints)
+        grubler=n - joint_rows.size, redundant_joints=redundant_joints,
+        **compile_mass(mech._mass, mech._loads, mech._gravity, sketch, bodies))
     if drivers:
         block_plan(model)  # a model the drivers cannot drive is refused here, not at sweep time
     return model
