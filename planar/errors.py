@@ -39,3 +39,7 @@ class InputError(PlanarError, ValueError):
 
 class FileFormatError(ModelError):
     """A mechanism file is malformed: its message names the file, the field and what is wrong."""
+
+
+class IndeterminateWarning(UserWarning):
+    """Reactions that are not unique (redundant joints): the minimum-norm split is returned."""

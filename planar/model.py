@@ -69,6 +69,13 @@ def _positive(value, what):
     return v
 
 
+def _pressure_angle(value, joint):
+    a = float(_finite(value, f"joint {joint!r} pressure_angle", ()))
+    if not 0 <= a < np.pi / 2:
+        raise ModelError(f"joint {joint!r}: pressure_angle must be in [0, pi/2) radians, got {a!r}")
+    return a
+
+
 def _direction(value, what):
     v = _point(value, what)
     if np.hypot(*v) == 0:
@@ -243,19 +250,20 @@ class Mechanism:
                              f"give an origin on that line")
 
     def add_gear(self, name, gear_a, gear_b, radius_a, radius_b, *, internal=False, carrier=None,
-                 centre_a=None, centre_b=None, hold_distance=False):
+                 centre_a=None, centre_b=None, hold_distance=False, pressure_angle=np.radians(20)):
         """Two pitch circles in mesh (external, or ``internal`` with one inside the other).
 
         With ``carrier`` (a body, or the ground) both centres are fixed on it: the row is linear
         in the angles. Without, the centres (on the gears, sketch points ``centre_a``,
         ``centre_b``) may sit on different moving bodies; their distance must then be held by
         other joints, or by the gear itself with ``hold_distance=True`` (a wheel rolling on or
-        inside a circle with no arm). The gears mesh as drawn in the sketch.
+        inside a circle with no arm). The gears mesh as drawn in the sketch. ``pressure_angle``
+        (radians) sets the direction of the tooth force (:meth:`planar.Sweep.forces`).
         """
         a, b = self._pair(gear_a, gear_b, name)
         data = dict(radius_a=_positive(radius_a, f"gear {name!r} radius_a"),
                     radius_b=_positive(radius_b, f"gear {name!r} radius_b"),
-                    sign=-1.0 if internal else 1.0)
+                    sign=-1.0 if internal else 1.0, pressure_angle=_pressure_angle(pressure_angle, name))
         if internal and data["radius_a"] == data["radius_b"]:
             raise ModelError(f"gear {name!r}: an internal mesh needs different radii")
         for key, value in (("centre_a", centre_a), ("centre_b", centre_b)):
@@ -295,17 +303,19 @@ class Mechanism:
         raise ModelError(f"gear {name!r}: no revolute puts the centre of {gear!r} on the carrier {carrier!r}; "
                          f"add it first or give the centre")
 
-    def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left"):
+    def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left",
+                        pressure_angle=np.radians(20)):
         """Pinion (pitch ``radius``, centre ``centre`` on the pinion) rolling without slip on the
         rack's pitch line through ``through`` along ``direction`` (fixed in ``rack``, any body).
-        ``side`` says where the pinion centre is: left or right of the directed line."""
+        ``side`` says where the pinion centre is: left or right of the directed line;
+        ``pressure_angle`` (radians) that of the teeth."""
         p, r = self._pair(pinion, rack, name)
         if side not in ("left", "right"):
             raise ModelError(f"joint {name!r}: side must be 'left' or 'right', got {side!r}")
         data = dict(radius=_positive(radius, f"joint {name!r} radius"), centre=_point(centre, f"joint {name!r} centre"),
                     through=_point(through, f"joint {name!r} through"),
                     direction=_direction(direction, f"joint {name!r} direction"),
-                    side=1.0 if side == "left" else -1.0)
+                    side=1.0 if side == "left" else -1.0, pressure_angle=_pressure_angle(pressure_angle, name))
         d = data["centre"] - data["through"]
         h = data["direction"][0] * d[1] - data["direction"][1] * d[0]
         if not math.isclose(h, data["side"] * data["radius"], rel_tol=1e-6, abs_tol=1e-9):
@@ -319,7 +329,7 @@ class Mechanism:
         """A wheel rolling without slip on a straight line fixed in ``body`` (the ground or a
         moving body): the same contact as :meth:`add_rack_pinion`."""
         self.add_rack_pinion(name, wheel, body, radius, centre=centre, through=through,
-                             direction=direction, side=side)
+                             direction=direction, side=side, pressure_angle=0.0)
 
     def drive(self, joint=None, *, body=None, point=None, axis=None, name=None):
         """Make one input. Exactly one of: ``joint`` (a revolute's relative angle, a slider's or
