@@ -109,7 +109,8 @@ class Mechanism:
         >>> m.sketch().bodies
         {'ground': 0.0, 'crank': 0.5}
         """
-        return Sketch(dict(self._bodies), dict(self._points), tuple(self._joints), tuple(self._drivers))
+        return Sketch(dict(self._bodies), dict(self._points), tuple(self._joints), tuple(self._drivers),
+                      dict(self._mass), tuple(self._loads), self._gravity)
 
     # ---- building ------------------------------------------------------------------------
 
@@ -384,12 +385,16 @@ class Mechanism:
 class Sketch:
     """A mechanism as drawn: ``bodies`` name -> sketch angle (the ground first), ``points``
     name -> (body, world point) (joints' points included), ``joints`` and ``drivers`` in the
-    order they were added."""
+    order they were added; ``mass`` body -> (mass, sketch centre of mass, inertia), ``loads``
+    (body, sketch point, force, torque, fixed) and ``gravity`` as given to the builder."""
 
     bodies: dict
     points: dict
     joints: tuple
     drivers: tuple
+    mass: dict
+    loads: tuple
+    gravity: tuple
 
 
 # ---- the compiled model ---------------------------------------------------------------------

@@ -409,3 +409,57 @@ def test_reaction_rows_against_finite_differences(cls):
         d = _d(P, F)
         np.testing.assert_allclose(C[3] * d[1] - C[4] * d[0], 0.0, atol=1e-10)
         np.testing.assert_allclose(np.hypot(C[3], C[4]), comps["radial"], rtol=1e-10)
+
+
+# ---- files -----------------------------------------------------------------------------------
+
+
+def test_mass_gravity_loads_and_pressure_angles_round_trip_through_files():
+    from planar import io
+
+    m = planar.Mechanism("geared arm")
+    a = m.add_body("a", angle=0.3, **planar.bar(2.0, (0, 0), (1, 0)))
+    b = m.add_body("b", **planar.disc(1.5, (3, 0), 2.0))
+    m.add_revolute("O", m.ground, a, at=(0, 0))
+    m.add_revolute("P", m.ground, b, at=(3, 0))
+    m.add_gear("g", a, b, 1.0, 2.0, carrier=m.ground, pressure_angle=np.radians(25))
+    m.gravity = (0.0, -9.81)
+    m.add_load(b, force=(1.0, 2.0), at=(3.0, 1.0), torque=0.5, fixed="body")
+    m.drive("O")
+    text = io.dumps(m)
+    back = io.loads(text).mechanism
+    assert io.dumps(back) == text
+    assert '"pressure_angle": 25.0' in text and '"gravity": [0.0, -9.81]' in text
+    u = np.linspace(0, 2, 5)
+    f, g = m.sweep(u, velocity=2.0).forces(), back.sweep(u, velocity=2.0).forces()
+    np.testing.assert_array_equal(f.driver_effort("O"), g.driver_effort("O"))
+    np.testing.assert_array_equal(f.reaction("g", "contact"), g.reaction("g", "contact"))
+    wheel = CATALOGUE["rolling_wheel"]()  # a contact without teeth is written as rolling
+    assert '"type": "rolling"' in io.dumps(wheel) and "pressure_angle" not in io.dumps(wheel)
+
+
+@pytest.mark.parametrize("change, where", [
+    (lambda d: d["bodies"][0].pop("com"), "bodies[0]: missing field 'com'"),
+    (lambda d: d["loads"][0].update(fixed="ground"), "loads[0].fixed"),
+    (lambda d: d.update(gravity=[0, "down"]), "file.gravity"),
+    (lambda d: d["loads"][0].update(body="ground"), "loads[0]: a load on the ground"),
+])
+def test_file_errors_name_the_field(change, where):
+    from planar import io
+
+    m = slider_crank()
+    m.set_mass("crank", 1.0, (0.5, 0.0), 0.1)
+    m.add_load("slider", force=(-1.0, 0.0), at=m.sketch().points["B"][1])
+    doc = io.to_dict(m)
+    change(doc)
+    with pytest.raises(planar.FileFormatError, match=where.replace("[", r"\[").replace("]", r"\]")):
+        io.from_dict(doc, "f.json")
+
+
+def test_a_load_given_by_a_function_has_no_file_form():
+    from planar import io
+
+    m = slider_crank()
+    m.add_load("crank", torque=lambda u: u[:, 0])
+    with pytest.raises(planar.FileFormatError, match="function"):
+        io.dumps(m)
