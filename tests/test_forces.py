@@ -136,6 +136,20 @@ def test_rack_and_pinion_force():
     np.testing.assert_allclose(f.reaction("mesh", "contact"), P / np.cos(np.radians(20)), rtol=1e-12)
 
 
+def test_rolling_wheel_friction_and_normal_force():
+    """A wheel (m, r, I) accelerated on a floor: T = (I + m r^2) alpha; the floor pushes up m g
+    and by friction m a_x = -m r alpha (rolling right turns clockwise)."""
+    r, mass, I, alpha = 0.5, 3.0, 0.2, 4.0
+    m = CATALOGUE["rolling_wheel"](r)
+    m.set_mass("wheel", mass, m.sketch().points["centre"][1], I)
+    m.gravity = (0.0, -G)
+    f = m.sweep(np.linspace(0, 4, 5), velocity=2.0, acceleration=alpha).forces()
+    np.testing.assert_allclose(f.driver_effort("wheel"), (I + mass * r**2) * alpha, rtol=1e-12)
+    np.testing.assert_allclose(f.reaction("roll", "normal"), mass * G, rtol=1e-12)
+    np.testing.assert_allclose(f.reaction("roll", "tangential"), -mass * r * alpha, rtol=1e-12)
+    np.testing.assert_allclose(f.reaction("roll"), np.broadcast_to([-mass * r * alpha, mass * G], (5, 2)), rtol=1e-12)
+
+
 def test_loads_fixed_in_the_body_and_per_input_value():
     """A force fixed in the crank stays square to it (torque F r everywhere); a force given per
     input value follows the function."""
@@ -463,3 +477,40 @@ def test_a_load_given_by_a_function_has_no_file_form():
     m.add_load("crank", torque=lambda u: u[:, 0])
     with pytest.raises(planar.FileFormatError, match="function"):
         io.dumps(m)
+
+
+# ---- the command line --------------------------------------------------------------------------
+
+
+def test_cli_run_forces_writes_efforts_reactions_and_their_pictures(tmp_path, capsys):
+    import csv
+
+    from planar import cli, io
+
+    m = slider_crank(2, 5, offset=1)
+    B = m.sketch().points["B"][1]
+    m.set_mass("slider", 3.0, B, 0.01)
+    m.add_load("slider", force=(-100.0, 0.0), at=B)
+    path = io.save(m, tmp_path / "sc.json", units=planar.units.Units("m"))
+    out = tmp_path / "out"
+    code = cli.main(["run", str(path), "--forces", "--num", "13", "--no-animation", "--out", str(out)])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "slider: mass 3 kg, inertia 0.01 kg m^2" in text and "effort of crank:" in text
+    assert (out / "slider_crank_forces.png").exists() and (out / "slider_crank_efforts.png").exists()
+    with open(out / "slider_crank.csv", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {"effort:crank [N m]", "Fx:B [N]", "normal:slide [N]", "moment:slide [N m]", "shaking:Fx [N]"} <= set(rows[0])
+    res = m.sweep(np.radians([float(r["input:crank [deg]"]) for r in rows]))
+    want = res.forces().driver_effort("crank")
+    np.testing.assert_allclose([float(r["effort:crank [N m]"]) for r in rows], want, rtol=1e-12)
+
+
+def test_cli_notes_an_indeterminate_mechanism(tmp_path, capsys):
+    from planar import cli, io
+
+    path = io.save(planetary_gear_train(planets=3), tmp_path / "p.json")
+    code = cli.main(["run", str(path), "--forces", "--num", "5", "--no-animation", "--no-plot",
+                     "--out", str(tmp_path / "o")])
+    assert code == 0
+    assert "note: mechanism 'planetary_gear_train' is statically indeterminate" in capsys.readouterr().out
