@@ -514,3 +514,12 @@ def test_cli_notes_an_indeterminate_mechanism(tmp_path, capsys):
                      "--out", str(tmp_path / "o")])
     assert code == 0
     assert "note: mechanism 'planetary_gear_train' is statically indeterminate" in capsys.readouterr().out
+
+
+def test_the_docs_page_example_runs():
+    import pathlib
+    import re
+
+    page = (pathlib.Path(__file__).parents[1] / "docs" / "forces.md").read_text(encoding="utf-8")
+    for block in re.findall(r"```python\n(.*?)```", page, re.S):
+        exec(compile(block, "docs/forces.md", "exec"), {})
