@@ -38,6 +38,7 @@ import numpy as np
 from planar.errors import IndeterminateWarning, ModelError
 from planar.geometry import cross, perp
 from planar.results import Status
+from planar.system import _chunks
 
 # values whose accelerations are sound: a BRANCH_EVENT sits where the multipliers are not unique
 _SOUND = (Status.SOLVED, Status.NEAR_SINGULAR)
@@ -124,54 +125,17 @@ def forces(res):
     """The :class:`Forces` of sweep ``res`` (see the module docstring); prefer
     :meth:`planar.Sweep.forces`."""
     model = res.model
-    system, n, N = model.system, model.n, len(res)
     sound = np.isin(res.status, _SOUND) & np.all(np.isfinite(res.qdd), axis=1) & np.all(np.isfinite(res.q), axis=1)
     # unsound values are evaluated at the sketch at rest (a regular pose), then set to NaN
     q = np.where(sound[:, None], res.q, model.q0)
     qd, qdd = (np.where(sound[:, None], a, 0.0) for a in (res.qd, res.qdd))
     u = np.where(sound[:, None], res.inputs, model.u0)
-
-    Q, F_in, T_in, centres = _applied(model, q, qd, qdd, u)
-    full = system._full(q)
-    pieces = [(g, g.params(u), g.frames(full)) for g in system.groups]
-    blocks = [g.kind.force_rows(P, F) for g, P, F in pieces]
-    W = np.zeros((N, system.m, n + 1))
-    for (g, _, _), B in zip(pieces, blocks):
-        W[:, g.rows.T[:, None, :], g.cols.T[None, :, :]] = np.moveaxis(B, -1, 0)
-    # multipliers scaled so that a minimum-norm split counts moments per length L
-    w = np.where(_length_rows(model), 1.0, 1.0 / model.L)
-    A = np.swapaxes(W[:, :, :n], 1, 2) / w
-
-    lam = _solve(A, Q) / w
-    # forces a joint adds as its multipliers say (a tooth force's radial part): a second
-    # right-hand side, the same matrix
-    extra, contact = np.zeros((N, n + 1)), [None] * len(pieces)
-    for k, ((g, P, F), B) in enumerate(zip(pieces, blocks)):
-        contact[k] = g.kind.contact_load(P, F, _group_lam(lam, g))
-        if contact[k] is not None:
-            np.add.at(extra, (slice(None), g.cols), np.moveaxis(contact[k], -1, 0).transpose(0, 2, 1))
-    if any(c is not None for c in contact):
-        lam = _solve(A, Q + extra[:, :n]) / w
-    lam[~sound] = np.nan
-
-    reactions = {}
-    n_joints = len(model.joints)
-    for (g, P, F), B, C in zip(pieces, blocks, contact):
-        if g.members[0] >= n_joints:
-            continue  # drivers: their efforts are the multipliers themselves
-        lg = _group_lam(lam, g)
-        force = -np.einsum("rcKN,rKN->cKN", B[:, 3:5], lg)
-        if C is not None:
-            force = force + C[3:5]
-        comps = g.kind.reaction(P, F, lg)
-        for k, i in enumerate(g.members):
-            out = {"force": np.ascontiguousarray(force[:, k].T)}
-            out.update({name: np.where(sound, np.broadcast_to(v[k], (N,)), np.nan) for name, v in comps.items()})
-            out["force"][~sound] = np.nan
-            reactions[model.joints[i].name] = out
-    reactions = {j.name: reactions[j.name] for j in model.joints}
-
-    F_in[~sound], T_in[~sound], centres[~sound] = np.nan, np.nan, np.nan
+    parts = [_values(model, q[sl], qd[sl], qdd[sl], u[sl]) for sl in _chunks(len(res))]
+    lam, F_in, T_in, centres = (np.concatenate([p[k] for p in parts]) for k in range(4))
+    reactions = {j.name: {c: np.concatenate([p[4][j.name][c] for p in parts]) for c in parts[0][4][j.name]}
+                 for j in model.joints}
+    for a in [lam, F_in, T_in, centres] + [v for comps in reactions.values() for v in comps.values()]:
+        a[~sound] = np.nan
     involved = _indeterminate(model)
     if involved:
         warnings.warn(f"mechanism {model.name!r} is statically indeterminate: the reactions of {list(involved)} "
@@ -181,13 +145,48 @@ def forces(res):
     return Forces(res, lam, F_in, T_in, centres, reactions, involved)
 
 
+def _values(model, q, qd, qdd, u):
+    """Multipliers (N, m), inertia forces, torques and centres (see :func:`_applied`) and the
+    reactions {joint: {component: (N,) or (N, 2)}} at the configurations q (N, n)."""
+    system, n, N = model.system, model.n, q.shape[0]
+    Q, F_in, T_in, centres = _applied(model, q, qd, qdd, u)
+    full = system._full(q)
+    pieces = [(g, g.params(u), g.frames(full)) for g in system.groups]
+    blocks = [g.kind.force_rows(P, F) for g, P, F in pieces]
+    W = np.zeros((system.m, n + 1, N))  # configurations last, as the kernels write
+    for (g, _, _), B in zip(pieces, blocks):
+        W[g.rows.T[:, None, :], g.cols.T[None, :, :]] = B
+    # multipliers scaled so that a minimum-norm split counts moments per length L
+    w = np.where(_length_rows(model), 1.0, 1.0 / model.L)
+    A = W[:, :n].transpose(2, 1, 0) / w
+    lam = _solve(A, Q) / w
+    # forces a joint adds as its multipliers say (a tooth force's radial part): a second
+    # right-hand side, the same matrix
+    extra, contact = np.zeros((n + 1, N)), []
+    for g, P, F in pieces:
+        contact.append(g.kind.contact_load(P, F, lam.T[g.rows.T]))
+        if contact[-1] is not None:
+            np.add.at(extra, g.cols.T, contact[-1])
+    if any(c is not None for c in contact):
+        lam = _solve(A, Q + extra[:n].T) / w
+
+    reactions = {}
+    for (g, P, F), B, C in zip(pieces, blocks, contact):
+        if g.members[0] >= len(model.joints):
+            continue  # drivers: their efforts are the multipliers themselves
+        lg = lam.T[g.rows.T]
+        force = -np.einsum("rcKN,rKN->KNc", B[:, 3:5], lg)
+        if C is not None:
+            force += np.moveaxis(C[3:5], 0, -1)
+        comps = g.kind.reaction(P, F, lg)
+        for k, i in enumerate(g.members):
+            reactions[model.joints[i].name] = {"force": force[k],
+                                               **{c: np.array(np.broadcast_to(v[k], (N,))) for c, v in comps.items()}}
+    return lam, F_in, T_in, centres, reactions
+
+
 def _length_rows(model):
     return np.concatenate([np.array(c.length_rows, bool) for c in model.joints + model.drivers])
-
-
-def _group_lam(lam, g):
-    """The group's multipliers (n_rows, K, N)."""
-    return np.moveaxis(lam[:, g.rows], 0, -1).transpose(1, 0, 2)
 
 
 def _solve(A, Q):
