@@ -148,14 +148,9 @@ def forces(res):
 def _values(model, q, qd, qdd, u):
     """Multipliers (N, m), inertia forces, torques and centres (see :func:`_applied`) and the
     reactions {joint: {component: (N,) or (N, 2)}} at the configurations q (N, n)."""
-    system, n, N = model.system, model.n, q.shape[0]
+    n, N = model.n, q.shape[0]
     Q, F_in, T_in, centres = _applied(model, q, qd, qdd, u)
-    full = system._full(q)
-    pieces = [(g, g.params(u), g.frames(full)) for g in system.groups]
-    blocks = [g.kind.force_rows(P, F) for g, P, F in pieces]
-    W = np.zeros((system.m, n + 1, N))  # configurations last, as the kernels write
-    for (g, _, _), B in zip(pieces, blocks):
-        W[g.rows.T[:, None, :], g.cols.T[None, :, :]] = B
+    pieces, blocks, W = _force_rows(model, q, u)
     # multipliers scaled so that a minimum-norm split counts moments per length L
     w = np.where(_length_rows(model), 1.0, 1.0 / model.L)
     A = W[:, :n].transpose(2, 1, 0) / w
@@ -183,6 +178,19 @@ def _values(model, q, qd, qdd, u):
             reactions[model.joints[i].name] = {"force": force[k],
                                                **{c: np.array(np.broadcast_to(v[k], (N,))) for c, v in comps.items()}}
     return lam, F_in, T_in, centres, reactions
+
+
+def _force_rows(model, q, u):
+    """Each group's (group, parameters, frames), its force rows, and all of them as W
+    (m, n + 1, N), configurations last as the kernels write (column n: the ground's)."""
+    system = model.system
+    full = system._full(q)
+    pieces = [(g, g.params(u), g.frames(full)) for g in system.groups]
+    blocks = [g.kind.force_rows(P, F) for g, P, F in pieces]
+    W = np.zeros((system.m, model.n + 1, q.shape[0]))
+    for (g, _, _), B in zip(pieces, blocks):
+        W[g.rows.T[:, None, :], g.cols.T[None, :, :]] = B
+    return pieces, blocks, W
 
 
 def _length_rows(model):
@@ -231,13 +239,8 @@ def _indeterminate(model):
     """The joints whose rows take part in a self-balancing set of multipliers at the sketch."""
     if not model.redundant_joints:
         return ()
-    q0 = model.q0[None]
-    full = model.system._full(q0)
-    W = np.zeros((model.system.m, model.n + 1))
-    for g in model.system.groups:
-        B = g.kind.force_rows(g.params(model.u0[None]), g.frames(full))[..., 0]
-        W[g.rows.T[:, None, :], g.cols.T[None, :, :]] = B
-    W = W[:, : model.n] * model.row_scale[:, None] * model.col_scale[None, :]
+    W = _force_rows(model, model.q0[None], model.u0[None])[2][:, : model.n, 0]
+    W = W * model.row_scale[:, None] * model.col_scale[None, :]
     U, sv, _ = np.linalg.svd(W)
     rank = int(np.sum(sv > 1e-9 * max(sv[0], 1e-300)))
     null = U[:, rank:]  # multipliers that balance themselves
