@@ -78,23 +78,26 @@ def _radial_load(P, F, lam):
     the pitch circles apart: on b along s d (s = -1 inside a ring), on a the opposite."""
     if not np.any(P["alpha"]):
         return None
-    d, S = point_pair(F, P["s"])
-    L2 = dot_cf(d, d)
-    Ft = lam * (P["R"][0] + P["R"][1]) / np.sqrt(L2)
-    f = d * (np.abs(Ft) * np.tan(P["alpha"]) * np.sign(P["R"][1]) / np.sqrt(L2))
+    d, S, Ft = _tangential(P, F, lam)
+    f = d * (np.abs(Ft) * np.tan(P["alpha"]) * np.sign(P["R"][1]) / np.sqrt(dot_cf(d, d)))
     out = np.zeros((6,) + F.shape)
     out[0:2], out[2] = -f, -cross_cf(S[:, 0], f)
     out[3:5], out[5] = f, cross_cf(S[:, 1], f)
     return out
 
 
+def _tangential(P, F, lam):
+    """d from centre a to centre b, the centres' world vectors S, and the no-slip row's force on
+    b along perp(d), K / |d| lam."""
+    d, S = point_pair(F, P["s"])
+    return d, S, lam * (P["R"][0] + P["R"][1]) / np.sqrt(dot_cf(d, d))
+
+
 def _mesh_reaction(P, F, lam):
-    """The tooth force on gear b: ``tangential`` along perp(d), d from centre a to centre b
-    (the no-slip row's force, K / |d| lam), and along the pressure line of pressure angle
+    """The tooth force on gear b: ``tangential`` along perp(d) (:func:`_tangential`), and along the pressure line of pressure angle
     alpha the ``contact`` force |F_t| / cos alpha, whose ``radial`` part |F_t| tan alpha
     pushes the gears apart (carried by whatever holds their centre distance)."""
-    d, _ = point_pair(F, P["s"])
-    Ft = lam * (P["R"][0] + P["R"][1]) / np.sqrt(dot_cf(d, d))
+    Ft = _tangential(P, F, lam)[2]
     return {"tangential": Ft, "radial": np.abs(Ft) * np.tan(P["alpha"]), "contact": np.abs(Ft) / np.cos(P["alpha"])}
 
 
@@ -220,10 +223,9 @@ class RollingContact(Gear):
         """``normal``: the push of a on b at the contact, positive when they press together (along
         d for an external contact, against d inside a circle); ``friction``: along perp(d), as
         :class:`Gear`'s tangential force."""
-        d, _ = point_pair(F, P["s"])
-        L = np.sqrt(dot_cf(d, d))
+        d, _, friction = _tangential(P, F, lam[1])
         inside = np.sign(P["R"][1])  # -1 for a circle rolling inside another
-        return {"normal": -lam[0] * inside * L / RollingContact._D(P), "friction": lam[1] * (P["R"][0] + P["R"][1]) / L}
+        return {"normal": -lam[0] * inside * np.sqrt(dot_cf(d, d)) / RollingContact._D(P), "friction": friction}
 
     @classmethod
     def contact_load(cls, P, F, lam):

@@ -54,8 +54,9 @@ class RackPinion(Joint):
     @classmethod
     def reaction(cls, P, F, lam):
         """At the contact point, on the pinion: ``normal`` the line's push towards its centre
-        (positive presses the two together), ``tangential`` along the line's direction (the friction of a rolling wheel), and
-        ``contact`` |tangential| / cos alpha, the tooth force along the pressure line."""
+        (positive presses the two together), ``tangential`` along the line's direction (the
+        friction of a rolling wheel), and ``contact`` |tangential| / cos alpha, the tooth force
+        along the pressure line."""
         Ft = -lam[1]
         return {"normal": -lam[0] * np.sign(P["sR"]), "tangential": Ft, "contact": np.abs(Ft) / np.cos(P["alpha"])}
 
