@@ -527,3 +527,24 @@ def test_the_docs_page_example_runs():
     page = (pathlib.Path(__file__).parents[1] / "docs" / "forces.md").read_text(encoding="utf-8")
     for block in re.findall(r"```python\n(.*?)```", page, re.S):
         exec(compile(block, "docs/forces.md", "exec"), {})
+
+
+def test_the_benchmarks_quick_path_runs_with_small_errors(capsys):
+    import importlib.util
+    import pathlib
+    import re
+    import sys
+
+    path = pathlib.Path(__file__).parents[1] / "benchmarks" / "forces_speed.py"
+    sys.path.insert(0, str(path.parent))
+    try:
+        spec = importlib.util.spec_from_file_location("forces_speed", path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        module.main(["--quick"])
+    finally:
+        sys.path.remove(str(path.parent))
+    out = capsys.readouterr().out
+    for name in module.CASES:
+        row = re.search(rf"^{re.escape(name)}\s+1000\s+([\d.]+)\s+([\d.]+)\s+[\d.]+\s+(\S+)$", out, re.M)
+        assert row and float(row[1]) > 0 and float(row[2]) > 0 and float(row[3]) < 1e-10, name
