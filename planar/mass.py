@@ -81,10 +81,12 @@ def compile_mass(mass, loads, gravity, sketch, bodies):
     m, com, inertia = np.zeros(len(bodies)), np.zeros((len(bodies), 2)), np.zeros(len(bodies))
     for b, (mb, c, ib) in mass.items():
         m[index[b]], com[index[b]], inertia[index[b]] = mb, sketch.local_point(b, c), ib
-    compiled = tuple(Load(index[b], sketch.local_point(b, at), force, torque, fixed, sketch.angles[b])
+    own = lambda v: v if callable(v) else np.array(v, float)  # noqa: E731  (a copy: frozen below)
+    compiled = tuple(Load(index[b], sketch.local_point(b, at), own(force), own(torque), fixed, sketch.angles[b])
                      for b, at, force, torque, fixed in loads)
     g = np.zeros(2) if gravity is None else np.array(gravity, float)
-    for a in (m, com, inertia, g):
+    arrays = [m, com, inertia, g] + [v for ld in compiled for v in (ld.s, ld.force, ld.torque) if isinstance(v, np.ndarray)]
+    for a in arrays:
         a.flags.writeable = False
     return dict(mass=m, com=com, inertia=inertia, gravity=g, loads=compiled)
 

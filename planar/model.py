@@ -407,6 +407,8 @@ class Model:
     Attributes give the mobility report: ``n`` coordinates, ``m`` rows, ``rank`` of the joint
     Jacobian at the sketch, ``dof = n - rank``, ``grubler = n - (rows of the joints)`` and the
     names of ``redundant_joints`` (rows kept out of Newton but checked after every solve).
+    ``mass``, ``com``, ``inertia``, ``gravity`` and ``loads`` are what :meth:`planar.Sweep.forces`
+    balances (read-only).
     """
 
     name: str
