@@ -157,7 +157,7 @@ def test_loads_fixed_in_the_body_and_per_input_value():
     """A force fixed in the crank stays square to it (torque F r everywhere); a force given per
     input value follows the function."""
     m = planar.Mechanism()
-    crank = m.add_body("crank")
+    crank = m.add_body("crank", angle=0.7)  # its angle is 0.7 at the sketch: the arm turns by th - 0.7
     m.add_revolute("O", m.ground, crank, at=(0, 0))
     m.add_load(crank, force=(0.0, 5.0), at=(2.0, 0.0), fixed="body")
     m.add_load(crank, force=lambda u: np.stack((0 * u[:, 0], u[:, 0]), axis=-1), at=(1.0, 0.0))
@@ -165,7 +165,7 @@ def test_loads_fixed_in_the_body_and_per_input_value():
     m.drive("O")
     th = np.linspace(0, 6, 13)
     f = m.sweep(th).forces()
-    np.testing.assert_allclose(f.driver_effort("O"), -(10.0 + th * np.cos(th) + 3.0), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(f.driver_effort("O"), -(10.0 + th * np.cos(th - 0.7) + 3.0), rtol=1e-12, atol=1e-12)
 
 
 # ---- virtual power ---------------------------------------------------------------------------
