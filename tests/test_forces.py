@@ -126,6 +126,26 @@ def test_gear_pair_contact_force(carrier):
     np.testing.assert_allclose(f.reaction("P1"), F, rtol=1e-12, atol=1e-12)  # ground on g1 = -(g2 on g1)
 
 
+def test_internal_gear_tooth_force_pushes_the_pinion_towards_the_ring_centre():
+    """A pinion (R2) inside a driven ring (R1), both on fixed pivots, a torque tau on the pinion:
+    the ring holds -tau R1 / R2 (they turn the same way); at the contact (x = R1) the tooth
+    force on the pinion is -tau / R2 in y, and its radial part pushes it towards -x."""
+    R1, R2, tau, alpha = 3.0, 1.0, 6.0, np.radians(20.0)
+    m = planar.Mechanism("ring")
+    ring, pinion = m.add_body("ring"), m.add_body("pinion")
+    m.add_revolute("P1", m.ground, ring, at=(0, 0))
+    m.add_revolute("P2", m.ground, pinion, at=(R1 - R2, 0))
+    m.add_gear("mesh", ring, pinion, R1, R2, internal=True, carrier=m.ground, pressure_angle=alpha)
+    m.add_load(pinion, torque=tau)
+    m.drive("P1")
+    f = m.sweep(np.linspace(0, 3, 7)).forces()
+    Ft = tau / R2
+    np.testing.assert_allclose(f.driver_effort("P1"), -tau * R1 / R2, rtol=1e-12)
+    F = f.reaction("mesh")
+    np.testing.assert_allclose(F, np.broadcast_to([-Ft * np.tan(alpha), -Ft], F.shape), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(f.reaction("P2"), -F, rtol=1e-12, atol=1e-12)
+
+
 def test_rack_and_pinion_force():
     """The rack's guide and the teeth both hold the rack across its line (indeterminate
     there); along it the tooth force and the torque are unique."""
