@@ -5,14 +5,15 @@ rolling joints; drive it; sweep the inputs. Positions come from a batched Newton
 velocities and accelerations from linear solves with the same Jacobian.
 """
 
-from planar.errors import (AssemblyError, ConnectivityError, FileFormatError, InputError,
+from planar.errors import (AssemblyError, ConnectivityError, FileFormatError, IndeterminateWarning, InputError,
                            MobilityError, ModelError, PlanarError, RedundancyError)
 from planar.designs import DesignSweep, sweep_designs
+from planar.mass import bar, disc, plate
 from planar.model import Body, Mechanism, Model
 from planar.results import Status, Sweep
 
 __all__ = [
-    "Mechanism", "Model", "Body", "Sweep", "Status", "sweep_designs", "DesignSweep",
+    "Mechanism", "Model", "Body", "Sweep", "Status", "sweep_designs", "DesignSweep", "bar", "disc", "plate",
     "PlanarError", "ModelError", "ConnectivityError", "MobilityError", "RedundancyError",
-    "AssemblyError", "InputError", "FileFormatError",
+    "AssemblyError", "InputError", "FileFormatError", "IndeterminateWarning",
 ]

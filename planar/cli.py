@@ -15,12 +15,13 @@ import csv
 import json
 import math
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from planar.analysis import grashof, mobility, motion_range, output, stroke
-from planar.errors import InputError, PlanarError
+from planar.errors import IndeterminateWarning, InputError, PlanarError
 from planar.joints import Revolute, Slot
 from planar.results import Status
 from planar.units import RATE_UNITS, Units, parse_rate
@@ -65,6 +66,20 @@ def table(res, units):
     for spec in specs:
         cols.append((spec, units.label(OUTPUTS[spec.partition(":")[0]][1]), output_values(res, spec, units)))
     return cols
+
+
+def force_table(forces, units):
+    """Columns of a sweep's kinetostatics: each driver's effort, each joint's reaction on its
+    second body from its first (x, y, and the components it carries), the shaking force and
+    moment (about the origin)."""
+    model = forces.sweep.model
+    F, M = units.label("force"), units.label("moment")
+    cols = [(f"effort:{d}", F if ln else M, forces.driver_effort(d)) for d, ln in zip(model.input_names, model.input_lengths)]
+    for j, comps in forces.reactions.items():
+        cols += [(f"Fx:{j}", F, comps["force"][:, 0]), (f"Fy:{j}", F, comps["force"][:, 1])]
+        cols += [(f"{c}:{j}", M if c == "moment" else F, v) for c, v in comps.items() if c != "force"]
+    S = forces.shaking_force()
+    return cols + [("shaking:Fx", F, S[:, 0]), ("shaking:Fy", F, S[:, 1]), ("shaking:moment", M, forces.shaking_moment())]
 
 
 def _header(name, unit):
@@ -238,6 +253,33 @@ def summary(res, units, settings, circuit=False):
     return lines
 
 
+def mass_lines(model, units):
+    """The bodies' mass properties, the gravity and the number of loads (nothing when none)."""
+    lines = [f"  {b}: mass {_fmt(model.mass[i])} {units.label('mass')}, inertia {_fmt(model.inertia[i])} "
+             f"{units.label('inertia')} about its centre of mass" for i, b in enumerate(model.body_names) if model.mass[i]]
+    if model.gravity.any():
+        lines.append(f"  gravity ({_fmt(model.gravity[0])}, {_fmt(model.gravity[1])}) {units.label('accel')}")
+    if model.loads:
+        lines.append(f"  {len(model.loads)} external load(s)")
+    return ["mass properties and loads:"] + lines if lines else ["mass properties and loads: none (all bodies massless)"]
+
+
+def force_lines(forces, units):
+    """The range of each driver's effort and the largest force on each joint."""
+    model = forces.sweep.model
+    lines = ["forces:"]
+    for d, ln in zip(model.input_names, model.input_lengths):
+        e = forces.driver_effort(d)
+        if np.any(np.isfinite(e)):
+            unit = units.label("force" if ln else "moment")
+            lines.append(f"  effort of {d}: {_fmt(np.nanmin(e))} to {_fmt(np.nanmax(e))} {unit}")
+    for j in forces.reactions:
+        size = np.hypot(*forces.reaction(j).T)
+        if np.any(np.isfinite(size)):
+            lines.append(f"  {j}: largest reaction force {_fmt(np.nanmax(size))} {units.label('force')}")
+    return lines
+
+
 def four_bar_links(model):
     """(ground, crank, coupler, rocker) lengths and the input link ("crank", "coupler",
     "rocker" or None) when the model is one loop of four revolutes, read from its sketch; else
@@ -364,10 +406,17 @@ def _run(doc, source, args, out):
         print(line)
     for line in summary(res, units, settings, circuit) + stroke_lines(model, units):
         print(line)
+    forces = None
+    if getattr(args, "forces", False):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", IndeterminateWarning)
+            forces = res.forces()
+        for line in [f"note: {w.message}" for w in caught] + mass_lines(model, units) + force_lines(forces, units):
+            print(line)
     _write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
     stem = _stem(model.name)
     written = []
-    cols = table(res, units)
+    cols = table(res, units) + (force_table(forces, units) if forces is not None else [])
     formats = [f.strip() for f in (args.tables or "csv").split(",") if f.strip()]
     for fmt in formats:
         if fmt not in ("csv", "json"):
@@ -382,11 +431,15 @@ def _run(doc, source, args, out):
         _write(p, ax.figure.savefig, p, dpi=args.dpi)
         plt.close(ax.figure)
         written.append(p)
-        axes = draw.plot_outputs(res, units=units)
-        p = out / f"{stem}_outputs.png"
-        _write(p, axes[0].figure.savefig, p, dpi=args.dpi)
-        plt.close(axes[0].figure)
-        written.append(p)
+        figures = [(draw.plot_outputs(res, units=units)[0], "outputs")]
+        if forces is not None:
+            figures += [(draw.draw_forces(forces, int(posed[len(posed) // 6]), units=units), "forces"),
+                        (draw.plot_forces(forces, units=units)[0], "efforts")]
+        for ax, what in figures:
+            p = out / f"{stem}_{what}.png"
+            _write(p, ax.figure.savefig, p, dpi=args.dpi)
+            plt.close(ax.figure)
+            written.append(p)
     if not args.no_animation and posed.size:
         kind = args.animation
         if kind == "mp4" and not animate.ffmpeg_available():
@@ -544,6 +597,9 @@ def parser():
                         "structure, 10-65 s, then cached)")
     r.add_argument("--angle-unit", choices=("deg", "rad"), help="angle unit of the outputs and of --start/--stop")
     r.add_argument("--rate-unit", choices=tuple(RATE_UNITS), help="unit of angular rates in the outputs")
+    r.add_argument("--forces", action="store_true",
+                   help="kinetostatics from the file's masses, gravity and loads: driver efforts and joint reactions "
+                        "in the tables, NAME_forces.png and NAME_efforts.png")
     _outputs(r)
     r.set_defaults(func=cmd_run)
 

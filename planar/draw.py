@@ -872,3 +872,59 @@ def _runs(mask):
     if start is not None:
         out.append((start, len(mask) - 1))
     return out
+
+
+# ---- kinetostatics -----------------------------------------------------------------------------
+
+FORCE = "#2a7f3f"
+
+
+def draw_forces(forces, i=0, joints=None, *, ax=None, scale=None, units=None):
+    """Pose ``i`` of a sweep's kinetostatics (:meth:`planar.Sweep.forces`) with the reaction
+    force of each joint on its second body as an arrow at the joint's point.
+
+    ``joints`` defaults to every joint with a point; ``scale`` is in drawing lengths per unit of
+    force (by default the longest arrow is a quarter of the drawing); the legend states it.
+    Returns the axes.
+    """
+    res = forces.sweep
+    units = units or Units()
+    ax = draw(res, i, ax=ax, units=units)
+    names = list(joints) if joints is not None else [j for j in forces.reactions if j in res.model.points]
+    P = np.array([res.position(n)[i] for n in names]).reshape(-1, 2)
+    V = np.array([forces.reaction(n)[i] for n in names]).reshape(-1, 2)
+    s = scale if scale is not None else _arrow_scale(V, Scene(res, labels=False).L)
+    ax.quiver(P[:, 0], P[:, 1], V[:, 0] * s, V[:, 1] * s, angles="xy", scale_units="xy", scale=1, color=FORCE,
+              width=0.006, zorder=7,
+              label=f"joint reactions: 1 {units.length or 'length unit'} = {_fmt(1 / s)} {units.label('force')}")
+    tips = P + V * s
+    ax.update_datalim(tips[np.all(np.isfinite(tips), axis=1)])
+    _legend_below(ax)
+    return _finish(ax, units)
+
+
+def plot_forces(forces, *, units=None):
+    """Two panels against the first input: each driver's effort (torque or force), and the
+    size of each joint's reaction force. Returns the array of the two axes."""
+    units = units or Units()
+    res = forces.sweep
+    m = res.model
+    fig, axes = _pyplot().subplots(2, 1, sharex=True, figsize=(7, 5.0), layout="constrained")
+    fig.suptitle(f"{m.name}: driving efforts and joint forces against the input", fontsize=11)
+    x, xlabel = input_axis(res, units)
+    for k, (d, is_len) in enumerate(zip(m.input_names, m.input_lengths)):
+        unit = units.label("force" if is_len else "moment")
+        axes[0].plot(x, forces.driver_effort(d), lw=1.6, color=PATH_COLOURS[k % len(PATH_COLOURS)],
+                     label=f"{d} [{unit}]")
+    for k, j in enumerate(forces.reactions):
+        axes[1].plot(x, np.hypot(*forces.reaction(j).T), lw=1.4, color=PATH_COLOURS[k % len(PATH_COLOURS)],
+                     ls="-" if k < len(PATH_COLOURS) else "--", label=j)
+    axes[0].set_ylabel("driver effort", fontsize=9)
+    axes[1].set_ylabel(f"reaction force\n[{units.label('force')}]", fontsize=9)
+    for a in axes:
+        a.grid(True, color="#e6e6e6", lw=0.6)
+        a.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
+        for side in ("top", "right"):
+            a.spines[side].set_visible(False)
+    axes[1].set_xlabel(xlabel)
+    return axes

@@ -44,3 +44,7 @@ class FileFormatError(ModelError):
 class SynthesisError(PlanarError):
     """No mechanism meets the synthesis targets: the message says which target or design
     failed, and what to change (other free choices, ranges, more designs or another seed)."""
+
+
+class IndeterminateWarning(UserWarning):
+    """Reactions that are not unique (redundant joints): the minimum-norm split is returned."""

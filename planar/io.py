@@ -7,7 +7,8 @@ like the script that would build it::
       "version": 1,
       "name": "four-bar",
       "units": {"length": "mm", "angle": "deg", "rate": "rpm"},
-      "bodies": [{"name": "crank", "angle": 60}, {"name": "coupler"}, {"name": "rocker"}],
+      "bodies": [{"name": "crank", "angle": 60, "mass": 0.5, "com": [0.5, 0.87], "inertia": 0.02},
+                 {"name": "coupler"}, {"name": "rocker"}],
       "points": [{"name": "C", "body": "coupler", "at": [1.48, 3.67]}],
       "joints": [
         {"type": "revolute", "name": "O2", "bodies": ["ground", "crank"], "at": [0, 0]},
@@ -16,12 +17,15 @@ like the script that would build it::
         {"type": "slot", ...the same fields as prismatic...},
         {"type": "gear", "name": "g", "bodies": ["sun", "planet"], "radius_a": 2, "radius_b": 1,
          "internal": false, "carrier": "arm", "centre_a": [0, 0], "centre_b": [3, 0],
-         "hold_distance": false},
+         "hold_distance": false, "pressure_angle": 20},
         {"type": "rack_pinion", "name": "rp", "bodies": ["pinion", "rack"], "radius": 1,
-         "centre": [0, 1], "through": [0, 0], "direction": [1, 0], "side": "left"},
+         "centre": [0, 1], "through": [0, 0], "direction": [1, 0], "side": "left",
+         "pressure_angle": 20},
         {"type": "rolling", ...the same fields as rack_pinion, bodies [wheel, body]...}
       ],
       "drivers": [{"joint": "O2"}, {"body": "crank"}, {"point": "C", "axis": "x", "name": "Cx"}],
+      "gravity": [0, -9.81],
+      "loads": [{"body": "rocker", "force": [0, -20], "at": [4, 1], "torque": 0, "fixed": "world"}],
       "sweep": {"start": 0, "stop": 360, "num": 73, "speed": 60, "acceleration": 0,
                 "rocking": false}
     }
@@ -29,6 +33,13 @@ like the script that would build it::
 - Every joint entry is ``{"type", "name", "bodies"}`` plus the keyword arguments of the
   builder method ``add_<type>``; ``bodies`` are its two body arguments in order. Optional fields
   may be left out.
+- A body's ``mass``, ``com`` (a sketch point) and ``inertia`` (about the centre of mass) are
+  optional, as in :meth:`planar.Mechanism.add_body`; ``gravity`` (a world vector, default none)
+  and ``loads`` (constant forces and torques: :meth:`planar.Mechanism.add_load`; ``torque`` and
+  ``fixed``, "world" or "body", optional) are for :meth:`planar.Sweep.forces`. Mass, length and
+  time units are the user's (kg, m, s give forces in N); only angles are converted.
+- A gear's or rack's ``pressure_angle`` is in ``units.angle`` (``pressure_angle_rad`` in
+  radians); default 20 degrees (a ``rolling`` contact has none).
 - Points are world coordinates of the assembled sketch, in ``units.length`` (a label only).
 - A body's ``angle`` is its sketch angle in ``units.angle``; ``angle_rad`` gives it in radians
   whatever the units (files written by planar use it where degrees would not round-trip).
@@ -55,6 +66,7 @@ mechanism written and read again has the same bodies, points, joints and drivers
 (1, True)
 """
 
+import inspect
 import json
 import math
 from dataclasses import dataclass, field
@@ -83,6 +95,7 @@ _KINDS = {
     "axis": '"x" or "y"',
     "count": "an integer of at least 2",
     "numbers": "a number or a list of numbers",
+    "fixed": '"world" or "body"',
 }
 
 _LINE = {"at": ("point", True), "direction": ("vector", True), "origin": ("point", False)}
@@ -98,7 +111,12 @@ JOINT_FIELDS = {  # type -> {field: (kind, required)}; "type", "name", "bodies" 
     "rack_pinion": _CONTACT,
     "rolling": _CONTACT,
 }
-_TOP = {"version", "name", "units", "bodies", "points", "joints", "drivers", "sweep"}
+_TOOTHED = {"gear": {"pressure_angle": ("number", False), "pressure_angle_rad": ("number", False)}}
+_TOOTHED["rack_pinion"] = _TOOTHED["gear"]
+_MASS = {"mass": ("number", True), "com": ("point", True), "inertia": ("number", False)}
+_LOAD = {"body": ("name", True), "force": ("point", False), "at": ("point", False), "torque": ("number", False),
+         "fixed": ("fixed", False)}
+_TOP = {"version", "name", "units", "bodies", "points", "joints", "drivers", "sweep", "gravity", "loads"}
 _SWEEP = {"start": "numbers", "stop": "numbers", "num": "count", "speed": "numbers",
           "acceleration": "numbers", "rocking": "bool"}
 
@@ -123,6 +141,8 @@ def _valid(kind, v):
         return v in ("left", "right")
     if kind == "axis":
         return v in ("x", "y")
+    if kind == "fixed":
+        return v in ("world", "body")
     if kind == "count":
         return isinstance(v, int) and not isinstance(v, bool) and v >= 2
     if kind == "numbers":
@@ -237,7 +257,7 @@ def from_dict(data, source="<mechanism file>"):
     m = Mechanism(name)
     for i, b in enumerate(c.items(data, "bodies", "")):
         where = f"bodies[{i}]"
-        c.mapping(b, where, ("name", "angle", "angle_rad"))
+        c.mapping(b, where, ("name", "angle", "angle_rad", *_MASS))
         bname = c.field(b, "name", "name", where)
         if "angle" in b and "angle_rad" in b:
             c.fail(where, "give 'angle' or 'angle_rad', not both")
@@ -245,7 +265,9 @@ def from_dict(data, source="<mechanism file>"):
         if angle is None:
             deg = c.field(b, "angle", "number", where, False)
             angle = 0.0 if deg is None else float(units.angle_to_internal(deg))
-        _build(c, where, m.add_body, bname, angle=angle)
+        mass = {k: c.field(b, k, kind, where, req) for k, (kind, req) in _MASS.items() if k in b or req} \
+            if any(k in b for k in _MASS) else {}
+        _build(c, where, m.add_body, bname, angle=angle, **mass)
     for i, p in enumerate(c.items(data, "points", "")):
         where = f"points[{i}]"
         c.mapping(p, where, ("name", "body", "at"))
@@ -259,12 +281,15 @@ def from_dict(data, source="<mechanism file>"):
         if not isinstance(kind, str) or kind not in JOINT_FIELDS:
             c.fail(f"{where}.type", f"must be one of {', '.join(JOINT_FIELDS)}, got {json.dumps(kind)}")
         spec = JOINT_FIELDS[kind]
-        c.mapping(j, where, {"type", "name", "bodies", *spec})
+        c.mapping(j, where, {"type", "name", "bodies", *spec, *_TOOTHED.get(kind, ())})
         jname = c.field(j, "name", "name", where)
         bodies = j.get("bodies")
         if not (isinstance(bodies, list) and len(bodies) == 2 and all(_valid("name", b) for b in bodies)):
             c.fail(f"{where}.bodies", f"must be a list of two body names, got {json.dumps(bodies)}")
         kwargs = {k: c.field(j, k, kind_, where, req) for k, (kind_, req) in spec.items() if k in j or req}
+        alpha = _angle(c, j, "pressure_angle", where, units)
+        if alpha is not None:
+            kwargs["pressure_angle"] = alpha
         _build(c, f"{where} ({kind} {jname!r})", getattr(m, f"add_{kind}"), jname, *bodies, **kwargs)
     for i, d in enumerate(c.items(data, "drivers", "")):
         where = f"drivers[{i}]"
@@ -273,6 +298,15 @@ def from_dict(data, source="<mechanism file>"):
         if "axis" in d:
             kwargs["axis"] = c.field(d, "axis", "axis", where)
         _build(c, where, m.drive, **{k: v for k, v in kwargs.items() if v is not None})
+
+    if "gravity" in data:
+        g = c.field(data, "gravity", "point", "file")
+        m.gravity = g
+    for i, ld in enumerate(c.items(data, "loads", "")):
+        where = f"loads[{i}]"
+        c.mapping(ld, where, _LOAD)
+        kwargs = {k: c.field(ld, k, kind, where, req) for k, (kind, req) in _LOAD.items() if k in ld or req}
+        _build(c, where, m.add_load, kwargs.pop("body"), **kwargs)
 
     sweep = None
     if "sweep" in data:
@@ -285,6 +319,24 @@ def from_dict(data, source="<mechanism file>"):
             acceleration=_tuple(0.0 if got["acceleration"] is None else got["acceleration"]),
             rocking=bool(got["rocking"]))
     return MechanismFile(m, units, sweep, _canonical(data))
+
+
+def _angle(c, obj, key, where, units):
+    """An angle field ``key`` (in the file's angle unit) or ``key_rad`` (radians), or None."""
+    if key in obj and f"{key}_rad" in obj:
+        c.fail(where, f"give {key!r} or '{key}_rad', not both")
+    rad = c.field(obj, f"{key}_rad", "number", where, False)
+    if rad is not None:
+        return rad
+    shown = c.field(obj, key, "number", where, False)
+    return None if shown is None else float(units.angle_to_internal(shown))
+
+
+def _angle_entry(key, angle, units):
+    """{key: angle in the file's unit}, or {key_rad: radians} where that unit would not give
+    back the same radians."""
+    shown = float(units.angle_from_internal(angle))
+    return {key: shown} if float(units.angle_to_internal(shown)) == angle else {f"{key}_rad": angle}
 
 
 def _build(c, where, call, *args, **kwargs):
@@ -306,7 +358,7 @@ def _xy(p):
     return [float(p[0]), float(p[1])]
 
 
-def _joint_entry(j):
+def _joint_entry(j, units):
     """The builder call that makes joint ``j``: {"type", "name", "bodies", **kwargs}."""
     d = j.data
     if isinstance(j, (Prismatic, Slot)):
@@ -322,13 +374,20 @@ def _joint_entry(j):
             e["carrier"] = j.bodies[2]
         e.update(centre_a=_xy(d["centre_a"]), centre_b=_xy(d["centre_b"]),
                  hold_distance=isinstance(j, RollingContact))
-        return e
+        return e | _pressure_angle_entry(d, units)
     if isinstance(j, RackPinion):
         rack, pinion = j.bodies
-        return {"type": "rack_pinion", "name": j.name, "bodies": [pinion, rack], "radius": float(d["radius"]),
-                "centre": _xy(d["centre"]), "through": _xy(d["through"]), "direction": _xy(d["direction"]),
-                "side": "left" if d["side"] > 0 else "right"}
+        # a contact without teeth is a rolling one
+        e = {"type": "rack_pinion" if d["pressure_angle"] else "rolling", "name": j.name, "bodies": [pinion, rack],
+             "radius": float(d["radius"]), "centre": _xy(d["centre"]), "through": _xy(d["through"]),
+             "direction": _xy(d["direction"]), "side": "left" if d["side"] > 0 else "right"}
+        return e | (_pressure_angle_entry(d, units) if d["pressure_angle"] else {})
     raise FileFormatError(f"joint {j.name!r} of type {type(j).__name__} has no file form")
+
+
+def _pressure_angle_entry(d, units):
+    default = inspect.signature(Mechanism.add_gear).parameters["pressure_angle"].default
+    return {} if d["pressure_angle"] == default else _angle_entry("pressure_angle", d["pressure_angle"], units)
 
 
 def _driver_entry(d, joints, points):
@@ -375,6 +434,17 @@ def _body_entry(name, angle, units):
     return entry
 
 
+def _mass_entry(mass):
+    return {} if mass is None else {"mass": mass[0], "com": _xy(mass[1]), "inertia": mass[2]}
+
+
+def _load_entry(body, at, force, torque, fixed):
+    if callable(force) or callable(torque):
+        raise FileFormatError(f"the load on {body!r} is given by a function of the inputs, which has no file "
+                              f"form: give it as constants to save it")
+    return {"body": body, "force": _xy(force), "at": _xy(at), "torque": float(torque), "fixed": fixed}
+
+
 def to_dict(obj, units=None, sweep=None):
     """The document of a :class:`planar.Mechanism` (with ``units``, default degrees and rad/s,
     and optional :class:`SweepSettings` or dict of sweep fields) or of a :class:`MechanismFile`."""
@@ -388,10 +458,15 @@ def to_dict(obj, units=None, sweep=None):
     points = {n: v for n, v in sk.points.items() if n not in joint_names}
     data = {"version": VERSION, "name": obj.name,
             "units": {"length": units.length, "angle": units.angle, "rate": units.rate},
-            "bodies": [_body_entry(n, a, units) for n, a in sk.bodies.items() if n != GROUND],
+            "bodies": [_body_entry(n, a, units) | _mass_entry(sk.mass.get(n)) for n, a in sk.bodies.items()
+                       if n != GROUND],
             "points": [{"name": n, "body": b, "at": _xy(p)} for n, (b, p) in points.items()],
-            "joints": [_joint_entry(j) for j in sk.joints],
+            "joints": [_joint_entry(j, units) for j in sk.joints],
             "drivers": [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]}
+    if sk.gravity is not None:
+        data["gravity"] = list(sk.gravity)
+    if sk.loads:
+        data["loads"] = [_load_entry(*ld) for ld in sk.loads]
     if sweep is not None:
         s = sweep if isinstance(sweep, dict) else {
             "start": list(sweep.start), "stop": list(sweep.stop), "num": sweep.num,

@@ -29,6 +29,7 @@ from planar.errors import (AssemblyError, ConnectivityError, InputError, Mobilit
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic,
                            RackPinion, Revolute, RollingContact, Slot)
 from planar.joints.base import SketchFrames
+from planar.mass import compile_mass
 from planar.blocks import plan as block_plan
 from planar.system import build_system
 
@@ -68,6 +69,13 @@ def _positive(value, what):
     return v
 
 
+def _pressure_angle(value, joint):
+    a = float(_finite(value, f"joint {joint!r} pressure_angle", ()))
+    if not 0 <= a < np.pi / 2:
+        raise ModelError(f"joint {joint!r}: pressure_angle must be in [0, pi/2) radians, got {a!r}")
+    return a
+
+
 def _direction(value, what):
     v = _point(value, what)
     if np.hypot(*v) == 0:
@@ -89,6 +97,9 @@ class Mechanism:
         self._drivers = []
         self._names = {GROUND}
         self._model = None
+        self._mass = {}  # body -> (mass, sketch centre of mass, inertia about it)
+        self._loads = []  # (body, sketch point, force, torque, fixed)
+        self._gravity = None
 
     def sketch(self):
         """What has been drawn so far, read-only: a :class:`Sketch`.
@@ -98,7 +109,8 @@ class Mechanism:
         >>> m.sketch().bodies
         {'ground': 0.0, 'crank': 0.5}
         """
-        return Sketch(dict(self._bodies), dict(self._points), tuple(self._joints), tuple(self._drivers))
+        return Sketch(dict(self._bodies), dict(self._points), tuple(self._joints), tuple(self._drivers),
+                      dict(self._mass), tuple(self._loads), self._gravity)
 
     # ---- building ------------------------------------------------------------------------
 
@@ -129,12 +141,64 @@ class Mechanism:
             raise ModelError(f"joint {joint!r} joins body {a!r} to itself: a joint needs two different bodies")
         return a, b
 
-    def add_body(self, name, angle=0.0):
+    def add_body(self, name, angle=0.0, *, mass=None, com=None, inertia=0.0):
         """Add a moving body. ``angle`` is its angle in the sketch (radians): results report
         it plus the body's rotation since, so giving the direction of a link makes
-        ``angle(body)`` that link's absolute angle."""
+        ``angle(body)`` that link's absolute angle. ``mass``, ``com`` and ``inertia``: see
+        :meth:`set_mass` (``planar.bar``, ``disc`` and ``plate`` give them for simple shapes)."""
         self._bodies[self._new_name(name, "body")] = float(_finite(angle, f"angle of body {name!r}", ()))
+        if mass is not None:
+            self.set_mass(name, mass, com, inertia)
         return Body(name)
+
+    def set_mass(self, body, mass, com, inertia=0.0):
+        """Give ``body`` its ``mass``, centre of mass ``com`` (a sketch point, like ``at``) and
+        moment of inertia about it, for :meth:`planar.Sweep.forces` (bodies without are massless).
+
+        >>> import planar
+        >>> m = planar.Mechanism()
+        >>> link = m.add_body("link", **planar.bar(2.0, (0, 0), (1, 0)))
+        >>> m.set_mass("link", 3.0, (0.5, 0), 0.25)
+        """
+        b = self._body(body)
+        if b == GROUND:
+            raise ModelError("the ground does not move: give mass to a moving body")
+        mass, inertia = _finite(mass, f"mass of body {b!r}", ()), _finite(inertia, f"inertia of body {b!r}", ())
+        if mass < 0 or inertia < 0:
+            raise ModelError(f"body {b!r}: mass and inertia must be >= 0, got {float(mass)!r} and {float(inertia)!r}")
+        if com is None:
+            raise ModelError(f"body {b!r}: give com, the sketch point of its centre of mass")
+        self._mass[b] = (float(mass), _point(com, f"com of body {b!r}"), float(inertia))
+        self._model = None
+
+    @property
+    def gravity(self):
+        """Gravitational acceleration, a world 2-vector such as (0, -9.81), or None (none)."""
+        return self._gravity
+
+    @gravity.setter
+    def gravity(self, g):
+        self._gravity = None if g is None else tuple(_point(g, "gravity").tolist())
+        self._model = None
+
+    def add_load(self, body, force=(0.0, 0.0), at=None, torque=0.0, *, fixed="world"):
+        """An external ``force`` at sketch point ``at`` of ``body`` and a ``torque`` on it. Each is
+        a constant, or a function of the sweep's input values (N, f) giving (N, 2) or (N,).
+        ``fixed="world"`` keeps the force's direction; ``"body"`` turns it with the body (it is
+        then given as it acts at the sketch). ``at`` may be left out for a torque alone."""
+        b = self._body(body)
+        if b == GROUND:
+            raise ModelError("a load on the ground moves nothing: put it on a moving body")
+        if fixed not in ("world", "body"):
+            raise ModelError(f"load on {b!r}: fixed must be 'world' or 'body', got {fixed!r}")
+        if not callable(force):
+            force = _point(force, f"load force on {b!r}")
+        if not callable(torque):
+            torque = _finite(torque, f"load torque on {b!r}", ())
+        if at is None and (callable(force) or np.any(force != 0)):
+            raise ModelError(f"load on {b!r}: give at, the sketch point the force acts at")
+        self._loads.append((b, np.zeros(2) if at is None else _point(at, f"load on {b!r} at"), force, torque, fixed))
+        self._model = None
 
     def add_point(self, name, body, at):
         """Name the point of ``body`` that is at ``at`` in the sketch."""
@@ -187,19 +251,20 @@ class Mechanism:
                              f"give an origin on that line")
 
     def add_gear(self, name, gear_a, gear_b, radius_a, radius_b, *, internal=False, carrier=None,
-                 centre_a=None, centre_b=None, hold_distance=False):
+                 centre_a=None, centre_b=None, hold_distance=False, pressure_angle=np.radians(20)):
         """Two pitch circles in mesh (external, or ``internal`` with one inside the other).
 
         With ``carrier`` (a body, or the ground) both centres are fixed on it: the row is linear
         in the angles. Without, the centres (on the gears, sketch points ``centre_a``,
         ``centre_b``) may sit on different moving bodies; their distance must then be held by
         other joints, or by the gear itself with ``hold_distance=True`` (a wheel rolling on or
-        inside a circle with no arm). The gears mesh as drawn in the sketch.
+        inside a circle with no arm). The gears mesh as drawn in the sketch. ``pressure_angle``
+        (radians) sets the direction of the tooth force (:meth:`planar.Sweep.forces`).
         """
         a, b = self._pair(gear_a, gear_b, name)
         data = dict(radius_a=_positive(radius_a, f"gear {name!r} radius_a"),
                     radius_b=_positive(radius_b, f"gear {name!r} radius_b"),
-                    sign=-1.0 if internal else 1.0)
+                    sign=-1.0 if internal else 1.0, pressure_angle=_pressure_angle(pressure_angle, name))
         if internal and data["radius_a"] == data["radius_b"]:
             raise ModelError(f"gear {name!r}: an internal mesh needs different radii")
         for key, value in (("centre_a", centre_a), ("centre_b", centre_b)):
@@ -239,17 +304,19 @@ class Mechanism:
         raise ModelError(f"gear {name!r}: no revolute puts the centre of {gear!r} on the carrier {carrier!r}; "
                          f"add it first or give the centre")
 
-    def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left"):
+    def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left",
+                        pressure_angle=np.radians(20)):
         """Pinion (pitch ``radius``, centre ``centre`` on the pinion) rolling without slip on the
         rack's pitch line through ``through`` along ``direction`` (fixed in ``rack``, any body).
-        ``side`` says where the pinion centre is: left or right of the directed line."""
+        ``side`` says where the pinion centre is: left or right of the directed line;
+        ``pressure_angle`` (radians) that of the teeth."""
         p, r = self._pair(pinion, rack, name)
         if side not in ("left", "right"):
             raise ModelError(f"joint {name!r}: side must be 'left' or 'right', got {side!r}")
         data = dict(radius=_positive(radius, f"joint {name!r} radius"), centre=_point(centre, f"joint {name!r} centre"),
                     through=_point(through, f"joint {name!r} through"),
                     direction=_direction(direction, f"joint {name!r} direction"),
-                    side=1.0 if side == "left" else -1.0)
+                    side=1.0 if side == "left" else -1.0, pressure_angle=_pressure_angle(pressure_angle, name))
         d = data["centre"] - data["through"]
         h = data["direction"][0] * d[1] - data["direction"][1] * d[0]
         if not math.isclose(h, data["side"] * data["radius"], rel_tol=1e-6, abs_tol=1e-9):
@@ -263,7 +330,7 @@ class Mechanism:
         """A wheel rolling without slip on a straight line fixed in ``body`` (the ground or a
         moving body): the same contact as :meth:`add_rack_pinion`."""
         self.add_rack_pinion(name, wheel, body, radius, centre=centre, through=through,
-                             direction=direction, side=side)
+                             direction=direction, side=side, pressure_angle=0.0)
 
     def drive(self, joint=None, *, body=None, point=None, axis=None, name=None):
         """Make one input. Exactly one of: ``joint`` (a revolute's relative angle, a slider's or
@@ -318,12 +385,16 @@ class Mechanism:
 class Sketch:
     """A mechanism as drawn: ``bodies`` name -> sketch angle (the ground first), ``points``
     name -> (body, world point) (joints' points included), ``joints`` and ``drivers`` in the
-    order they were added."""
+    order they were added; ``mass`` body -> (mass, sketch centre of mass, inertia), ``loads``
+    (body, sketch point, force, torque, fixed) and ``gravity`` as given to the builder."""
 
     bodies: dict
     points: dict
     joints: tuple
     drivers: tuple
+    mass: dict
+    loads: tuple
+    gravity: tuple
 
 
 # ---- the compiled model ---------------------------------------------------------------------
@@ -336,6 +407,8 @@ class Model:
     Attributes give the mobility report: ``n`` coordinates, ``m`` rows, ``rank`` of the joint
     Jacobian at the sketch, ``dof = n - rank``, ``grubler = n - (rows of the joints)`` and the
     names of ``redundant_joints`` (rows kept out of Newton but checked after every solve).
+    ``mass``, ``com``, ``inertia``, ``gravity`` and ``loads`` are what :meth:`planar.Sweep.forces`
+    balances (read-only).
     """
 
     name: str
@@ -359,6 +432,11 @@ class Model:
     grubler: int
     redundant_joints: tuple
     coordinates: dict  # joint name -> (system of its coordinate rows, row)
+    mass: np.ndarray = None  # (n_bodies,) masses (0: massless)
+    com: np.ndarray = None  # (n_bodies, 2) centres of mass in the body frames
+    inertia: np.ndarray = None  # (n_bodies,) moments of inertia about the centres of mass
+    gravity: np.ndarray = None  # (2,) world gravitational acceleration
+    loads: tuple = ()  # planar.mass.Load
 
     @property
     def n(self):
@@ -547,7 +625,8 @@ def _compile(mech):
         row_scale=row_scale, col_scale=col_scale, active_rows=active,
         driver_rows_active=np.arange(len(independent), len(active)), redundant_rows=redundant,
         input_lengths=np.array([d.length_rows[0] for d in drivers], bool), rank=rank,
-        grubler=n - joint_rows.size, redundant_joints=redundant_joints)
+        grubler=n - joint_rows.size, redundant_joints=redundant_joints,
+        **compile_mass(mech._mass, mech._loads, mech._gravity, sketch, bodies))
     if drivers:
         block_plan(model)  # a model the drivers cannot drive is refused here, not at sweep time
     return model

@@ -146,6 +146,13 @@ class Sweep:
         xdd, ydd, a = self._body(self.model.body_names[b], self.qdd)
         return np.stack((xdd, ydd), axis=-1) + perp(S) * a[:, None] - S * (w**2)[:, None]
 
+    def forces(self):
+        """Driving efforts and joint reactions at every value, from the model's masses, gravity
+        and loads (:mod:`planar.kinetostatics`): one linear solve per value, so keep the result."""
+        from planar.kinetostatics import forces
+
+        return forces(self)
+
     def coordinate(self, joint, derivative=0):
         """(N,) a joint's own coordinate (a revolute's relative angle, a slider's or slot's
         travel from its origin), or its first or second time derivative."""

@@ -99,8 +99,14 @@ class Units:
 
     def label(self, kind):
         """Unit label of a quantity kind: "length", "speed", "accel" (of points), "angle",
-        "rate", "angular_accel"."""
+        "rate", "angular_accel", and "mass", "inertia", "force", "moment" (masses are taken in
+        kg and times in s: N and N m with lengths in m or unlabelled).
+
+        >>> Units("m").label("moment"), Units("mm").label("force"), Units("mm").label("inertia")
+        ('N m', 'kg mm/s^2', 'kg mm^2')
+        """
         L = self.length or "length"
+        si = self.length in ("", "m")
         return {
             "length": self.length,
             "speed": f"{L}/s",
@@ -108,6 +114,10 @@ class Units:
             "angle": self.angle,
             "rate": self.rate,
             "angular_accel": self.acceleration,
+            "mass": "kg",
+            "inertia": "kg m^2" if si else f"kg {L}^2",
+            "force": "N" if si else f"kg {L}/s^2",
+            "moment": "N m" if si else f"kg {L}^2/s^2",
         }[kind]
 
     def input_label(self, is_length, derivative=0):

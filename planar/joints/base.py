@@ -79,6 +79,26 @@ class Joint:
         """``out``, or a new array for the Jacobian blocks (n_rows, 3*n_bodies, K, ...)."""
         return np.empty((cls.n_rows, 3 * cls.n_bodies) + F.shape) if out is None else out
 
+    @classmethod
+    def force_rows(cls, P, F):
+        """The rows (n_rows, 3*n_bodies, K, ...) whose transpose carries the joint's forces: the
+        joint acts on its bodies with ``-force_rows^T lam`` for its Lagrange multipliers lam.
+        Its Jacobian, unless its rows stand in for a contact elsewhere (gears on a carrier)."""
+        return cls.Phi_q(P, F)
+
+    @classmethod
+    def reaction(cls, P, F, lam):
+        """Named reaction components (K, ...) on the second body from the first, besides the
+        force, from the multipliers ``lam`` (n_rows, K, ...): a normal force, a moment."""
+        return {}
+
+    @classmethod
+    def contact_load(cls, P, F, lam):
+        """Generalised forces (3*n_bodies, K, ...) the joint puts on its bodies besides
+        ``-force_rows^T lam``, from its multipliers ``lam``; or None. Only forces that do no
+        work in the motions the other joints allow (a tooth force's radial part)."""
+        return None
+
     def params(self, sketch):
         """Body-fixed parameters with the constant ``c`` (zero until the model sets it)."""
         P = {k: np.asarray(v, dtype=float) for k, v in self.local_params(sketch).items()}

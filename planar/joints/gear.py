@@ -5,7 +5,7 @@ All rows are linear in the unwrapped body angles, so angles are never reduced mo
 
 import numpy as np
 
-from planar.geometry import cross_cf, dot_cf, perp_cf
+from planar.geometry import Frames, cross_cf, dot_cf, perp_cf
 from planar.joints.base import Joint, pair_rates, pair_row, point_pair, wrap
 
 
@@ -13,7 +13,9 @@ class CarrierGear(Joint):
     """Gears i and j whose centres are fixed on one carrier body a (or both on the ground).
 
     Row ``R_i (phi_i - phi_a) + s R_j (phi_j - phi_a) - c`` (a length), gamma = 0; ``c`` is
-    taken at the assembled sketch, so the gears mesh as drawn.
+    taken at the assembled sketch, so the gears mesh as drawn. Its force is the tooth force at
+    the pitch point, as :class:`Gear`'s row gives it (the row's own transpose would put it on
+    the carrier as torques, past the pins that carry it).
     """
 
     n_rows = 1
@@ -22,8 +24,7 @@ class CarrierGear(Joint):
     sketch_rows = (0,)
 
     def local_params(self, sketch):
-        d = self.data
-        return {"R": np.array([d["radius_a"], d["sign"] * d["radius_b"]])}
+        return _gear_params(self, sketch)
 
     @staticmethod
     def Phi(P, F):
@@ -45,11 +46,59 @@ class CarrierGear(Joint):
     def gamma(P, F):
         return np.zeros((1,) + F.shape)
 
+    @classmethod
+    def force_rows(cls, P, F):
+        out = np.zeros((1, 9) + F.shape)
+        _rolling_grad(_rolling(P, _gears(F)), P, out[0, :6])
+        return out
+
+    @classmethod
+    def reaction(cls, P, F, lam):
+        return _mesh_reaction(P, _gears(F), lam[0])
+
+    @classmethod
+    def contact_load(cls, P, F, lam):
+        radial = _radial_load(P, _gears(F), lam[0])
+        return None if radial is None else np.concatenate((radial, np.zeros((3,) + F.shape)))
+
     def touch_points(self):
         return [(self.bodies[0], self.data["centre_a"]), (self.bodies[1], self.data["centre_b"])]
 
     def anchor(self):
         return self.bodies[1], self.data["centre_b"]
+
+
+def _gears(F):
+    """The frames of the two gears (slots 0 and 1) of a carrier's mesh."""
+    return Frames(F.r[:, :2], F.phi[:2], F.c[:2], F.s[:2])
+
+
+def _radial_load(P, F, lam):
+    """The radial part of the tooth force, |F_t| tan alpha along the line of centres, pushing
+    the pitch circles apart: on b along s d (s = -1 inside a ring), on a the opposite."""
+    if not np.any(P["alpha"]):
+        return None
+    d, S, Ft = _tangential(P, F, lam)
+    f = d * (np.abs(Ft) * np.tan(P["alpha"]) * np.sign(P["R"][1]) / np.sqrt(dot_cf(d, d)))
+    out = np.zeros((6,) + F.shape)
+    out[0:2], out[2] = -f, -cross_cf(S[:, 0], f)
+    out[3:5], out[5] = f, cross_cf(S[:, 1], f)
+    return out
+
+
+def _tangential(P, F, lam):
+    """d from centre a to centre b, the centres' world vectors S, and the no-slip row's force on
+    b along perp(d), K / |d| lam."""
+    d, S = point_pair(F, P["s"])
+    return d, S, lam * (P["R"][0] + P["R"][1]) / np.sqrt(dot_cf(d, d))
+
+
+def _mesh_reaction(P, F, lam):
+    """The tooth force on gear b: ``tangential`` along perp(d) (:func:`_tangential`), and along the pressure line of pressure angle
+    alpha the ``contact`` force |F_t| / cos alpha, whose ``radial`` part |F_t| tan alpha
+    pushes the gears apart (carried by whatever holds their centre distance)."""
+    Ft = _tangential(P, F, lam)[2]
+    return {"tangential": Ft, "radial": np.abs(Ft) * np.tan(P["alpha"]), "contact": np.abs(Ft) / np.cos(P["alpha"])}
 
 
 def _rolling(P, F, rates=False):
@@ -82,11 +131,12 @@ def _rolling_grad(r, P, out):
 
 
 def _gear_params(joint, sketch):
-    a, b = joint.bodies
+    a, b = joint.bodies[:2]
     d = joint.data
     return {
         "s": np.stack((sketch.local_point(a, d["centre_a"]), sketch.local_point(b, d["centre_b"]))),
         "R": np.array([d["radius_a"], d["sign"] * d["radius_b"]]),
+        "alpha": np.array(d["pressure_angle"]),
     }
 
 
@@ -117,6 +167,14 @@ class Gear(Joint):
     @staticmethod
     def gamma(P, F):
         return _rolling(P, F, rates=True)["gamma"][None]
+
+    @classmethod
+    def reaction(cls, P, F, lam):
+        return _mesh_reaction(P, F, lam[0])
+
+    @classmethod
+    def contact_load(cls, P, F, lam):
+        return _radial_load(P, F, lam[0])
 
     def touch_points(self):
         return [(self.bodies[0], self.data["centre_a"]), (self.bodies[1], self.data["centre_b"])]
@@ -159,3 +217,16 @@ class RollingContact(Gear):
         D = RollingContact._D(P)
         dist = -(dot_cf(r["dd"], r["dd"]) + dot_cf(r["d"], r["ddq"])) / D
         return np.stack((dist, r["gamma"]))
+
+    @classmethod
+    def reaction(cls, P, F, lam):
+        """``normal``: the push of a on b at the contact, positive when they press together (along
+        d for an external contact, against d inside a circle); ``friction``: along perp(d), as
+        :class:`Gear`'s tangential force."""
+        d, _, friction = _tangential(P, F, lam[1])
+        inside = np.sign(P["R"][1])  # -1 for a circle rolling inside another
+        return {"normal": -lam[0] * inside * np.sqrt(dot_cf(d, d)) / RollingContact._D(P), "friction": friction}
+
+    @classmethod
+    def contact_load(cls, P, F, lam):
+        return None  # a smooth contact: its normal row carries the push

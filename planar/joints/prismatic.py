@@ -48,6 +48,11 @@ class Slot(Joint):
     def gamma(P, F):
         return _line(P, F, rates=True).h_gamma()[None]
 
+    @classmethod
+    def reaction(cls, P, F, lam):
+        """``normal``: the force on b along the line's left normal (it acts at b's point)."""
+        return {"normal": -lam[0]}
+
     def touch_points(self):
         return [(self.bodies[0], self.data["origin"]), (self.bodies[1], self.data["at"])]
 
@@ -84,3 +89,8 @@ class Prismatic(Slot):
     def gamma(P, F):
         h = _line(P, F, rates=True).h_gamma()
         return np.stack((h, np.zeros_like(h)))
+
+    @classmethod
+    def reaction(cls, P, F, lam):
+        """``normal`` as :class:`Slot`, and ``moment``: the couple on b (counter-clockwise)."""
+        return {"normal": -lam[0], "moment": -lam[1]}

@@ -29,6 +29,7 @@ class RackPinion(Joint):
             "u": sketch.local_direction(rack, d["direction"]),
             "sR": np.array(sR),
             "c": np.array([sR, 0.0]),
+            "alpha": np.array(d["pressure_angle"]),
         }
 
     @staticmethod
@@ -49,6 +50,15 @@ class RackPinion(Joint):
     def gamma(P, F):
         ln = _line(P, F, rates=True)
         return np.stack((ln.h_gamma(), ln.t_gamma()))
+
+    @classmethod
+    def reaction(cls, P, F, lam):
+        """At the contact point, on the pinion: ``normal`` the line's push towards its centre
+        (positive presses the two together), ``tangential`` along the line's direction (the
+        friction of a rolling wheel), and ``contact`` |tangential| / cos alpha, the tooth force
+        along the pressure line."""
+        Ft = -lam[1]
+        return {"normal": -lam[0] * np.sign(P["sR"]), "tangential": Ft, "contact": np.abs(Ft) / np.cos(P["alpha"])}
 
     def touch_points(self):
         return [(self.bodies[0], self.data["through"]), (self.bodies[1], self.data["centre"])]

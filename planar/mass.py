@@ -1,0 +1,94 @@
+"""Mass properties of bodies and the external loads on them, as the builder takes them.
+
+A body's mass, centre of mass (a sketch point, like ``at``) and moment of inertia about its
+centre of mass (kg, m, kg m^2 in SI, or any consistent units) go to
+:meth:`planar.Mechanism.add_body` or :meth:`planar.Mechanism.set_mass`; :func:`bar`, :func:`disc`
+and :func:`plate` give them for simple shapes. Loads are :class:`Load` entries of the model,
+compiled from :meth:`planar.Mechanism.add_load`.
+
+>>> import planar
+>>> planar.bar(2.0, (0, 0), (3, 4))
+{'mass': 2.0, 'com': (1.5, 2.0), 'inertia': 4.166666666666667}
+>>> planar.disc(1.0, (0, 0), 0.5)["inertia"], planar.plate(12.0, (0, 0), 1.0, 2.0)["inertia"]
+(0.125, 5.0)
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from planar.errors import ModelError
+
+
+def bar(mass, a, b):
+    """A thin uniform bar from sketch point ``a`` to ``b``: centre at the middle, m L^2 / 12."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    L2 = float(np.sum((b - a) ** 2))
+    return {"mass": float(mass), "com": tuple((0.5 * (a + b)).tolist()), "inertia": float(mass) * L2 / 12.0}
+
+
+def disc(mass, centre, radius):
+    """A uniform disc of ``radius`` centred at sketch point ``centre``: m r^2 / 2."""
+    return {"mass": float(mass), "com": tuple(np.asarray(centre, float).tolist()),
+            "inertia": float(mass) * float(radius) ** 2 / 2.0}
+
+
+def plate(mass, centre, width, height):
+    """A uniform rectangular plate ``width`` x ``height`` centred at ``centre``: m (w^2 + h^2) / 12."""
+    return {"mass": float(mass), "com": tuple(np.asarray(centre, float).tolist()),
+            "inertia": float(mass) * (float(width) ** 2 + float(height) ** 2) / 12.0}
+
+
+@dataclass(frozen=True, eq=False)
+class Load:
+    """An external load on body ``body`` (id): a force at the body-fixed point ``s`` (its frame)
+    and a torque. ``force`` is a 2-vector, or a function of the sweep's input values (N, f)
+    giving (N, 2); ``torque`` a number or a function giving (N,). With ``fixed == "body"`` the
+    force turns with the body (``force`` is then its world value at the sketch)."""
+
+    body: int
+    s: np.ndarray
+    force: object
+    torque: object
+    fixed: str
+    angle0: float  # the body's sketch angle: a body-fixed force is turned by phi - angle0
+
+    def at(self, inputs, phi):
+        """World force (N, 2) and torque (N,) at the input values ``inputs`` (N, f) and body
+        angles ``phi`` (N,)."""
+        N = inputs.shape[0]
+        f = _per_value(self.force, inputs, (N, 2), "force")
+        if self.fixed == "body":
+            c, s = np.cos(phi - self.angle0), np.sin(phi - self.angle0)
+            f = np.stack((c * f[:, 0] - s * f[:, 1], s * f[:, 0] + c * f[:, 1]), axis=-1)
+        return f, _per_value(self.torque, inputs, (N,), "torque")
+
+
+def _per_value(value, inputs, shape, what):
+    if callable(value):
+        out = np.asarray(value(inputs), dtype=float)
+        if out.shape != shape:
+            raise ModelError(f"a load's {what} function gave shape {out.shape} for {inputs.shape[0]} input "
+                             f"values; it must give {shape}")
+        return out
+    return np.broadcast_to(np.asarray(value, dtype=float), shape)
+
+
+def compile_mass(mass, loads, gravity, sketch, bodies):
+    """The Model's mass fields from the builder's: ``mass`` body -> (mass, com, inertia) in
+    sketch coordinates, ``loads`` [(body, at, force, torque, fixed)], ``gravity`` or None."""
+    index = {b: i for i, b in enumerate(bodies)}
+    m, com, inertia = np.zeros(len(bodies)), np.zeros((len(bodies), 2)), np.zeros(len(bodies))
+    for b, (mb, c, ib) in mass.items():
+        m[index[b]], com[index[b]], inertia[index[b]] = mb, sketch.local_point(b, c), ib
+    own = lambda v: v if callable(v) else np.array(v, float)  # noqa: E731  (a copy: frozen below)
+    compiled = tuple(Load(index[b], sketch.local_point(b, at), own(force), own(torque), fixed, sketch.angles[b])
+                     for b, at, force, torque, fixed in loads)
+    g = np.zeros(2) if gravity is None else np.array(gravity, float)
+    arrays = [m, com, inertia, g] + [v for ld in compiled for v in (ld.s, ld.force, ld.torque) if isinstance(v, np.ndarray)]
+    for a in arrays:
+        a.flags.writeable = False
+    return dict(mass=m, com=com, inertia=inertia, gravity=g, loads=compiled)
+
+
+__all__ = ["bar", "disc", "plate", "Load", "compile_mass"]
