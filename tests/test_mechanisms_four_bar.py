@@ -106,7 +106,10 @@ def test_coupler_and_rocker_drivers_give_the_crank_driven_pose_and_rates(r, th1,
         return  # no pose on that side at that input: refused by name, checked below
     except planar.MobilityError:
         return  # the sketch is a dead centre of that driver (crank and rocker parallel): refused
-    res = m.sweep([start])
+    try:
+        res = m.sweep([start])
+    except planar.AssemblyError:
+        return  # sketched on a singular position (a change point): refused by name
     assume(res.ok[0] and res.singularity[0] > 1e-3)
     th2 = res.angle("crank")
     o = fb_oracle(*r, th2, th1=th1, sigma=-1 if crossed else 1)
