@@ -453,8 +453,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     rest = np.flatnonzero(~solved)
     if rest.size:  # (the last solved value before each: N-sized, so only when needed)
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        prev = np.where(rest > 0, last[np.maximum(rest - 1, 0)], -1)
-        u_from = np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
+        u_from = _input_before(model, U, last, rest)
         rest = rest[~_on_event(model, U[rest], events) & ~_past_limit(limits, u_from, U[rest])]
     failed_from, newest = None, -1
     for i in rest:
@@ -506,26 +505,26 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     miss = np.flatnonzero(~solved)
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        prev = np.where(miss > 0, last[np.maximum(miss - 1, 0)], -1)
-        u_from = np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
-        beyond[miss] = _past_limit(limits, u_from, U[miss])
-    res = _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond)
-    _mark_jumps(res.status, stops)
-    return res
+        beyond[miss] = _past_limit(limits, _input_before(model, U, last, miss), U[miss])
+    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops)
+
+
+def _input_before(model, U, last, idx):
+    """(M, f) the input of the last solved value before each of ``idx`` (``last``: the index
+    of the last solved value at or before each value, -1 for none), the sketch's where none."""
+    prev = np.where(idx > 0, last[np.maximum(idx - 1, 0)], -1)
+    return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
 
 
 def _mark_jumps(status, stops):
     """JUMPED for the first value past each limit the walk stopped at (``stops``: the events'
     indices) where it is valid and the value before it posed: the branch was re-entered past the
-    limit with no unassemblable value between to show the gap (a pair of limits inside one step).
-    (The result's arrays are read-only: set in place.)"""
+    limit with no unassemblable value between to show the gap (a pair of limits inside one step)."""
     posed, valid = POSED_MASK[status], VALID_MASK[status]
     for j in stops:
         j += int(j < status.size and status[j] == Status.LIMIT)
         if 0 < j < status.size and valid[j] and posed[j - 1]:
-            status.flags.writeable = True
             status[j] = Status.JUMPED
-            status.flags.writeable = False
 
 
 def _check_sketch(model, p):
@@ -550,13 +549,9 @@ def _keep_freed_memory():
     frees for its next chunk and its next call instead of handing it back to the system: its
     mmap threshold follows the largest mmapped block freed, up to 32 MiB and only for blocks no
     larger than that (hence 8 KiB under it: malloc's header and page rounding), and it trims
-    the heap's free top beyond twice that (64 MiB). With the threshold below a chunk's
-    temporaries (~10 MB at CHUNK values), each chunk and each sweep faulted its memory in
-    afresh, ~0.3 ms per MB on the benchmark machine (docs/benchmarks.md, session 6). With it at
-    24 MiB a numpy sweep of the slider-crank or the four-bar at N = 1e5 (~60 MB of heap at its
-    peak, results included) still faulted ~32 MB in afresh at each call, as the heap was trimmed
-    once its result was dropped (session 12). The process may keep up to 2 HEAP_KEEP of freed
-    memory; with other allocators this costs one mmap and munmap."""
+    the heap's free top beyond twice that (64 MiB), above a numpy sweep's heap at N = 1e5.
+    Below it, each chunk and each call faulted its memory in afresh. The process may keep up
+    to 2 HEAP_KEEP of freed memory; with other allocators this costs one mmap and munmap."""
     np.empty(HEAP_KEEP, np.uint8)
 
 
@@ -900,7 +895,7 @@ def _redundant(model, full):
     return np.max(np.abs(full[:, red] * model.row_scale[red]), axis=1)
 
 
-def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond):
+def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops):
     N, n = q.shape
     p = br.p
     idx = np.flatnonzero(solved & ~done)
@@ -932,6 +927,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         _, g = least_squares_gap(model, guess, U[i])
         gap[i] = g
         status[i] = np.where((g > GAP) | beyond[i], Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
+    _mark_jumps(status, stops)
     events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
     return Sweep(model, U, Ud, Udd, q, out.qd, out.qdd, status, out.residual,
