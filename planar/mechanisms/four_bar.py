@@ -12,7 +12,7 @@ import numpy as np
 
 from planar.errors import AssemblyError
 from planar.mechanisms import _checks
-from planar.mechanisms.sketch import along, angle_of, circle_circle, left_of, polar
+from planar.mechanisms.sketch import along, circle_circle, left_of, polar
 from planar.model import Mechanism
 
 DRIVERS = ("crank", "coupler", "rocker")
@@ -84,18 +84,15 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     O2 = np.zeros(2)
     O4 = polar(O2, r1, th1)
     A, B = loop_pose(O2, O4, r2, r3, r4, driver, start, bool(crossed))
-    # the driven link gets the exact start angle, so the input is not wrapped to (-pi, pi]
-    angles = {"crank": angle_of(O2, A), "coupler": angle_of(A, B), "rocker": angle_of(O4, B)}
-    angles[driver] = start
 
-    m = Mechanism(name)
+    m = Mechanism(name)  # the bodies' angles are their lines O2 -> A, A -> B, O4 -> B
     for body in DRIVERS:
-        m.add_body(body, angle=angles[body])
+        m.add_body(body)
     m.add_revolute("O2", m.ground, "crank", at=O2)
     m.add_revolute("A", "crank", "coupler", at=A)
     m.add_revolute("B", "coupler", "rocker", at=B)
     m.add_revolute("O4", "rocker", m.ground, at=O4)
     if pq is not None:
         m.add_point("C", "coupler", at=along(A, B, *pq))
-    m.drive(body=driver)
+    m.drive(body=driver, start=start)  # the input starts at start, not wrapped to (-pi, pi]
     return m

@@ -39,8 +39,8 @@ def _dyad(m, names, bodies, P, Q, r_p, r_q, crossed, what):
     from Q (on ``bodies[3]``), pinned together at the intersection left of P -> Q (right if
     ``crossed``). ``names`` are the three revolutes at P, the middle joint and Q."""
     M = circle_circle(P, r_p, Q, r_q, what)[int(bool(crossed))]
-    m.add_body(bodies[0], angle=angle_of(P, M))
-    m.add_body(bodies[1], angle=angle_of(Q, M))
+    m.add_body(bodies[0], angle=(names[0], names[1]))
+    m.add_body(bodies[1], angle=(names[2], names[1]))
     m.add_revolute(names[0], bodies[2], bodies[0], at=P)
     m.add_revolute(names[1], bodies[0], bodies[1], at=M)
     m.add_revolute(names[2], bodies[1], bodies[3], at=Q)
