@@ -7,7 +7,8 @@ like the script that would build it::
       "version": 1,
       "name": "four-bar",
       "units": {"length": "mm", "angle": "deg", "rate": "rpm"},
-      "bodies": [{"name": "crank", "angle": 60}, {"name": "coupler"}, {"name": "rocker"}],
+      "bodies": [{"name": "crank"}, {"name": "coupler"}, {"name": "rocker", "line": ["O4", "B"]},
+                 {"name": "gear", "angle": 30}, {"name": "lever", "offset": 90}],
       "points": [{"name": "C", "body": "coupler", "at": [1.48, 3.67]}],
       "joints": [
         {"type": "revolute", "name": "O2", "bodies": ["ground", "crank"], "at": [0, 0]},
@@ -21,7 +22,8 @@ like the script that would build it::
          "centre": [0, 1], "through": [0, 0], "direction": [1, 0], "side": "left"},
         {"type": "rolling", ...the same fields as rack_pinion, bodies [wheel, body]...}
       ],
-      "drivers": [{"joint": "O2"}, {"body": "crank"}, {"point": "C", "axis": "x", "name": "Cx"}],
+      "dimensions": [{"between": ["O2", "A"], "length": 2}, {"between": ["A", "B"], "length": 3}],
+      "drivers": [{"joint": "O2", "start": 60}, {"body": "crank"}, {"point": "C", "axis": "x", "name": "Cx"}],
       "sweep": {"start": 0, "stop": 360, "num": 73, "speed": 60, "acceleration": 0,
                 "rocking": false}
     }
@@ -29,9 +31,19 @@ like the script that would build it::
 - Every joint entry is ``{"type", "name", "bodies"}`` plus the keyword arguments of the
   builder method ``add_<type>``; ``bodies`` are its two body arguments in order. Optional fields
   may be left out.
-- Points are world coordinates of the assembled sketch, in ``units.length`` (a label only).
-- A body's ``angle`` is its sketch angle in ``units.angle``; ``angle_rad`` gives it in radians
-  whatever the units (files written by planar use it where degrees would not round-trip).
+- Points are world coordinates of the sketch, in ``units.length`` (a label only); with
+  ``dimensions`` (each the length ``between`` two joints or points of one body, as
+  :meth:`planar.Mechanism.distance`) they are rough guesses, and loading assembles them: editing
+  a length re-assembles the mechanism.
+- A body's angle comes from its coordinates: the direction of its reference line (by default
+  from its joint nearest the ground to its next joint, see
+  :meth:`planar.Mechanism.reference_line`; ``line`` names another, [p, q]), plus ``offset``
+  (``units.angle``) if given. Only a body with no line (fewer than two named places, like a gear
+  on its axle alone) takes an ``angle`` (its sketch angle, ``units.angle``). ``offset_rad`` and
+  ``angle_rad`` give them in radians whatever the units (files written by planar use them where
+  degrees would not round-trip).
+- A driver's ``start`` is its input value in the sketch (``units.angle`` or length), as
+  ``drive(start=)``.
 - ``sweep``: ``start``/``stop`` of each input (a number, or a list with one per input) in
   ``units.angle`` for angle inputs and lengths for travel and coordinate inputs; ``num`` values;
   ``speed`` the input's speed (``units.rate``, or length/s; the rate points from start to stop)
@@ -83,6 +95,7 @@ _KINDS = {
     "axis": '"x" or "y"',
     "count": "an integer of at least 2",
     "numbers": "a number or a list of numbers",
+    "pair": "a list of two different names",
 }
 
 _LINE = {"at": ("point", True), "direction": ("vector", True), "origin": ("point", False)}
@@ -98,7 +111,7 @@ JOINT_FIELDS = {  # type -> {field: (kind, required)}; "type", "name", "bodies" 
     "rack_pinion": _CONTACT,
     "rolling": _CONTACT,
 }
-_TOP = {"version", "name", "units", "bodies", "points", "joints", "drivers", "sweep"}
+_TOP = {"version", "name", "units", "bodies", "points", "joints", "dimensions", "drivers", "sweep"}
 _SWEEP = {"start": "numbers", "stop": "numbers", "num": "count", "speed": "numbers",
           "acceleration": "numbers", "rocking": "bool"}
 
@@ -125,6 +138,8 @@ def _valid(kind, v):
         return v in ("x", "y")
     if kind == "count":
         return isinstance(v, int) and not isinstance(v, bool) and v >= 2
+    if kind == "pair":
+        return isinstance(v, list) and len(v) == 2 and all(_valid("name", x) for x in v) and v[0] != v[1]
     if kind == "numbers":
         return _is_number(v) or (isinstance(v, list) and len(v) > 0 and all(_is_number(x) for x in v))
     raise AssertionError(kind)
@@ -235,17 +250,20 @@ def from_dict(data, source="<mechanism file>"):
         c.fail("units", str(e))
 
     m = Mechanism(name)
+    given = {}  # body -> (where, key, radians) of an angle or offset, checked once the places are known
     for i, b in enumerate(c.items(data, "bodies", "")):
         where = f"bodies[{i}]"
-        c.mapping(b, where, ("name", "angle", "angle_rad"))
+        c.mapping(b, where, ("name", "line", "angle", "angle_rad", "offset", "offset_rad"))
         bname = c.field(b, "name", "name", where)
-        if "angle" in b and "angle_rad" in b:
-            c.fail(where, "give 'angle' or 'angle_rad', not both")
-        angle = c.field(b, "angle_rad", "number", where, False)
-        if angle is None:
-            deg = c.field(b, "angle", "number", where, False)
-            angle = 0.0 if deg is None else float(units.angle_to_internal(deg))
-        _build(c, where, m.add_body, bname, angle=angle)
+        line = c.field(b, "line", "pair", where, False)
+        keys = [k for k in ("angle", "angle_rad", "offset", "offset_rad") if k in b]
+        if len(keys) > 1 or (line and keys and keys[0].startswith("angle")):
+            c.fail(where, f"give one of 'line', 'angle', 'offset' (or 'line' with 'offset'), got {keys + ['line'] * bool(line)}")
+        if keys:
+            v = c.field(b, keys[0], "number", where)
+            given[bname] = (f"{where}.{keys[0]}", keys[0].split("_")[0],
+                            float(v if keys[0].endswith("_rad") else units.angle_to_internal(v)))
+        _build(c, where, m.add_body, bname, angle=tuple(line) if line else None)
     for i, p in enumerate(c.items(data, "points", "")):
         where = f"points[{i}]"
         c.mapping(p, where, ("name", "body", "at"))
@@ -266,12 +284,22 @@ def from_dict(data, source="<mechanism file>"):
             c.fail(f"{where}.bodies", f"must be a list of two body names, got {json.dumps(bodies)}")
         kwargs = {k: c.field(j, k, kind_, where, req) for k, (kind_, req) in spec.items() if k in j or req}
         _build(c, f"{where} ({kind} {jname!r})", getattr(m, f"add_{kind}"), jname, *bodies, **kwargs)
+    for bname, (where, key, value) in given.items():
+        _body_angle(c, m, bname, where, key, value)
+    for i, d in enumerate(c.items(data, "dimensions", "")):
+        where = f"dimensions[{i}]"
+        c.mapping(d, where, ("between", "length"))
+        _build(c, where, m.distance, *c.field(d, "between", "pair", where), c.field(d, "length", "positive", where))
     for i, d in enumerate(c.items(data, "drivers", "")):
         where = f"drivers[{i}]"
-        c.mapping(d, where, ("joint", "body", "point", "axis", "name"))
+        c.mapping(d, where, ("joint", "body", "point", "axis", "name", "start"))
         kwargs = {k: c.field(d, k, "name", where, False) for k in ("joint", "body", "point", "name")}
         if "axis" in d:
             kwargs["axis"] = c.field(d, "axis", "axis", where)
+        start = c.field(d, "start", "number", where, False)
+        if start is not None:
+            turns = "body" in d or any(j.name == d.get("joint") and isinstance(j, Revolute) for j in m.sketch().joints)
+            kwargs["start"] = float(units.angle_to_internal(start)) if turns else float(start)
         _build(c, where, m.drive, **{k: v for k, v in kwargs.items() if v is not None})
 
     sweep = None
@@ -285,6 +313,25 @@ def from_dict(data, source="<mechanism file>"):
             acceleration=_tuple(0.0 if got["acceleration"] is None else got["acceleration"]),
             rocking=bool(got["rocking"]))
     return MechanismFile(m, units, sweep, _canonical(data))
+
+
+def _body_angle(c, m, body, where, key, value):
+    """Set a body's angle from a file: an ``angle`` only where the coordinates give no line, an
+    ``offset`` from its line (the line's direction in the sketch plus the offset)."""
+    spec = m.sketch().bodies[body]
+    line = spec or m.reference_line(body)
+    if key == "angle" and line is not None:
+        c.fail(where, f"body {body!r} has the reference line {line[0]} -> {line[1]}: its angle comes from its "
+                      f"coordinates; remove the angle, or give an 'offset' from the line")
+    if key == "offset" and line is None:
+        c.fail(where, f"body {body!r} has fewer than two named places, so no line to offset from: give 'angle'")
+    if key == "offset":
+        pts = m.sketch().points
+        if line[0] not in pts or line[1] not in pts:
+            c.fail(where, f"the line {line[0]} -> {line[1]} of body {body!r} names no joint or point")
+        d = pts[line[1]][1] - pts[line[0]][1]
+        value += math.atan2(d[1], d[0])
+    m._bodies[body] = value  # the builder's numeric angle: the body's angle in the sketch
 
 
 def _build(c, where, call, *args, **kwargs):
@@ -364,14 +411,24 @@ def _same(a, b):
     return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
 
 
-def _body_entry(name, angle, units):
+def _body_entry(mech, name, spec, units):
+    """A body's entry: its line if named, an offset from its line for a numeric angle, or an
+    angle for a body with no line; never an angle its coordinates could contradict."""
     entry = {"name": name}
-    if angle != 0.0:
-        shown = float(units.angle_from_internal(angle))
-        if float(units.angle_to_internal(shown)) == angle:
-            entry["angle"] = shown
-        else:  # degrees would not give back the same radians: keep the radians
-            entry["angle_rad"] = angle
+    if isinstance(spec, tuple):
+        entry["line"] = list(spec)
+    elif spec is not None:
+        line, key = mech.reference_line(name), "angle"
+        if line is not None:
+            pts = mech.sketch().points
+            d = pts[line[1]][1] - pts[line[0]][1]
+            spec, key = spec - math.atan2(d[1], d[0]), "offset"
+        if spec != 0.0 or key == "angle":
+            shown = float(units.angle_from_internal(spec))
+            if float(units.angle_to_internal(shown)) == spec:
+                entry[key] = shown
+            else:  # degrees would not give back the same radians: keep the radians
+                entry[f"{key}_rad"] = spec
     return entry
 
 
@@ -388,10 +445,16 @@ def to_dict(obj, units=None, sweep=None):
     points = {n: v for n, v in sk.points.items() if n not in joint_names}
     data = {"version": VERSION, "name": obj.name,
             "units": {"length": units.length, "angle": units.angle, "rate": units.rate},
-            "bodies": [_body_entry(n, a, units) for n, a in sk.bodies.items() if n != GROUND],
+            "bodies": [_body_entry(obj, n, a, units) for n, a in sk.bodies.items() if n != GROUND],
             "points": [{"name": n, "body": b, "at": _xy(p)} for n, (b, p) in points.items()],
-            "joints": [_joint_entry(j) for j in sk.joints],
-            "drivers": [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]}
+            "joints": [_joint_entry(j) for j in sk.joints]}
+    if sk.dimensions:
+        data["dimensions"] = [{"between": [d.a, d.b], "length": d.length} for d in sk.dimensions]
+    data["drivers"] = [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]
+    for entry, d in zip(data["drivers"], sk.drivers):
+        if d.name in sk.starts:
+            v = sk.starts[d.name]
+            entry["start"] = v if d.length_rows[0] else float(units.angle_from_internal(v))
     if sweep is not None:
         s = sweep if isinstance(sweep, dict) else {
             "start": list(sweep.start), "stop": list(sweep.stop), "num": sweep.num,

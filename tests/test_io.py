@@ -56,8 +56,10 @@ def same_mechanism(a, b):
     """Bodies, points, joints and drivers equal bit for bit (directions, which the builder
     normalises again on reading, to one unit in the last place)."""
     assert a.name == b.name
+    assert drawn_angles(a) == pytest.approx(drawn_angles(b), rel=0, abs=1e-14)
     a, b = a.sketch(), b.sketch()
-    assert a.bodies == b.bodies
+    assert [isinstance(v, tuple) and v for v in a.bodies.values()] == [isinstance(v, tuple) and v for v in b.bodies.values()]
+    assert a.dimensions == b.dimensions and a.starts == pytest.approx(b.starts, rel=1e-15)
     assert sorted(a.points) == sorted(b.points)  # joint points come with their joints
     for k in a.points:
         assert a.points[k][0] == b.points[k][0] and np.array_equal(a.points[k][1], b.points[k][1])
@@ -69,6 +71,20 @@ def same_mechanism(a, b):
                 np.testing.assert_allclose(ja.data[key], jb.data[key], rtol=0, atol=4e-16)
             else:
                 assert np.array_equal(ja.data[key], jb.data[key]), (ja.name, key)
+
+
+def drawn_angles(m):
+    """Each body's angle in the sketch as drawn: a number given, else its line's direction (its
+    named line, or the default one), else 0."""
+    out, sk = [], m.sketch()
+    for b, spec in sk.bodies.items():
+        line = spec if isinstance(spec, tuple) else m.reference_line(b) if b != "ground" and spec is None else None
+        if line is None or not set(line) <= set(sk.points):
+            out.append(0.0 if spec is None or isinstance(spec, tuple) else spec)
+        else:
+            d = sk.points[line[1]][1] - sk.points[line[0]][1]
+            out.append(math.atan2(d[1], d[0]))
+    return out
 
 
 @pytest.mark.parametrize("name", sorted(CATALOGUE))
