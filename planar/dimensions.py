@@ -181,50 +181,58 @@ class _Problem:
                 J[k, self.cols[s]:self.cols[s + 1]] += g @ self.bases[s] * self.scale[k]
         return J * self.L  # unknowns in units of L
 
-    def newton(self, z, targets, weights=None, iterations=30, tol=1e-14):
-        """Minimum-norm (weighted least-squares) Gauss-Newton from z; (z, converged)."""
-        w = np.ones(len(self.rows)) if weights is None else weights
+    def newton(self, z, targets, iterations=30):
+        """Minimum-norm Gauss-Newton from z: (z, converged)."""
         for _ in range(iterations):
-            r = self.residuals(z, targets) * w
-            J = self.jacobian(z) * w[:, None]
-            if weights is None and np.max(np.abs(r), initial=0.0) <= tol:
+            r = self.residuals(z, targets)
+            if np.max(np.abs(r), initial=0.0) <= 1e-14:
                 return z, True
-            dx = np.linalg.lstsq(J, r, rcond=None)[0]
+            dx = np.linalg.lstsq(self.jacobian(z), r, rcond=None)[0]
             dx *= min(1.0, 0.25 / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most L/4 a step
             z = z - dx * self.L
-            if weights is not None and np.max(np.abs(dx), initial=0.0) < 1e-15:
-                break
-        return z, weights is None and np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12
+        return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12
 
 
 def assemble(X0, bases, rows, triangles, L):
     """Site positions X (S, 2) nearest X0 where every row holds, the lengths and angles
     followed from their drawn values to the targets in steps; raises AssemblyError naming the
     row that cannot hold (drivers first, then the dimensions, the last stated first) and by
-    how much, or the triangle that would have to turn over."""
+    how much, or the triangle (sites a, b, c, what) that would have to turn over."""
     p = _Problem(X0, bases, rows, L)
     z0 = np.zeros(p.cols[-1])
-    drawn = np.array([r.value(p.X0) for r in rows])
-    final = np.array([r.target for r in rows])
-    change = np.array([_wrap(t - d) if r.kind == "angle" else t - d for r, d, t in zip(rows, drawn, final)])
-    z, t, dt = z0, 0.0, 0.125
-    while t < 1.0:
-        step = min(dt, 1.0 - t)
-        z_new, ok = p.newton(z, drawn + (t + step) * change)
-        if ok:
-            z, t = z_new, t + step
-            dt = min(2 * dt, 0.25)
-        elif step > 1.0 / 4096:
-            dt = step / 2
-        else:
-            _diagnose(p, z0, final, rows)
+    z, t = _follow(p, z0, *_path(rows, p.X0))
+    if t < 1.0:
+        _diagnose(X0, bases, rows, L)
     X = p.X(z)
     for a, b, c, what in triangles:
         before, after = _turn(p.X0, a, b, c), _turn(X, a, b, c)
-        if abs(before) > 1e-6 * L**2 and np.sign(before) != np.sign(after):
+        if abs(before) > 1e-9 * L**2 and np.sign(before) != np.sign(after):
             raise AssemblyError(f"{what} would have to turn over to hold the dimensions (the assembly mode "
                                 f"drawn cannot be kept): draw the sketch closer to the dimensions")
     return X
+
+
+def _path(rows, X):
+    """Row values at X and the targets, reached the short way round for angles."""
+    now = np.array([r.value(X) for r in rows])
+    change = np.array([r.residual(X, r.target) for r in rows])
+    return now, now - change
+
+
+def _follow(p, z, a, b, smallest=1.0 / 4096):
+    """Follow the row targets from a (held at z) to b in steps that halve where Newton fails,
+    down to ``smallest``: (z, how far it got, 0 to 1)."""
+    t, dt = 0.0, 0.125
+    while t < 1.0:
+        step = min(dt, 1.0 - t)
+        z_new, ok = p.newton(z, a + (t + step) * (b - a))
+        if ok:
+            z, t, dt = z_new, t + step, min(2 * step, 0.25)
+        elif step > smallest:
+            dt = step / 2
+        else:
+            break
+    return z, t
 
 
 def _turn(X, a, b, c):
@@ -232,24 +240,25 @@ def _turn(X, a, b, c):
     return d[0] * e[1] - d[1] * e[0]
 
 
-def _diagnose(p, z0, final, rows):
+def _diagnose(X0, bases, rows, L):
     """Raise the AssemblyError: the first row (drivers, then dimensions, last stated first)
-    that alone keeps the others from holding, with how far off the nearest pose leaves it."""
+    without which the others hold, with the value nearest its target they let it reach."""
     order = [k for k in reversed(range(len(rows))) if rows[k].kind != "length"]
     order += [k for k in reversed(range(len(rows))) if rows[k].kind == "length"]
     for k in order:
-        w = np.full(len(rows), 1e6)
-        w[k] = 1.0
-        z, _ = p.newton(z0, final, weights=w, iterations=400)
-        others = np.delete(np.abs(p.residuals(z, final)), k)
-        if np.max(others, initial=0.0) <= 1e-7:
-            row = rows[k]
-            got = row.value(p.X(z))
-            off = row.residual(p.X(z), row.target)
-            unit = " rad" if row.kind == "angle" else ""
-            raise AssemblyError(f"{row.label} cannot hold with the others: the nearest assembly has "
-                                f"{got:.6g}{unit}, {abs(off):.3g}{unit} {'more' if off > 0 else 'less'} than "
-                                f"stated; change it or the dimensions it closes a loop with")
-    r = np.abs(p.residuals(z0, final))
-    raise AssemblyError(f"the dimensions cannot all hold together ({rows[int(np.argmax(r))].label} "
-                        f"among them): check them against the published values")
+        others = _Problem(X0, bases, rows[:k] + rows[k + 1:], L)
+        z, t = _follow(others, np.zeros(others.cols[-1]), *_path(others.rows, others.X0))
+        if t < 1.0:
+            continue
+        p = _Problem(X0, bases, rows, L)
+        a, b = _path(rows, p.X(z))
+        a[np.arange(len(rows)) != k] = b[np.arange(len(rows)) != k]
+        z, _ = _follow(p, z, a, b, smallest=1e-12)
+        row = rows[k]
+        got, off = row.value(p.X(z)), row.residual(p.X(z), row.target)
+        unit = " rad" if row.kind == "angle" else ""
+        raise AssemblyError(f"{row.label} cannot hold with the others: the nearest assembly has "
+                            f"{got:.6g}{unit}, {abs(off):.3g}{unit} {'more' if off > 0 else 'less'} than "
+                            f"stated; change it or the dimensions it closes a loop with")
+    raise AssemblyError(f"the dimensions cannot all hold together, and no one of them alone is at fault "
+                        f"({', '.join(r.label for r in rows)}): check them against the published values")

@@ -43,7 +43,8 @@ like the script that would build it::
   ``angle_rad`` give them in radians whatever the units (files written by planar use them where
   degrees would not round-trip).
 - A driver's ``start`` is its input value in the sketch (``units.angle`` or length), as
-  ``drive(start=)``.
+  ``drive(start=)``: files written by planar give it with ``dimensions`` only (without, the
+  coordinates show it).
 - ``sweep``: ``start``/``stop`` of each input (a number, or a list with one per input) in
   ``units.angle`` for angle inputs and lengths for travel and coordinate inputs; ``num`` values;
   ``speed`` the input's speed (``units.rate``, or length/s; the rate points from start to stop)
@@ -452,7 +453,7 @@ def to_dict(obj, units=None, sweep=None):
         data["dimensions"] = [{"between": [d.a, d.b], "length": d.length} for d in sk.dimensions]
     data["drivers"] = [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]
     for entry, d in zip(data["drivers"], sk.drivers):
-        if d.name in sk.starts:
+        if d.name in sk.starts and sk.dimensions:  # without dimensions the sketch shows the start
             v = sk.starts[d.name]
             entry["start"] = v if d.length_rows[0] else float(units.angle_from_internal(v))
     if sweep is not None:

@@ -25,6 +25,7 @@ angles of a four-bar are the textbook's theta2, theta3 and theta4. Angles are ra
 [60.0, 46.08, 103.28]
 """
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -98,6 +99,7 @@ class Mechanism:
         self._drivers = []
         self._dimensions = []
         self._starts = {}  # driver name -> start value
+        self._sides = []  # (name, a, b, side) of each joint or point placed by a Dyad
         self._names = {GROUND}
         self._model = None
 
@@ -163,7 +165,8 @@ class Mechanism:
         return Body(name)
 
     def add_point(self, name, body, at):
-        """Name the point of ``body`` that is at ``at`` in the sketch (or at a :class:`planar.Dyad`)."""
+        """Name the point of ``body`` that is at ``at`` in the sketch: (x, y), the name of a joint
+        or point placed before, or a :class:`planar.Dyad`."""
         body = self._body(body)
         dyad = at if isinstance(at, Dyad) else None
         at = self._place(name, at, {body})
@@ -171,8 +174,11 @@ class Mechanism:
         self._dyad_dimensions(name, dyad)
 
     def _place(self, name, at, bodies):
-        """``at`` as a sketch point; a :class:`Dyad` placed from its two joints or points, whose
-        bodies must be among ``bodies`` (a distance joins two points of one body)."""
+        """``at`` as a sketch point: a point, the name of a joint or point placed before (the
+        same place), or a :class:`Dyad` placed from its two joints or points, whose bodies must
+        be among ``bodies`` (a distance joins two points of one body)."""
+        if isinstance(at, str):
+            return self._position(at)
         if not isinstance(at, Dyad):
             return _point(at, f"{name!r} at")
         for ref in (at.a, at.b):
@@ -185,6 +191,7 @@ class Mechanism:
         if dyad is not None:
             self.distance(dyad.a, name, dyad.length_a)
             self.distance(dyad.b, name, dyad.length_b)
+            self._sides.append((name, dyad.a, dyad.b, dyad.side))
 
     def _position(self, name):
         if name not in self._points:
@@ -232,8 +239,9 @@ class Mechanism:
             self._points[joint.name] = anchor
 
     def add_revolute(self, name, body_a, body_b, at):
-        """Pin joint between two bodies at sketch point ``at`` (or at a :class:`planar.Dyad`).
-        Its coordinate is the angle of b relative to a."""
+        """Pin joint between two bodies at sketch point ``at``: (x, y), the name of a joint or
+        point placed before (a third body on the same pin), or a :class:`planar.Dyad`. Its
+        coordinate is the angle of b relative to a."""
         a, b = self._pair(body_a, body_b, name)
         dyad = at if isinstance(at, Dyad) else None
         at = self._place(name, at, {a, b})
@@ -773,7 +781,7 @@ def _resolve(mech):
     def angle_row(d, target):
         a, b = d.bodies
         terms = [(s, *lines[x][0]) for s, x in ((1, b), (-1, a)) if lines[x][0] is not None]
-        return Row("angle", tuple(terms), target, f"driver {d.name!r} at start", lines[b][1] - lines[a][1])
+        return Row("angle", tuple(terms), target, f"the start of driver {d.name!r}", lines[b][1] - lines[a][1])
 
     rows = []
     for d in drivers:
@@ -783,7 +791,7 @@ def _resolve(mech):
         elif "at" in d.data and (len(d.bodies) == 1 or d.bodies[0] == GROUND):
             u = d.data["direction"] if "direction" in d.data else d.data["axis"]
             origin = d.data.get("origin", np.zeros(2))
-            row = Row("travel", ((site_of(d.data["at"]), origin, u),), 0.0, f"driver {d.name!r} at start")
+            row = Row("travel", ((site_of(d.data["at"]), origin, u),), 0.0, f"the start of driver {d.name!r}")
         else:
             continue  # a travel along a moving line: held by the sketch as drawn
         drawn = row.value(X0)
@@ -798,17 +806,15 @@ def _resolve(mech):
     X = X0
     if mech._dimensions:
         dims = [Row("length", ((site[d.a], site[d.b]),), d.length, str(d)) for d in mech._dimensions]
-        triangles, seen = [], set()
-        for d in mech._dimensions:
-            for e in mech._dimensions:
-                common = {d.a, d.b} & {e.a, e.b}
-                if d is not e and len(common) == 1:
-                    (p,) = common
-                    a, c = ({d.a, d.b} - common).pop(), ({e.a, e.b} - common).pop()
-                    key = frozenset((a, c, p))
-                    if key not in seen and len({site[a], site[c], site[p]}) == 3:
-                        seen.add(key)
-                        triangles.append((site[a], site[c], site[p], f"the triangle {a}, {c}, {p}"))
+        # the assembly mode drawn: the turn of every triangle of three stated lengths, and the
+        # side of every dyad (the rest follows the drawing, step by step)
+        stated = {frozenset((d.a, d.b)) for d in mech._dimensions}
+        names = sorted({n for d in mech._dimensions for n in (d.a, d.b)})
+        triangles = [(site[a], site[b], site[c], f"the triangle {a}, {b}, {c}")
+                     for a, b, c in itertools.combinations(names, 3)
+                     if {frozenset((a, b)), frozenset((b, c)), frozenset((a, c))} <= stated]
+        triangles += [(site[a], site[b], site[n], f"{n}, {side} of the line {a} -> {b} (its dyad),")
+                      for n, a, b, side in mech._sides]
         X = assemble(X0, bases, dims + rows, triangles, L)
         # the named positions that moved, and the joint and driver data that follow them
         moved = lambda p: X[site_of(p)] if X0.size and not np.array_equal(X[site_of(p)], X0[site_of(p)]) else p  # noqa: E731
