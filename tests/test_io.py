@@ -59,7 +59,9 @@ def same_mechanism(a, b):
     assert drawn_angles(a) == pytest.approx(drawn_angles(b), rel=0, abs=1e-14)
     a, b = a.sketch(), b.sketch()
     assert [isinstance(v, tuple) and v for v in a.bodies.values()] == [isinstance(v, tuple) and v for v in b.bodies.values()]
-    assert a.dimensions == b.dimensions and a.starts == pytest.approx(b.starts, rel=1e-15)
+    assert a.dimensions == b.dimensions
+    if a.dimensions:  # without dimensions the sketch shows the starts, and files leave them out
+        assert a.starts == pytest.approx(b.starts, rel=1e-15)
     assert sorted(a.points) == sorted(b.points)  # joint points come with their joints
     for k in a.points:
         assert a.points[k][0] == b.points[k][0] and np.array_equal(a.points[k][1], b.points[k][1])
