@@ -1,12 +1,13 @@
 """Dimensions: lengths stated between joints and points, and the assembly that makes them hold.
 
 With :meth:`planar.Mechanism.distance` the sketch positions are rough guesses: compile moves
-the joints and points to the pose nearest them where every stated length holds exactly (the
-first joint on the ground stays where drawn, the next one on the ground stays on the line drawn
-from it: the frame's origin and direction), with
-the drivers at their start values and every triangle of dimensions turned the way it is drawn
-(the assembly mode drawn). The assembly follows the lengths from the drawn ones to the stated
-ones in small steps, so the pose found is the one the drawing shows, never the mirror image.
+the joints and points to the pose nearest them where every stated length holds exactly, with
+the drivers at their start values. The first pivot on the ground stays where drawn and the next
+one stays on the line drawn from it (the frame's origin and direction); a slider's point stays
+on its line on the ground; the data of other joints (lines on moving bodies, gear centres,
+rolling contacts) stay as drawn. The assembly follows the lengths from the drawn ones to the
+stated ones in small steps, so it keeps the assembly mode drawn, never the mirror image; the
+sides of dyads and the turn of triangles of three stated lengths are checked.
 
 :class:`Dyad` places a joint or point at given distances from two known ones, on a named side,
 and states both distances: a linkage is a few lines from its published dimensions.

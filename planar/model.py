@@ -744,9 +744,9 @@ def _resolve(mech):
                         else np.zeros((2, 0))
                 else:  # the data of sliders on moving bodies, gears and rolling contacts stay as drawn
                     free[i] = np.zeros((2, 0))
-    # the first joint on the ground stays where drawn (the sketch's origin), the next one apart
+    # the first pivot on the ground stays where drawn (the sketch's origin), the next one apart
     # on the line drawn from it (the frame's direction): only their distance can change
-    pivots = list(dict.fromkeys(site[j.name] for j in joints if GROUND in j.bodies and j.name in points))
+    pivots = list(dict.fromkeys(site[j.name] for j in joints if GROUND in j.bodies and isinstance(j, Revolute)))
     for k, i in enumerate(pivots[:2]):
         if k == 0 or i not in free or free[i].shape[1] < 2:
             free[i] = np.zeros((2, 0))

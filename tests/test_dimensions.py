@@ -281,3 +281,45 @@ def test_stephenson_six_bar_from_its_numbers_equals_the_catalogue():
         np.testing.assert_allclose(got.angle(b), want.angle(b), atol=1e-10)
     for p in ("C", "D"):
         np.testing.assert_allclose(got.position(p), want.position(p), atol=1e-10)
+
+
+@settings(max_examples=40, deadline=None)
+@given(lengths, lengths, lengths, st.floats(1.05, 3.0))
+def test_a_ground_longer_than_the_rest_names_itself_and_the_shortfall(r2, r3, r4, excess):
+    r1 = excess * (r2 + r3 + r4)
+    m = dimensioned_four_bar(r1, r2, r3, r4, 0.0, A_guess=(r2, 0.1 * r2), B_guess=(r2 + r3, 0.2 * r3),
+                             O4_guess=(r2 + r3 + r4, 0))
+    with pytest.raises(AssemblyError) as err:
+        m.compile()
+    message = str(err.value)
+    assert message.startswith(f"distance O2-O4 = {r1:.12g} cannot hold with the others: the nearest assembly has ")
+    got, short = (float(s.split()[0]) for s in message.split("has ")[1].split(", ")[:2])
+    assert got == pytest.approx(r2 + r3 + r4, rel=1e-4) and short == pytest.approx(r1 - (r2 + r3 + r4), rel=1e-2)
+    assert "less than stated" in message
+
+
+def slider_crank_from_lengths(B_guess, **drive):
+    m = planar.Mechanism("slider-crank")
+    crank, coupler, slider = m.add_body("crank"), m.add_body("coupler"), m.add_body("slider")
+    m.add_revolute("O2", m.ground, crank, at=(0, 0))
+    m.add_revolute("A", crank, coupler, at=(1.1, 1.6))
+    m.add_revolute("B", coupler, slider, at=B_guess)
+    m.add_prismatic("slide", m.ground, slider, at=B_guess, direction=(1, 0), origin=(0, B_guess[1]))
+    m.distance("O2", "A", 2.0)
+    m.distance("A", "B", 5.0)
+    m.drive(**drive)
+    return m.compile().sketch
+
+
+def test_a_slider_stays_on_its_line_while_the_lengths_assemble():
+    sk = slider_crank_from_lengths((5.8, 1.0), body="crank", start=math.radians(60))
+    A = 2 * np.array([math.cos(math.radians(60)), math.sin(math.radians(60))])
+    np.testing.assert_allclose(sk.position("A"), A, atol=1e-12)
+    B = np.array([A[0] + math.sqrt(25 - (A[1] - 1) ** 2), 1.0])
+    for n in ("B", "slide"):
+        np.testing.assert_allclose(sk.position(n), B, atol=1e-12)
+    # driven by the slider's travel: the crank follows
+    sk = slider_crank_from_lengths((5.8, 1.0), joint="slide", start=5.0)
+    np.testing.assert_allclose(sk.position("B"), [5.0, 1.0], atol=1e-12)
+    assert np.hypot(*(sk.position("B") - sk.position("A"))) == pytest.approx(5.0, abs=1e-12)
+    assert np.hypot(*sk.position("A")) == pytest.approx(2.0, abs=1e-12)
