@@ -717,107 +717,15 @@ def _resolve(mech):
     bodies, joints, drivers, points = list(mech._bodies), list(mech._joints), list(mech._drivers), mech._points
     _check_connected(bodies, joints)
     L = _char_length(points, joints)
-
-    # sites: the distinct places of the named positions and of the other joints' fixed data
-    X0, site = [], {}
-
-    def site_of(p):
-        for i, x in enumerate(X0):
-            if np.hypot(*(x - p)) <= 1e-12 * L:
-                return i
-        X0.append(np.asarray(p, float))
-        return len(X0) - 1
-
-    for n, (_, p) in points.items():
-        site[n] = site_of(p)
-    free = {i: np.eye(2) for i in range(len(X0))}
-    for j in joints:
-        if isinstance(j, Revolute):
-            continue
-        for key, v in j.data.items():
-            if key in ("at", "origin", "centre", "centre_a", "centre_b", "through") and v is not None:
-                i = site_of(v)
-                B = free.get(i, np.eye(2))
-                if key == "at" and isinstance(j, Slot) and j.bodies[0] == GROUND:
-                    u = j.data["direction"][:, None]
-                    free[i] = u if B.shape[1] == 2 or (B.shape[1] == 1 and abs(B[:, 0] @ u[:, 0]) > 1 - 1e-12) \
-                        else np.zeros((2, 0))
-                else:  # the data of sliders on moving bodies, gears and rolling contacts stay as drawn
-                    free[i] = np.zeros((2, 0))
-    # the first pivot on the ground stays where drawn (the sketch's origin), the next one apart
-    # on the line drawn from it (the frame's direction): only their distance can change
-    pivots = list(dict.fromkeys(site[j.name] for j in joints if GROUND in j.bodies and isinstance(j, Revolute)))
-    for k, i in enumerate(pivots[:2]):
-        if k == 0 or i not in free or free[i].shape[1] < 2:
-            free[i] = np.zeros((2, 0))
-        else:
-            d = X0[i] - X0[pivots[0]]
-            free[i] = (d / np.hypot(*d))[:, None]
-    X0 = np.array(X0).reshape(-1, 2)
-    bases = [free.get(i, np.eye(2)) for i in range(len(X0))]
-
-    # each body's angle: offset + direction of its line (sites), or a constant
-    dist = _ground_distance(bodies, joints)
-    lines = {GROUND: (None, 0.0)}
-    for b in bodies[1:]:
-        spec = mech._bodies[b]
-        if isinstance(spec, tuple):
-            for n in spec:
-                if n not in points or b not in mech._bodies_of(n):
-                    raise ModelError(f"the angle of body {b!r} is the line {spec[0]} -> {spec[1]}, but {n!r} is no "
-                                     f"joint or point of {b!r}: name two of its joints or points")
-            if site[spec[0]] == site[spec[1]]:
-                raise ModelError(f"the angle of body {b!r} is the line {spec[0]} -> {spec[1]}, but both are at "
-                                 f"one place: name two joints or points of {b!r} apart")
-            lines[b] = ((site[spec[0]], site[spec[1]]), 0.0)
-            continue
-        rule = _rule_line(mech, b, lambda p, q: site[p] != site[q], dist)
-        if rule is None:
-            lines[b] = (None, 0.0 if spec is None else spec)
-        else:
-            ij = (site[rule[0]], site[rule[1]])
-            lines[b] = (ij, 0.0 if spec is None else spec - _direction_of(X0, *ij))
-
-    def angle_row(d, target):
-        a, b = d.bodies
-        terms = [(s, *lines[x][0]) for s, x in ((1, b), (-1, a)) if lines[x][0] is not None]
-        return Row("angle", tuple(terms), target, f"the start of driver {d.name!r}", lines[b][1] - lines[a][1])
-
-    rows = []
-    for d in drivers:
-        start = mech._starts.get(d.name)
-        if isinstance(d, AngleDriver):
-            row = angle_row(d, 0.0)
-        elif "at" in d.data and (len(d.bodies) == 1 or d.bodies[0] == GROUND):
-            u = d.data["direction"] if "direction" in d.data else d.data["axis"]
-            origin = d.data.get("origin", np.zeros(2))
-            row = Row("travel", ((site_of(d.data["at"]), origin, u),), 0.0, f"the start of driver {d.name!r}")
-        else:
-            continue  # a travel along a moving line: held by the sketch as drawn
-        drawn = row.value(X0)
-        rows.append(Row(row.kind, row.terms, drawn if start is None else start, row.label, row.offset))
-        if start is not None and not mech._dimensions:
-            off = rows[-1].residual(X0, start)
-            if abs(off) > 1e-9 * (1.0 if row.kind == "angle" else L):
-                raise ModelError(f"driver {d.name!r} starts at {start:.12g} but the sketch has {drawn:.12g}: draw "
-                                 f"the sketch at its start, or state the dimensions with distance() so that "
-                                 f"compile assembles it there")
-
+    X0, site, bases = _sites(points, joints, L)
+    lines = _body_lines(mech, site, X0)
+    rows = _driver_rows(mech, lines, site, X0, L)
     X = X0
     if mech._dimensions:
         dims = [Row("length", ((site[d.a], site[d.b]),), d.length, str(d)) for d in mech._dimensions]
-        # the assembly mode drawn: the turn of every triangle of three stated lengths, and the
-        # side of every dyad (the rest follows the drawing, step by step)
-        stated = {frozenset((d.a, d.b)) for d in mech._dimensions}
-        names = sorted({n for d in mech._dimensions for n in (d.a, d.b)})
-        triangles = [(site[a], site[b], site[c], f"the triangle {a}, {b}, {c}")
-                     for a, b, c in itertools.combinations(names, 3)
-                     if {frozenset((a, b)), frozenset((b, c)), frozenset((a, c))} <= stated]
-        triangles += [(site[a], site[b], site[n], f"{n}, {side} of the line {a} -> {b} (its dyad),")
-                      for n, a, b, side in mech._sides]
-        X = assemble(X0, bases, dims + rows, triangles, L)
+        X = assemble(X0, bases, dims + rows, _mode_triangles(mech, site), L)
         # the named positions that moved, and the joint and driver data that follow them
-        moved = lambda p: X[site_of(p)] if X0.size and not np.array_equal(X[site_of(p)], X0[site_of(p)]) else p  # noqa: E731
+        moved = lambda p: X[site[_key(p)]] if not np.array_equal(X[site[_key(p)]], p) else p  # noqa: E731
         points = {n: (b, moved(p)) for n, (b, p) in points.items()}
         follow = lambda j: type(j)(j.name, j.bodies, **{**j.data, "at": moved(j.data["at"])}) if "at" in j.data else j  # noqa: E731
         joints, drivers = [follow(j) for j in joints], [follow(d) for d in drivers]
@@ -825,8 +733,7 @@ def _resolve(mech):
     angles = {}
     for b, (ij, offset) in lines.items():
         spec = mech._bodies[b]
-        same = ij is not None and all(np.array_equal(X[i], X0[i]) for i in ij)
-        if isinstance(spec, float) and (ij is None or same):
+        if isinstance(spec, float) and (ij is None or all(np.array_equal(X[i], X0[i]) for i in ij)):
             angles[b] = spec  # the angle given, bit for bit
         else:
             angles[b] = offset + (_direction_of(X, *ij) if ij is not None else 0.0)
@@ -840,6 +747,114 @@ def _resolve(mech):
             else:
                 angles[a] -= 2 * np.pi * round((start + angles[a]) / (2 * np.pi))
     return Sketch(angles, points, tuple(joints), tuple(drivers), tuple(mech._dimensions), dict(mech._starts))
+
+
+_PLACES = ("at", "origin", "centre", "centre_a", "centre_b", "through")  # joint data that are world points
+
+
+def _key(p):
+    return (float(p[0]), float(p[1]))
+
+
+def _sites(points, joints, L):
+    """The distinct places of the sketch (X0 (S, 2)), ``site``: name or place (x, y) -> index,
+    and the basis of each site's motion: free (I), along a slider's line on the ground (u) or
+    held (none): the data of sliders on moving bodies, gears and rolling contacts stay as drawn,
+    the first pivot on the ground too (the sketch's origin), and the next pivot apart stays on
+    the line drawn from it (the frame's direction)."""
+    X0, site = [], {}
+
+    def place(p):
+        for i, x in enumerate(X0):
+            if np.hypot(*(x - p)) <= 1e-12 * L:
+                return i
+        X0.append(np.asarray(p, float))
+        return len(X0) - 1
+
+    for n, (_, p) in points.items():
+        site[n] = site[_key(p)] = place(p)
+    bases = {}
+    for j in joints:
+        for key in _PLACES:
+            v = j.data.get(key)
+            if v is None or isinstance(j, Revolute):
+                continue
+            i = site[_key(v)] = place(v)
+            B = bases.get(i, np.eye(2))
+            u = j.data["direction"][:, None] if key == "at" and isinstance(j, Slot) and j.bodies[0] == GROUND else None
+            along = u is not None and (B.shape[1] == 2 or (B.shape[1] == 1 and abs(B[:, 0] @ u[:, 0]) > 1 - 1e-12))
+            bases[i] = u if along else np.zeros((2, 0))
+    pivots = list(dict.fromkeys(site[j.name] for j in joints if GROUND in j.bodies and isinstance(j, Revolute)))
+    for k, i in enumerate(pivots[:2]):
+        if k == 0 or bases.get(i, np.eye(2)).shape[1] < 2:
+            bases[i] = np.zeros((2, 0))
+        else:
+            d = X0[i] - X0[pivots[0]]
+            bases[i] = (d / np.hypot(*d))[:, None]
+    return np.array(X0).reshape(-1, 2), site, [bases.get(i, np.eye(2)) for i in range(len(X0))]
+
+
+def _body_lines(mech, site, X0):
+    """Each body's angle as (sites (i, j) of its line or None, offset): the angle is the
+    offset plus the line's direction (the offset alone without a line)."""
+    dist = _ground_distance(list(mech._bodies), mech._joints)
+    lines = {GROUND: (None, 0.0)}
+    for b, spec in list(mech._bodies.items())[1:]:
+        if isinstance(spec, tuple):
+            for n in spec:
+                if n not in mech._points or b not in mech._bodies_of(n):
+                    raise ModelError(f"the angle of body {b!r} is the line {spec[0]} -> {spec[1]}, but {n!r} is no "
+                                     f"joint or point of {b!r}: name two of its joints or points")
+            if site[spec[0]] == site[spec[1]]:
+                raise ModelError(f"the angle of body {b!r} is the line {spec[0]} -> {spec[1]}, but both are at "
+                                 f"one place: name two joints or points of {b!r} apart")
+            lines[b] = ((site[spec[0]], site[spec[1]]), 0.0)
+            continue
+        rule = _rule_line(mech, b, lambda p, q: site[p] != site[q], dist)
+        if rule is None:
+            lines[b] = (None, 0.0 if spec is None else spec)
+        else:
+            ij = (site[rule[0]], site[rule[1]])
+            lines[b] = (ij, 0.0 if spec is None else spec - _direction_of(X0, *ij))
+    return lines
+
+
+def _driver_rows(mech, lines, site, X0, L):
+    """The drivers as rows on the sites, held at their start (or drawn) values; without
+    dimensions a start must be the value drawn."""
+    rows = []
+    for d in mech._drivers:
+        label, start = f"the start of driver {d.name!r}", mech._starts.get(d.name)
+        if isinstance(d, AngleDriver):
+            a, b = d.bodies
+            terms = tuple((s, *lines[x][0]) for s, x in ((1, b), (-1, a)) if lines[x][0] is not None)
+            row = Row("angle", terms, 0.0, label, lines[b][1] - lines[a][1])
+        elif "at" in d.data and (len(d.bodies) == 1 or d.bodies[0] == GROUND):
+            u = d.data["direction"] if "direction" in d.data else d.data["axis"]
+            row = Row("travel", ((site[_key(d.data["at"])], d.data.get("origin", np.zeros(2)), u),), 0.0, label)
+        else:
+            continue  # a travel along a moving line: held by the sketch as drawn
+        drawn = row.value(X0)
+        rows.append(Row(row.kind, row.terms, drawn if start is None else start, label, row.offset))
+        if start is not None and not mech._dimensions:
+            if abs(rows[-1].residual(X0, start)) > 1e-9 * (1.0 if row.kind == "angle" else L):
+                raise ModelError(f"driver {d.name!r} starts at {start:.12g} but the sketch has {drawn:.12g}: draw "
+                                 f"the sketch at its start, or state the dimensions with distance() so that "
+                                 f"compile assembles it there")
+    return rows
+
+
+def _mode_triangles(mech, site):
+    """The assembly mode drawn, as triangles (sites a, b, c, what) whose turn must stay: every
+    triangle of three stated lengths, and every dyad's side (the rest follows the drawing, step
+    by step)."""
+    stated = {frozenset((d.a, d.b)) for d in mech._dimensions}
+    names = sorted({n for d in mech._dimensions for n in (d.a, d.b)})
+    triangles = [(site[a], site[b], site[c], f"the triangle {a}, {b}, {c}")
+                 for a, b, c in itertools.combinations(names, 3)
+                 if {frozenset((a, b)), frozenset((b, c)), frozenset((a, c))} <= stated]
+    return triangles + [(site[a], site[b], site[n], f"{n}, {side} of the line {a} -> {b} (its dyad),")
+                        for n, a, b, side in mech._sides]
 
 
 def _direction_of(X, i, j):
