@@ -61,7 +61,7 @@ def same_mechanism(a, b):
     assert [isinstance(v, tuple) and v for v in a.bodies.values()] == [isinstance(v, tuple) and v for v in b.bodies.values()]
     assert a.dimensions == b.dimensions
     if a.dimensions:  # without dimensions the sketch shows the starts, and files leave them out
-        assert a.starts == pytest.approx(b.starts, rel=1e-15)
+        assert a.starts == pytest.approx(b.starts, rel=1e-14, abs=1e-300)
     assert sorted(a.points) == sorted(b.points)  # joint points come with their joints
     for k in a.points:
         assert a.points[k][0] == b.points[k][0] and np.array_equal(a.points[k][1], b.points[k][1])
@@ -150,16 +150,25 @@ def mechanisms(draw):
     for k in range(draw(st.integers(0, 3))):
         p = f"p{k}"
         m.add_point(p, draw(st.sampled_from(allb)), at=draw(point))
+    named = sorted(m.sketch().points)
+    for k in range(draw(st.integers(0, 3)) if len(named) > 1 else 0):
+        a, b = draw(st.lists(st.sampled_from(named), min_size=2, max_size=2, unique=True))
+        try:
+            m.distance(a, b, draw(radius))
+        except planar.ModelError:
+            pass  # not on one body, or stated already
     joints = [j.name for j in m.sketch().joints if j.coordinate() is not None]
     for k in range(draw(st.integers(0, 3))):
         how = draw(st.sampled_from(["joint", "body", "point"]))
+        start = draw(st.none() | st.floats(-5, 5))
         try:
             if how == "joint" and joints:
-                m.drive(draw(st.sampled_from(joints)), name=draw(st.sampled_from([None, f"d{k}"])))
+                m.drive(draw(st.sampled_from(joints)), name=draw(st.sampled_from([None, f"d{k}"])), start=start)
             elif how == "body":
-                m.drive(body=draw(st.sampled_from(bodies)))
+                m.drive(body=draw(st.sampled_from(bodies)), start=start)
             elif m.sketch().points:
-                m.drive(point=draw(st.sampled_from(sorted(m.sketch().points))), axis=draw(st.sampled_from("xy")))
+                m.drive(point=draw(st.sampled_from(sorted(m.sketch().points))), axis=draw(st.sampled_from("xy")),
+                        start=start)
         except planar.ModelError:
             pass  # the same driver twice: skip it
     return m
