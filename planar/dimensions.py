@@ -257,9 +257,10 @@ def _diagnose(X0, bases, rows, L):
         z, _ = _follow(p, z, a, b, smallest=1e-12)
         row = rows[k]
         got, off = row.value(p.X(z)), row.residual(p.X(z), row.target)
-        unit = " rad" if row.kind == "angle" else ""
+        unit = f" rad ({np.degrees(got):.6g} deg)" if row.kind == "angle" else ""
         raise AssemblyError(f"{row.label} cannot hold with the others: the nearest assembly has "
-                            f"{got:.6g}{unit}, {abs(off):.3g}{unit} {'more' if off > 0 else 'less'} than "
-                            f"stated; change it or the dimensions it closes a loop with")
+                            f"{got:.6g}{unit}, {abs(off):.3g}{' rad' if unit else ''} "
+                            f"{'more' if off > 0 else 'less'} than stated; change it or the dimensions it "
+                            f"closes a loop with")
     raise AssemblyError(f"the dimensions cannot all hold together, and no one of them alone is at fault "
                         f"({', '.join(r.label for r in rows)}): check them against the published values")

@@ -227,8 +227,9 @@ class Mechanism:
                              f"{sorted(self._bodies_of(b))}: a distance joins two joints or points of one body")
         if a == b:
             raise ModelError(f"distance {a}-{b}: name two different joints or points")
-        if any({d.a, d.b} == {a, b} for d in self._dimensions):
-            raise ModelError(f"distance {a}-{b} is stated already")
+        for d in self._dimensions:
+            if {d.a, d.b} == {a, b}:
+                raise ModelError(f"{d} is stated already: state each length once")
         self._dimensions.append(Dimension(a, b, length))
         self._model = None
 

@@ -180,7 +180,7 @@ def test_distance_and_dyad_refuse_points_of_different_bodies():
     with pytest.raises(ModelError, match="side must be 'left' or 'right'"):
         planar.Dyad("O", 1.0, "P", 1.0, side="up")
     m.distance("P", "Q", 1.0)
-    with pytest.raises(ModelError, match="distance Q-P is stated already"):
+    with pytest.raises(ModelError, match="distance P-Q = 1 is stated already"):
         m.distance("Q", "P", 1.0)
 
 
