@@ -433,6 +433,14 @@ def _body_entry(mech, name, spec, units):
     return entry
 
 
+def _shown_angle(v, units):
+    """An angle in the file's unit, as typed (60, not 59.99999999999999) when that is the same
+    angle to rounding."""
+    shown = float(units.angle_from_internal(v))
+    typed = float(f"{shown:.12g}")
+    return typed if abs(float(units.angle_to_internal(typed)) - v) <= 1e-15 * abs(v) else shown
+
+
 def to_dict(obj, units=None, sweep=None):
     """The document of a :class:`planar.Mechanism` (with ``units``, default degrees and rad/s,
     and optional :class:`SweepSettings` or dict of sweep fields) or of a :class:`MechanismFile`."""
@@ -455,7 +463,7 @@ def to_dict(obj, units=None, sweep=None):
     for entry, d in zip(data["drivers"], sk.drivers):
         if d.name in sk.starts and sk.dimensions:  # without dimensions the sketch shows the start
             v = sk.starts[d.name]
-            entry["start"] = v if d.length_rows[0] else float(units.angle_from_internal(v))
+            entry["start"] = v if d.length_rows[0] else _shown_angle(v, units)
     if sweep is not None:
         s = sweep if isinstance(sweep, dict) else {
             "start": list(sweep.start), "stop": list(sweep.stop), "num": sweep.num,

@@ -92,12 +92,21 @@ def test_a_named_line_is_the_angle_at_every_pose():
     np.testing.assert_allclose(res.angle("coupler"), np.arctan2(d[:, 1], d[:, 0]), atol=1e-12)
 
 
-def test_a_file_holds_no_angle_its_coordinates_could_contradict(tmp_path):
+def test_a_file_holds_no_angle_its_coordinates_could_contradict():
     text = io.dumps(four_bar(start=math.radians(60), coupler_point=(1.0, 0.5)))
     assert '"angle' not in text.replace('"angle": "deg"', "")
     doc = json.loads(text)
-    doc["joints"][1]["at"] = [2.5, 0.0]  # move A: the coupler's angle is the new line A -> B
-    assert doc["drivers"] == [{"body": "crank"}]  # without dimensions the coordinates show the start
+    assert doc["drivers"] == [{"body": "crank", "start": 60}]
+    # a length edited: the mechanism re-assembles, and the coupler's angle is its line A -> B
+    assert doc["dimensions"][1] == {"between": ["O2", "A"], "length": 2.0}
+    doc["dimensions"][1]["length"] = 1.5
+    res = io.from_dict(doc).mechanism.sweep([math.radians(60)])
+    A, B = res.position("A")[0], res.position("B")[0]
+    np.testing.assert_allclose(B, exact_four_bar(4, 1.5, 3, 4, math.radians(60))[1], atol=1e-12)
+    assert res.angle("coupler")[0] == pytest.approx(math.atan2(*(B - A)[::-1]), abs=1e-12)
+    # without dimensions the coordinates are the geometry: A moved, the angles follow its lines
+    del doc["dimensions"], doc["drivers"][0]["start"]
+    doc["joints"][1]["at"] = [2.5, 0.0]
     res = io.from_dict(doc).mechanism.sweep([0.0])
     A, B = res.position("A")[0], res.position("B")[0]
     assert res.angle("coupler")[0] == pytest.approx(math.atan2(*(B - A)[::-1]), abs=1e-12)
@@ -123,11 +132,15 @@ def test_catalogue_inputs_start_on_their_turn():
 
 
 def test_a_start_the_sketch_does_not_show_needs_dimensions():
-    m = four_bar()
-    m._drivers.clear()
+    m = planar.Mechanism()
+    crank = m.add_body("crank")
+    m.add_revolute("O", m.ground, crank, at=(0, 0))
+    m.add_point("P", crank, at=(1, 0))
     m.drive(body="crank", start=0.5)
     with pytest.raises(ModelError, match="driver 'crank' starts at 0.5 but the sketch has 0"):
         m.compile()
+    m.distance("O", "P", 1.0)  # with the length stated, compile assembles the sketch at the start
+    np.testing.assert_allclose(m.compile().sketch.position("P"), [math.cos(0.5), math.sin(0.5)], atol=1e-12)
 
 
 # ---- distances: a rough sketch assembled exactly ------------------------------------------------

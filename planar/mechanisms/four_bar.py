@@ -66,7 +66,8 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     -------
     planar.Mechanism
         Bodies ``crank``, ``coupler``, ``rocker`` whose angles are th2, th3, th4; points
-        ``O2``, ``A``, ``B``, ``O4`` (the revolutes) and ``C``.
+        ``O2``, ``A``, ``B``, ``O4`` (the revolutes) and ``C``; the four lengths (and C's
+        distances from A and B) stated as dimensions.
 
     Examples
     --------
@@ -92,7 +93,13 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     m.add_revolute("A", "crank", "coupler", at=A)
     m.add_revolute("B", "coupler", "rocker", at=B)
     m.add_revolute("O4", "rocker", m.ground, at=O4)
+    # the link lengths stated, so that a file of it re-assembles when one is edited
+    for a, b, r in (("O2", "O4", r1), ("O2", "A", r2), ("A", "B", r3), ("O4", "B", r4)):
+        m.distance(a, b, r)
     if pq is not None:
         m.add_point("C", "coupler", at=along(A, B, *pq))
+        if pq[1] != 0:  # C off the line A -> B: its distances from A and B hold it on the coupler
+            m.distance("A", "C", float(np.hypot(*pq)))
+            m.distance("B", "C", float(np.hypot(r3 - pq[0], pq[1])))
     m.drive(body=driver, start=start)  # the input starts at start, not wrapped to (-pi, pi]
     return m
