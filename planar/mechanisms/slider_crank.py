@@ -91,8 +91,13 @@ def slider_crank(crank=2.0, coupler=5.0, *, offset=1.0, slide_angle=0.0, coupler
     m.add_revolute("A", "crank", "coupler", at=A)
     m.add_revolute("B", "coupler", "slider", at=B)
     m.add_prismatic("slide", m.ground, "slider", at=B, direction=u, origin=foot)
+    m.distance("O2", "A", r2)  # stated, so that a file of it re-assembles when one is edited
+    m.distance("A", "B", r3)
     if pq is not None:
         m.add_point("C", "coupler", at=along(A, B, *pq))
+        if pq[1] != 0:  # C off the line A -> B: its distances from A and B hold it on the coupler
+            m.distance("A", "C", float(np.hypot(*pq)))
+            m.distance("B", "C", float(np.hypot(r3 - pq[0], pq[1])))
     if driver == "slider":
         m.drive("slide", start=start)
     else:
