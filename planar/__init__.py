@@ -8,12 +8,13 @@ velocities and accelerations from linear solves with the same Jacobian.
 from planar.errors import (AssemblyError, ConnectivityError, FileFormatError, IndeterminateWarning, InputError,
                            MobilityError, ModelError, PlanarError, RedundancyError)
 from planar.designs import DesignSweep, sweep_designs
+from planar.dimensions import Dyad
 from planar.mass import bar, disc, plate
 from planar.model import Body, Mechanism, Model
 from planar.results import Status, Sweep
 
 __all__ = [
-    "Mechanism", "Model", "Body", "Sweep", "Status", "sweep_designs", "DesignSweep", "bar", "disc", "plate",
+    "Mechanism", "Model", "Body", "Dyad", "Sweep", "Status", "sweep_designs", "DesignSweep", "bar", "disc", "plate",
     "PlanarError", "ModelError", "ConnectivityError", "MobilityError", "RedundancyError",
     "AssemblyError", "InputError", "FileFormatError", "IndeterminateWarning",
 ]

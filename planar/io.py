@@ -7,8 +7,8 @@ like the script that would build it::
       "version": 1,
       "name": "four-bar",
       "units": {"length": "mm", "angle": "deg", "rate": "rpm"},
-      "bodies": [{"name": "crank", "angle": 60, "mass": 0.5, "com": [0.5, 0.87], "inertia": 0.02},
-                 {"name": "coupler"}, {"name": "rocker"}],
+      "bodies": [{"name": "crank", "mass": 0.5, "com": [0.5, 0.87], "inertia": 0.02}, {"name": "coupler"},
+                 {"name": "rocker", "line": ["O4", "B"]}, {"name": "gear", "angle": 30}, {"name": "lever", "offset": 90}],
       "points": [{"name": "C", "body": "coupler", "at": [1.48, 3.67]}],
       "joints": [
         {"type": "revolute", "name": "O2", "bodies": ["ground", "crank"], "at": [0, 0]},
@@ -23,7 +23,8 @@ like the script that would build it::
          "pressure_angle": 20},
         {"type": "rolling", ...the same fields as rack_pinion, bodies [wheel, body]...}
       ],
-      "drivers": [{"joint": "O2"}, {"body": "crank"}, {"point": "C", "axis": "x", "name": "Cx"}],
+      "dimensions": [{"between": ["O2", "A"], "length": 2}, {"between": ["A", "B"], "length": 3}],
+      "drivers": [{"joint": "O2", "start": 60}, {"body": "crank"}, {"point": "C", "axis": "x", "name": "Cx"}],
       "gravity": [0, -9.81],
       "loads": [{"body": "rocker", "force": [0, -20], "at": [4, 1], "torque": 0, "fixed": "world"}],
       "sweep": {"start": 0, "stop": 360, "num": 73, "speed": 60, "acceleration": 0,
@@ -40,9 +41,20 @@ like the script that would build it::
   time units are the user's (kg, m, s give forces in N); only angles are converted.
 - A gear's or rack's ``pressure_angle`` is in ``units.angle`` (``pressure_angle_rad`` in
   radians); default 20 degrees (a ``rolling`` contact has none).
-- Points are world coordinates of the assembled sketch, in ``units.length`` (a label only).
-- A body's ``angle`` is its sketch angle in ``units.angle``; ``angle_rad`` gives it in radians
-  whatever the units (files written by planar use it where degrees would not round-trip).
+- Points are world coordinates of the sketch, in ``units.length`` (a label only); with
+  ``dimensions`` (each the length ``between`` two joints or points of one body, as
+  :meth:`planar.Mechanism.distance`) they are rough guesses, and loading assembles them: editing
+  a length re-assembles the mechanism.
+- A body's angle comes from its coordinates: the direction of its reference line (by default
+  from its joint nearest the ground to its next joint, see
+  :meth:`planar.Mechanism.reference_line`; ``line`` names another, [p, q]), plus ``offset``
+  (``units.angle``) if given. Only a body with no line (fewer than two named places, like a gear
+  on its axle alone) takes an ``angle`` (its sketch angle, ``units.angle``). ``offset_rad`` and
+  ``angle_rad`` give them in radians whatever the units (files written by planar use them where
+  degrees would not round-trip).
+- A driver's ``start`` is its input value in the sketch (``units.angle`` or length), as
+  ``drive(start=)``: files written by planar give it with ``dimensions`` only (without, the
+  coordinates show it).
 - ``sweep``: ``start``/``stop`` of each input (a number, or a list with one per input) in
   ``units.angle`` for angle inputs and lengths for travel and coordinate inputs; ``num`` values;
   ``speed`` the input's speed (``units.rate``, or length/s; the rate points from start to stop)
@@ -96,6 +108,7 @@ _KINDS = {
     "count": "an integer of at least 2",
     "numbers": "a number or a list of numbers",
     "fixed": '"world" or "body"',
+    "pair": "a list of two different names",
 }
 
 _LINE = {"at": ("point", True), "direction": ("vector", True), "origin": ("point", False)}
@@ -116,7 +129,7 @@ _TOOTHED["rack_pinion"] = _TOOTHED["gear"]
 _MASS = {"mass": ("number", True), "com": ("point", True), "inertia": ("number", False)}
 _LOAD = {"body": ("name", True), "force": ("point", False), "at": ("point", False), "torque": ("number", False),
          "fixed": ("fixed", False)}
-_TOP = {"version", "name", "units", "bodies", "points", "joints", "drivers", "sweep", "gravity", "loads"}
+_TOP = {"version", "name", "units", "bodies", "points", "joints", "drivers", "dimensions", "sweep", "gravity", "loads"}
 _SWEEP = {"start": "numbers", "stop": "numbers", "num": "count", "speed": "numbers",
           "acceleration": "numbers", "rocking": "bool"}
 
@@ -145,6 +158,8 @@ def _valid(kind, v):
         return v in ("world", "body")
     if kind == "count":
         return isinstance(v, int) and not isinstance(v, bool) and v >= 2
+    if kind == "pair":
+        return isinstance(v, list) and len(v) == 2 and all(_valid("name", x) for x in v) and v[0] != v[1]
     if kind == "numbers":
         return _is_number(v) or (isinstance(v, list) and len(v) > 0 and all(_is_number(x) for x in v))
     raise AssertionError(kind)
@@ -255,19 +270,22 @@ def from_dict(data, source="<mechanism file>"):
         c.fail("units", str(e))
 
     m = Mechanism(name)
+    given = {}  # body -> (where, key, radians) of an angle or offset, checked once the places are known
     for i, b in enumerate(c.items(data, "bodies", "")):
         where = f"bodies[{i}]"
-        c.mapping(b, where, ("name", "angle", "angle_rad", *_MASS))
+        c.mapping(b, where, ("name", "line", "angle", "angle_rad", "offset", "offset_rad", *_MASS))
         bname = c.field(b, "name", "name", where)
-        if "angle" in b and "angle_rad" in b:
-            c.fail(where, "give 'angle' or 'angle_rad', not both")
-        angle = c.field(b, "angle_rad", "number", where, False)
-        if angle is None:
-            deg = c.field(b, "angle", "number", where, False)
-            angle = 0.0 if deg is None else float(units.angle_to_internal(deg))
+        line = c.field(b, "line", "pair", where, False)
+        keys = [k for k in ("angle", "angle_rad", "offset", "offset_rad") if k in b]
+        if len(keys) > 1 or (line and keys and keys[0].startswith("angle")):
+            c.fail(where, f"give one of 'line', 'angle', 'offset' (or 'line' with 'offset'), got {keys + ['line'] * bool(line)}")
+        if keys:
+            v = c.field(b, keys[0], "number", where)
+            given[bname] = (f"{where}.{keys[0]}", keys[0].split("_")[0],
+                            float(v if keys[0].endswith("_rad") else units.angle_to_internal(v)))
         mass = {k: c.field(b, k, kind, where, req) for k, (kind, req) in _MASS.items() if k in b or req} \
             if any(k in b for k in _MASS) else {}
-        _build(c, where, m.add_body, bname, angle=angle, **mass)
+        _build(c, where, m.add_body, bname, angle=tuple(line) if line else None, **mass)
     for i, p in enumerate(c.items(data, "points", "")):
         where = f"points[{i}]"
         c.mapping(p, where, ("name", "body", "at"))
@@ -291,12 +309,22 @@ def from_dict(data, source="<mechanism file>"):
         if alpha is not None:
             kwargs["pressure_angle"] = alpha
         _build(c, f"{where} ({kind} {jname!r})", getattr(m, f"add_{kind}"), jname, *bodies, **kwargs)
+    for bname, (where, key, value) in given.items():
+        _body_angle(c, m, bname, where, key, value)
+    for i, d in enumerate(c.items(data, "dimensions", "")):
+        where = f"dimensions[{i}]"
+        c.mapping(d, where, ("between", "length"))
+        _build(c, where, m.distance, *c.field(d, "between", "pair", where), c.field(d, "length", "positive", where))
     for i, d in enumerate(c.items(data, "drivers", "")):
         where = f"drivers[{i}]"
-        c.mapping(d, where, ("joint", "body", "point", "axis", "name"))
+        c.mapping(d, where, ("joint", "body", "point", "axis", "name", "start"))
         kwargs = {k: c.field(d, k, "name", where, False) for k in ("joint", "body", "point", "name")}
         if "axis" in d:
             kwargs["axis"] = c.field(d, "axis", "axis", where)
+        start = c.field(d, "start", "number", where, False)
+        if start is not None:
+            turns = "body" in d or any(j.name == d.get("joint") and isinstance(j, Revolute) for j in m.sketch().joints)
+            kwargs["start"] = float(units.angle_to_internal(start)) if turns else float(start)
         _build(c, where, m.drive, **{k: v for k, v in kwargs.items() if v is not None})
 
     if "gravity" in data:
@@ -337,6 +365,25 @@ def _angle_entry(key, angle, units):
     back the same radians."""
     shown = float(units.angle_from_internal(angle))
     return {key: shown} if float(units.angle_to_internal(shown)) == angle else {f"{key}_rad": angle}
+
+
+def _body_angle(c, m, body, where, key, value):
+    """Set a body's angle from a file: an ``angle`` only where the coordinates give no line, an
+    ``offset`` from its line (the line's direction in the sketch plus the offset)."""
+    spec = m.sketch().bodies[body]
+    line = spec or m.reference_line(body)
+    if key == "angle" and line is not None:
+        c.fail(where, f"body {body!r} has the reference line {line[0]} -> {line[1]}: its angle comes from its "
+                      f"coordinates; remove the angle, or give an 'offset' from the line")
+    if key == "offset" and line is None:
+        c.fail(where, f"body {body!r} has fewer than two named places, so no line to offset from: give 'angle'")
+    if key == "offset":
+        pts = m.sketch().points
+        if line[0] not in pts or line[1] not in pts:
+            c.fail(where, f"the line {line[0]} -> {line[1]} of body {body!r} names no joint or point")
+        d = pts[line[1]][1] - pts[line[0]][1]
+        value += math.atan2(d[1], d[0])
+    m._bodies[body] = value  # the builder's numeric angle: the body's angle in the sketch
 
 
 def _build(c, where, call, *args, **kwargs):
@@ -423,14 +470,20 @@ def _same(a, b):
     return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
 
 
-def _body_entry(name, angle, units):
+def _body_entry(mech, name, spec, units):
+    """A body's entry: its line if named, an offset from its line for a numeric angle, or an
+    angle for a body with no line; never an angle its coordinates could contradict."""
     entry = {"name": name}
-    if angle != 0.0:
-        shown = float(units.angle_from_internal(angle))
-        if float(units.angle_to_internal(shown)) == angle:
-            entry["angle"] = shown
-        else:  # degrees would not give back the same radians: keep the radians
-            entry["angle_rad"] = angle
+    if isinstance(spec, tuple):
+        entry["line"] = list(spec)
+    elif spec is not None:
+        line, key = mech.reference_line(name), "angle"
+        if line is not None:
+            pts = mech.sketch().points
+            d = pts[line[1]][1] - pts[line[0]][1]
+            spec, key = spec - math.atan2(d[1], d[0]), "offset"
+        if spec != 0.0 or key == "angle":
+            entry |= _angle_entry(key, spec, units)
     return entry
 
 
@@ -443,6 +496,14 @@ def _load_entry(body, at, force, torque, fixed):
         raise FileFormatError(f"the load on {body!r} is given by a function of the inputs, which has no file "
                               f"form: give it as constants to save it")
     return {"body": body, "force": _xy(force), "at": _xy(at), "torque": float(torque), "fixed": fixed}
+
+
+def _shown_angle(v, units):
+    """An angle in the file's unit, as typed (60, not 59.99999999999999) when that is the same
+    angle to rounding."""
+    shown = float(units.angle_from_internal(v))
+    typed = float(f"{shown:.12g}")
+    return typed if abs(float(units.angle_to_internal(typed)) - v) <= 1e-15 * abs(v) else shown
 
 
 def to_dict(obj, units=None, sweep=None):
@@ -458,11 +519,17 @@ def to_dict(obj, units=None, sweep=None):
     points = {n: v for n, v in sk.points.items() if n not in joint_names}
     data = {"version": VERSION, "name": obj.name,
             "units": {"length": units.length, "angle": units.angle, "rate": units.rate},
-            "bodies": [_body_entry(n, a, units) | _mass_entry(sk.mass.get(n)) for n, a in sk.bodies.items()
+            "bodies": [_body_entry(obj, n, a, units) | _mass_entry(sk.mass.get(n)) for n, a in sk.bodies.items()
                        if n != GROUND],
             "points": [{"name": n, "body": b, "at": _xy(p)} for n, (b, p) in points.items()],
-            "joints": [_joint_entry(j, units) for j in sk.joints],
-            "drivers": [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]}
+            "joints": [_joint_entry(j, units) for j in sk.joints]}
+    if sk.dimensions:
+        data["dimensions"] = [{"between": [d.a, d.b], "length": d.length} for d in sk.dimensions]
+    data["drivers"] = [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]
+    for entry, d in zip(data["drivers"], sk.drivers):
+        if d.name in sk.starts and sk.dimensions:  # without dimensions the sketch shows the start
+            v = sk.starts[d.name]
+            entry["start"] = v if d.length_rows[0] else _shown_angle(v, units)
     if sk.gravity is not None:
         data["gravity"] = list(sk.gravity)
     if sk.loads:

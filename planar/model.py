@@ -2,7 +2,13 @@
 
 A mechanism is sketched in world coordinates: every point and joint is placed where it is in
 one assembled pose (the sketch). The sketch fixes the link lengths, is the first guess of
-every solve and picks the assembly mode. Angles are radians.
+every solve and picks the assembly mode; lengths stated with :meth:`Mechanism.distance` make
+it a rough guess that compile assembles exactly (see :mod:`planar.dimensions`).
+
+A body's angle is the world direction of the line from its joint nearest the ground to its
+next joint (joints ordered by the graph distance from the ground of the body they lead to, then
+by order of addition; its named points follow its joints), unless ``angle=`` is given: so the
+angles of a four-bar are the textbook's theta2, theta3 and theta4. Angles are radians.
 
 >>> import numpy as np, planar
 >>> m = planar.Mechanism()
@@ -15,8 +21,11 @@ every solve and picks the assembly mode. Angles are radians.
 >>> res = m.sweep(np.radians([60.0, 90.0]))
 >>> res.ok.tolist()
 [True, True]
+>>> np.degrees([res.angle(b)[0] for b in ("crank", "coupler", "rocker")]).round(2).tolist()
+[60.0, 46.08, 103.28]
 """
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -24,6 +33,7 @@ import networkx as nx
 import numpy as np
 import scipy.linalg
 
+from planar.dimensions import Dimension, Dyad, Row, assemble
 from planar.errors import (AssemblyError, ConnectivityError, InputError, MobilityError,
                            ModelError, RedundancyError)
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic,
@@ -91,10 +101,13 @@ class Mechanism:
 
     def __init__(self, name="mechanism"):
         self.name = name
-        self._bodies = {GROUND: 0.0}  # name -> sketch angle
+        self._bodies = {GROUND: 0.0}  # name -> angle as given: None (the rule), a number or a line (p, q)
         self._points = {}  # name -> (body, world point)
         self._joints = []
         self._drivers = []
+        self._dimensions = []
+        self._starts = {}  # driver name -> start value
+        self._sides = []  # (name, a, b, side) of each joint or point placed by a Dyad
         self._names = {GROUND}
         self._model = None
         self._mass = {}  # body -> (mass, sketch centre of mass, inertia about it)
@@ -102,7 +115,8 @@ class Mechanism:
         self._gravity = None
 
     def sketch(self):
-        """What has been drawn so far, read-only: a :class:`Sketch`.
+        """What has been drawn so far, read-only: a :class:`Sketch` (positions as drawn; the
+        assembled ones are ``compile().sketch``). Its ``bodies`` hold the angles as given.
 
         >>> m = Mechanism("m")
         >>> crank = m.add_body("crank", angle=0.5)
@@ -110,7 +124,8 @@ class Mechanism:
         {'ground': 0.0, 'crank': 0.5}
         """
         return Sketch(dict(self._bodies), dict(self._points), tuple(self._joints), tuple(self._drivers),
-                      dict(self._mass), tuple(self._loads), self._gravity)
+                      tuple(self._dimensions), dict(self._starts), dict(self._mass), tuple(self._loads),
+                      self._gravity)
 
     # ---- building ------------------------------------------------------------------------
 
@@ -141,12 +156,25 @@ class Mechanism:
             raise ModelError(f"joint {joint!r} joins body {a!r} to itself: a joint needs two different bodies")
         return a, b
 
-    def add_body(self, name, angle=0.0, *, mass=None, com=None, inertia=0.0):
-        """Add a moving body. ``angle`` is its angle in the sketch (radians): results report
-        it plus the body's rotation since, so giving the direction of a link makes
-        ``angle(body)`` that link's absolute angle. ``mass``, ``com`` and ``inertia``: see
-        :meth:`set_mass` (``planar.bar``, ``disc`` and ``plate`` give them for simple shapes)."""
-        self._bodies[self._new_name(name, "body")] = float(_finite(angle, f"angle of body {name!r}", ()))
+    def add_body(self, name, angle=None, *, mass=None, com=None, inertia=0.0):
+        """Add a moving body. Its angle (what results report as ``angle(body)``) is the world
+        direction of its reference line: by default the line from its joint nearest the
+        ground to its next joint (see :meth:`reference_line`); ``angle=(p, q)`` names another
+        line, from joint or point ``p`` to ``q`` of the body; ``angle=`` a number (radians)
+        gives the body's angle in the sketch instead (for a body with no line, like a gear on
+        its axle alone). ``mass``, ``com`` and ``inertia``: see :meth:`set_mass` (``planar.bar``,
+        ``disc`` and ``plate`` give them for simple shapes)."""
+        what = f"angle of body {name!r}"
+        if angle is None:
+            spec = None
+        elif isinstance(angle, (tuple, list)) and len(angle) == 2 and all(isinstance(p, str) for p in angle):
+            if angle[0] == angle[1]:
+                raise ModelError(f"the {what} is the line {angle[0]} -> {angle[1]}: name two different joints "
+                                 f"or points")
+            spec = (angle[0], angle[1])
+        else:
+            spec = float(_finite(angle, f"{what} (a number, or a line (p, q) of two point names)", ()))
+        self._bodies[self._new_name(name, "body")] = spec
         if mass is not None:
             self.set_mass(name, mass, com, inertia)
         return Body(name)
@@ -201,9 +229,73 @@ class Mechanism:
         self._model = None
 
     def add_point(self, name, body, at):
-        """Name the point of ``body`` that is at ``at`` in the sketch."""
+        """Name the point of ``body`` that is at ``at`` in the sketch: (x, y), the name of a joint
+        or point placed before, or a :class:`planar.Dyad`."""
         body = self._body(body)
-        self._points[self._new_name(name, "point")] = (body, _point(at, f"point {name!r} at"))
+        dyad = at if isinstance(at, Dyad) else None
+        at = self._place(name, at, {body})
+        self._points[self._new_name(name, "point")] = (body, at)
+        self._dyad_dimensions(name, dyad)
+
+    def _place(self, name, at, bodies):
+        """``at`` as a sketch point: a point, the name of a joint or point placed before (the
+        same place), or a :class:`Dyad` placed from its two joints or points, whose bodies must
+        be among ``bodies`` (a distance joins two points of one body)."""
+        if isinstance(at, str):
+            return self._position(at)
+        if not isinstance(at, Dyad):
+            return _point(at, f"{name!r} at")
+        for ref in (at.a, at.b):
+            if not self._bodies_of(ref) & bodies:
+                raise ModelError(f"{name!r} is placed from {ref!r}, which is on none of its bodies {sorted(bodies)}: "
+                                 f"a dyad's distances join points of one body")
+        return at.place(self._position(at.a), self._position(at.b), f"the dyad placing {name!r}")
+
+    def _dyad_dimensions(self, name, dyad):
+        if dyad is not None:
+            self.distance(dyad.a, name, dyad.length_a)
+            self.distance(dyad.b, name, dyad.length_b)
+            self._sides.append((name, dyad.a, dyad.b, dyad.side))
+
+    def _position(self, name):
+        if name not in self._points:
+            raise ModelError(f"unknown joint or point {name!r}: the named positions are {sorted(self._points)}")
+        return self._points[name][1]
+
+    def _bodies_of(self, name):
+        """The bodies a joint or point is on: a revolute's two, the body of any other's anchor."""
+        self._position(name)
+        for j in self._joints:
+            if j.name == name and isinstance(j, Revolute):
+                return set(j.bodies)
+        return {self._points[name][0]}
+
+    def distance(self, a, b, length):
+        """State the length between joints or points ``a`` and ``b`` of one body. The sketch
+        positions become rough guesses: compile assembles them exactly (see
+        :mod:`planar.dimensions`), and :attr:`Model.sketch` holds the assembled positions.
+
+        >>> m = Mechanism()
+        >>> crank = m.add_body("crank")
+        >>> m.add_revolute("O", m.ground, crank, at=(0, 0))
+        >>> m.add_point("P", crank, at=(0.98, 0.02))
+        >>> m.distance("O", "P", 1.0)
+        >>> m.drive("O", start=0.0)
+        >>> m.compile().sketch.position("P").round(12).tolist()
+        [1.0, 0.0]
+        """
+        length = _positive(length, f"distance {a}-{b}")
+        shared = self._bodies_of(a) & self._bodies_of(b)
+        if not shared:
+            raise ModelError(f"distance {a}-{b}: {a!r} is on {sorted(self._bodies_of(a))} and {b!r} on "
+                             f"{sorted(self._bodies_of(b))}: a distance joins two joints or points of one body")
+        if a == b:
+            raise ModelError(f"distance {a}-{b}: name two different joints or points")
+        for d in self._dimensions:
+            if {d.a, d.b} == {a, b}:
+                raise ModelError(f"{d} is stated already: state each length once")
+        self._dimensions.append(Dimension(a, b, length))
+        self._model = None
 
     def _add(self, joint):
         self._joints.append(joint)
@@ -212,11 +304,15 @@ class Mechanism:
             self._points[joint.name] = anchor
 
     def add_revolute(self, name, body_a, body_b, at):
-        """Pin joint between two bodies at sketch point ``at``. Its coordinate is the angle of
-        b relative to a."""
+        """Pin joint between two bodies at sketch point ``at``: (x, y), the name of a joint or
+        point placed before (a third body on the same pin), or a :class:`planar.Dyad`. Its
+        coordinate is the angle of b relative to a."""
         a, b = self._pair(body_a, body_b, name)
+        dyad = at if isinstance(at, Dyad) else None
+        at = self._place(name, at, {a, b})
         self._new_name(name, "joint")
-        self._add(Revolute(name, (a, b), at=_point(at, f"joint {name!r} at")))
+        self._add(Revolute(name, (a, b), at=at))
+        self._dyad_dimensions(name, dyad)
 
     def _line_data(self, name, at, direction, origin):
         at = _point(at, f"joint {name!r} at")
@@ -332,10 +428,14 @@ class Mechanism:
         self.add_rack_pinion(name, wheel, body, radius, centre=centre, through=through,
                              direction=direction, side=side, pressure_angle=0.0)
 
-    def drive(self, joint=None, *, body=None, point=None, axis=None, name=None):
+    def drive(self, joint=None, *, body=None, point=None, axis=None, name=None, start=None):
         """Make one input. Exactly one of: ``joint`` (a revolute's relative angle, a slider's or
         slot's travel), ``body`` (its absolute angle), ``point`` with ``axis`` "x" or "y" (a
-        world coordinate of a named point). Inputs are in the order they are added."""
+        world coordinate of a named point). Inputs are in the order they are added.
+
+        ``start`` is the input's value in the sketch (radians or length): with stated
+        distances, compile assembles the sketch there; without, it must be the value drawn,
+        and picks the turn an angle starts on (420 degrees rather than 60)."""
         given = [k for k, v in (("joint", joint), ("body", body), ("point", point)) if v is not None]
         if len(given) != 1:
             raise ModelError("drive needs exactly one of joint=, body= or point=")
@@ -359,15 +459,35 @@ class Mechanism:
         drv.name = name or drv.name
         if any(d.name == drv.name for d in self._drivers):
             raise ModelError(f"a driver named {drv.name!r} exists already: pass name= to tell them apart")
+        if start is not None:
+            self._starts[drv.name] = float(_finite(start, f"start of driver {drv.name!r}", ()))
         self._drivers.append(drv)
         self._model = None
+
+    def reference_line(self, body):
+        """The (p, q) names of the line whose direction is ``body``'s angle by default, or None
+        for a body with fewer than two named positions (its angle is then the sketch's x axis
+        turned with it): p is its joint nearest the ground (graph distance of the body the joint
+        leads to, ties by order of addition), q the next of its joints, then points, at another
+        place. Named positions on a body: its revolutes, the anchors of its other joints on it,
+        its points.
+
+        >>> from planar.mechanisms import four_bar
+        >>> m = four_bar()
+        >>> m.reference_line("crank"), m.reference_line("coupler"), m.reference_line("rocker")
+        (('O2', 'A'), ('A', 'B'), ('O4', 'B'))
+        """
+        body = self._body(body)
+        if body == GROUND:
+            return None
+        return _rule_line(self, body, lambda p, q: not np.array_equal(self._points[p][1], self._points[q][1]))
 
     # ---- compiling -----------------------------------------------------------------------
 
     def compile(self):
         """Check and freeze the mechanism into a :class:`Model` (cached until the next change)."""
         if self._model is None:
-            self._model = _compile(self)
+            self._model = _compile(self.name, _resolve(self))
         return self._model
 
     def sweep(self, values, velocity=1.0, acceleration=0.0, **options):
@@ -383,18 +503,29 @@ class Mechanism:
 
 @dataclass(frozen=True)
 class Sketch:
-    """A mechanism as drawn: ``bodies`` name -> sketch angle (the ground first), ``points``
-    name -> (body, world point) (joints' points included), ``joints`` and ``drivers`` in the
-    order they were added; ``mass`` body -> (mass, sketch centre of mass, inertia), ``loads``
-    (body, sketch point, force, torque, fixed) and ``gravity`` as given to the builder."""
+    """A mechanism as drawn or as assembled: ``bodies`` name -> angle (the ground first; as
+    given when drawn, in radians when assembled), ``points`` name -> (body, world point)
+    (joints' points included), ``joints`` and ``drivers`` in the order they were added, the
+    stated ``dimensions`` and the drivers' ``starts`` (name -> value); ``mass`` body -> (mass,
+    sketch centre of mass, inertia), ``loads`` (body, sketch point, force, torque, fixed) and
+    ``gravity`` as given to the builder (centres and load points carried with their bodies when
+    assembled)."""
 
     bodies: dict
     points: dict
     joints: tuple
     drivers: tuple
-    mass: dict
-    loads: tuple
-    gravity: tuple
+    dimensions: tuple = ()
+    starts: dict = None
+    mass: dict = None
+    loads: tuple = ()
+    gravity: tuple = None
+
+    def position(self, name):
+        """World position (2,) of a joint or point."""
+        if name not in self.points:
+            raise ModelError(f"unknown joint or point {name!r}: known are {sorted(self.points)}")
+        return self.points[name][1]
 
 
 # ---- the compiled model ---------------------------------------------------------------------
@@ -407,8 +538,9 @@ class Model:
     Attributes give the mobility report: ``n`` coordinates, ``m`` rows, ``rank`` of the joint
     Jacobian at the sketch, ``dof = n - rank``, ``grubler = n - (rows of the joints)`` and the
     names of ``redundant_joints`` (rows kept out of Newton but checked after every solve).
-    ``mass``, ``com``, ``inertia``, ``gravity`` and ``loads`` are what :meth:`planar.Sweep.forces`
-    balances (read-only).
+    ``sketch`` is the :class:`Sketch` as assembled: every stated distance holds there, and
+    ``sketch.bodies`` are the bodies' angles in radians. ``mass``, ``com``, ``inertia``,
+    ``gravity`` and ``loads`` are what :meth:`planar.Sweep.forces` balances (read-only).
     """
 
     name: str
@@ -432,6 +564,7 @@ class Model:
     grubler: int
     redundant_joints: tuple
     coordinates: dict  # joint name -> (system of its coordinate rows, row)
+    sketch: Sketch
     mass: np.ndarray = None  # (n_bodies,) masses (0: massless)
     com: np.ndarray = None  # (n_bodies, 2) centres of mass in the body frames
     inertia: np.ndarray = None  # (n_bodies,) moments of inertia about the centres of mass
@@ -551,20 +684,14 @@ class Model:
         return a
 
 
-def _compile(mech):
-    joints = list(mech._joints)
-    drivers = list(mech._drivers)
-    bodies = list(mech._bodies)
-    _check_connected(bodies, joints)
+def _compile(name, sk):
+    """The Model of an assembled :class:`Sketch` (body angles in radians)."""
+    joints = list(sk.joints)
+    drivers = list(sk.drivers)
+    bodies = list(sk.bodies)
 
-    # body frames: origin at the body's first joint or point, angle as sketched
-    origins = {GROUND: np.zeros(2)}
-    for j in joints:
-        for b, p in j.touch_points():
-            origins.setdefault(b, p)
-    for b, p in mech._points.values():
-        origins.setdefault(b, p)
-    sketch = SketchFrames(origins, dict(mech._bodies))
+    origins = _origins(joints, sk.points)
+    sketch = SketchFrames(origins, dict(sk.bodies))
 
     constraints = joints + drivers
     params = [c.params(sketch) for c in constraints]
@@ -572,9 +699,9 @@ def _compile(mech):
     inputs = [-1] * len(joints) + list(range(len(drivers)))
     system, row_adr = build_system(constraints, params, body_index, len(bodies), inputs)
     n, m = system.n, system.m
-    q0 = np.concatenate([np.r_[origins[b], mech._bodies[b]] for b in bodies[1:]]) if n else np.zeros(0)
+    q0 = np.concatenate([np.r_[origins[b], sk.bodies[b]] for b in bodies[1:]]) if n else np.zeros(0)
 
-    L = _char_length(mech)
+    L = _char_length(sk.points, joints)
     lengths = np.concatenate([np.array(c.length_rows, bool) for c in constraints]) if m else np.zeros(0, bool)
     row_scale = np.where(lengths, 1.0 / L, 1.0)
     col_scale = np.tile([L, L, 1.0], len(bodies) - 1)
@@ -606,7 +733,7 @@ def _compile(mech):
 
     dof = n - rank
     if drivers and len(drivers) != dof:
-        raise MobilityError(f"mechanism {mech.name!r} has {dof} degree(s) of freedom but {len(drivers)} "
+        raise MobilityError(f"mechanism {name!r} has {dof} degree(s) of freedom but {len(drivers)} "
                             f"driver(s) {[d.name for d in drivers]}: "
                             + (f"add {dof - len(drivers)} driver(s)" if len(drivers) < dof
                                else f"remove {len(drivers) - dof} driver(s), or a joint that locks the "
@@ -619,28 +746,226 @@ def _compile(mech):
                            len(bodies), [-1] * len(coord))
     model = Model(
         coordinates={name: (csys, k) for k, (name, _) in enumerate(coord)},
-        name=mech.name, body_names=tuple(bodies), body_angles0=np.array([mech._bodies[b] for b in bodies]),
-        points={k: (body_index[b], sketch.local_point(b, p)) for k, (b, p) in mech._points.items()},
+        name=name, body_names=tuple(bodies), body_angles0=np.array([sk.bodies[b] for b in bodies]),
+        points={k: (body_index[b], sketch.local_point(b, p)) for k, (b, p) in sk.points.items()}, sketch=sk,
         joints=tuple(joints), drivers=tuple(drivers), system=system, row_adr=row_adr, q0=q0, u0=u0, L=L,
         row_scale=row_scale, col_scale=col_scale, active_rows=active,
         driver_rows_active=np.arange(len(independent), len(active)), redundant_rows=redundant,
         input_lengths=np.array([d.length_rows[0] for d in drivers], bool), rank=rank,
         grubler=n - joint_rows.size, redundant_joints=redundant_joints,
-        **compile_mass(mech._mass, mech._loads, mech._gravity, sketch, bodies))
+        **compile_mass(sk.mass or {}, sk.loads, sk.gravity, sketch, bodies))
     if drivers:
         block_plan(model)  # a model the drivers cannot drive is refused here, not at sweep time
     return model
 
 
-def _char_length(mech):
-    pts = [p for _, p in mech._points.values()] + [np.zeros(2)]
-    for j in mech._joints:
-        pts += [p for _, p in j.touch_points()]
-        for key in ("radius", "radius_a", "radius_b"):
-            if key in j.data:
-                pts.append(np.array([j.data[key], 0.0]))
-    P = np.array(pts)
-    L = float(np.max(np.ptp(P, axis=0))) if len(P) > 1 else 0.0
+def _origins(joints, points):
+    """Body frames' origins: each body's first joint or point (its angle is as sketched)."""
+    origins = {GROUND: np.zeros(2)}
+    for j in joints:
+        for b, p in j.touch_points():
+            origins.setdefault(b, p)
+    for b, p in points.values():
+        origins.setdefault(b, p)
+    return origins
+
+
+def _ground_distance(bodies, joints):
+    """Graph distance of each body from the ground (bodies linked by a joint are neighbours)."""
+    G = nx.Graph()
+    G.add_nodes_from(bodies)
+    G.add_edges_from((a, b) for j in joints for a in j.bodies for b in j.bodies if a != b)
+    return nx.single_source_shortest_path_length(G, GROUND)
+
+
+def _rule_line(mech, body, apart, dist=None):
+    """The default reference line (p, q) of ``body`` (see :meth:`Mechanism.reference_line`);
+    ``apart(p, q)`` says whether two names are at different places."""
+    dist = dist or _ground_distance(list(mech._bodies), mech._joints)
+    ranked = []
+    for k, j in enumerate(mech._joints):
+        on = set(j.bodies) if isinstance(j, Revolute) else {mech._points[j.name][0]} if j.name in mech._points else set()
+        if body in on:
+            others = [dist.get(b, np.inf) for b in j.bodies if b != body]
+            ranked.append((0, min(others, default=np.inf), k, j.name))
+    ranked += [(1, 0, k, n) for k, (n, (b, _)) in enumerate(mech._points.items())
+               if b == body and n not in {j.name for j in mech._joints}]
+    names = [r[3] for r in sorted(ranked)]
+    for q in names[1:]:
+        if apart(names[0], q):
+            return names[0], q
+    return None
+
+
+def _resolve(mech):
+    """The assembled :class:`Sketch`: positions holding every stated distance (when there are
+    any) and every body's angle in radians, each angle driver's start on its turn."""
+    bodies, joints, drivers, points = list(mech._bodies), list(mech._joints), list(mech._drivers), mech._points
+    _check_connected(bodies, joints)
+    L = _char_length(points, joints)
+    X0, site, bases = _sites(points, joints, L)
+    lines = _body_lines(mech, site, X0)
+    rows = _driver_rows(mech, lines, site, X0, L)
+    X = X0
+    if mech._dimensions:
+        dims = [Row("length", ((site[d.a], site[d.b]),), d.length, str(d)) for d in mech._dimensions]
+        X = assemble(X0, bases, dims + rows, _mode_triangles(mech, site), L)
+        # the named positions that moved, and the joint and driver data that follow them
+        moved = lambda p: X[site[_key(p)]] if not np.array_equal(X[site[_key(p)]], p) else p  # noqa: E731
+        points = {n: (b, moved(p)) for n, (b, p) in points.items()}
+        follow = lambda j: type(j)(j.name, j.bodies, **{**j.data, "at": moved(j.data["at"])}) if "at" in j.data else j  # noqa: E731
+        joints, drivers = [follow(j) for j in joints], [follow(d) for d in drivers]
+
+    angles = {}
+    for b, (ij, offset) in lines.items():
+        spec = mech._bodies[b]
+        if isinstance(spec, float) and (ij is None or all(np.array_equal(X[i], X0[i]) for i in ij)):
+            angles[b] = spec  # the angle given, bit for bit
+        else:
+            angles[b] = offset + (_direction_of(X, *ij) if ij is not None else 0.0)
+    for d in drivers:  # an angle input starts on the turn of its start value
+        start = mech._starts.get(d.name)
+        if start is not None and isinstance(d, AngleDriver):
+            a, b = d.bodies
+            if b != GROUND:
+                angles[b] = start + angles[a] if a == GROUND else angles[b] + 2 * np.pi * round(
+                    (start - angles[b] + angles[a]) / (2 * np.pi))
+            else:
+                angles[a] -= 2 * np.pi * round((start + angles[a]) / (2 * np.pi))
+    mass, loads = dict(mech._mass), tuple(mech._loads)
+    if mech._dimensions:  # centres of mass and load points move with their bodies' assembly
+        o0, o1 = _origins(mech._joints, mech._points), _origins(joints, points)
+
+        def carry(b, p):
+            ij = lines[b][0]
+            turn = _direction_of(X, *ij) - _direction_of(X0, *ij) if ij is not None else 0.0
+            c, s = np.cos(turn), np.sin(turn)
+            return o1[b] + np.array([[c, -s], [s, c]]) @ (p - o0[b])
+        mass = {b: (mb, carry(b, com), ib) for b, (mb, com, ib) in mass.items()}
+        loads = tuple((b, carry(b, at), f, t, fixed) for b, at, f, t, fixed in loads)
+    return Sketch(angles, points, tuple(joints), tuple(drivers), tuple(mech._dimensions), dict(mech._starts),
+                  mass, loads, mech._gravity)
+
+
+_PLACES = ("at", "origin", "centre", "centre_a", "centre_b", "through")  # joint data that are world points
+
+
+def _key(p):
+    return (float(p[0]), float(p[1]))
+
+
+def _sites(points, joints, L):
+    """The distinct places of the sketch (X0 (S, 2)), ``site``: name or place (x, y) -> index,
+    and the basis of each site's motion: free (I), along a slider's line on the ground (u) or
+    held (none): the data of sliders on moving bodies, gears and rolling contacts stay as drawn,
+    the first pivot on the ground too (the sketch's origin), and the next pivot apart stays on
+    the line drawn from it (the frame's direction)."""
+    X0, site = [], {}
+
+    def place(p):
+        for i, x in enumerate(X0):
+            if np.hypot(*(x - p)) <= 1e-12 * L:
+                return i
+        X0.append(np.asarray(p, float))
+        return len(X0) - 1
+
+    for n, (_, p) in points.items():
+        site[n] = site[_key(p)] = place(p)
+    bases = {}
+    for j in joints:
+        for key in _PLACES:
+            v = j.data.get(key)
+            if v is None or isinstance(j, Revolute):
+                continue
+            i = site[_key(v)] = place(v)
+            B = bases.get(i, np.eye(2))
+            u = j.data["direction"][:, None] if key == "at" and isinstance(j, Slot) and j.bodies[0] == GROUND else None
+            along = u is not None and (B.shape[1] == 2 or (B.shape[1] == 1 and abs(B[:, 0] @ u[:, 0]) > 1 - 1e-12))
+            bases[i] = u if along else np.zeros((2, 0))
+    pivots = list(dict.fromkeys(site[j.name] for j in joints if GROUND in j.bodies and isinstance(j, Revolute)))
+    for k, i in enumerate(pivots[:2]):
+        if k == 0 or bases.get(i, np.eye(2)).shape[1] < 2:
+            bases[i] = np.zeros((2, 0))
+        else:
+            d = X0[i] - X0[pivots[0]]
+            bases[i] = (d / np.hypot(*d))[:, None]
+    return np.array(X0).reshape(-1, 2), site, [bases.get(i, np.eye(2)) for i in range(len(X0))]
+
+
+def _body_lines(mech, site, X0):
+    """Each body's angle as (sites (i, j) of its line or None, offset): the angle is the
+    offset plus the line's direction (the offset alone without a line)."""
+    dist = _ground_distance(list(mech._bodies), mech._joints)
+    lines = {GROUND: (None, 0.0)}
+    for b, spec in list(mech._bodies.items())[1:]:
+        if isinstance(spec, tuple):
+            for n in spec:
+                if n not in mech._points or b not in mech._bodies_of(n):
+                    raise ModelError(f"the angle of body {b!r} is the line {spec[0]} -> {spec[1]}, but {n!r} is no "
+                                     f"joint or point of {b!r}: name two of its joints or points")
+            if site[spec[0]] == site[spec[1]]:
+                raise ModelError(f"the angle of body {b!r} is the line {spec[0]} -> {spec[1]}, but both are at "
+                                 f"one place: name two joints or points of {b!r} apart")
+            lines[b] = ((site[spec[0]], site[spec[1]]), 0.0)
+            continue
+        rule = _rule_line(mech, b, lambda p, q: site[p] != site[q], dist)
+        if rule is None:
+            lines[b] = (None, 0.0 if spec is None else spec)
+        else:
+            ij = (site[rule[0]], site[rule[1]])
+            lines[b] = (ij, 0.0 if spec is None else spec - _direction_of(X0, *ij))
+    return lines
+
+
+def _driver_rows(mech, lines, site, X0, L):
+    """The drivers as rows on the sites, held at their start (or drawn) values; without
+    dimensions a start must be the value drawn."""
+    rows = []
+    for d in mech._drivers:
+        label, start = f"the start of driver {d.name!r}", mech._starts.get(d.name)
+        if isinstance(d, AngleDriver):
+            a, b = d.bodies
+            terms = tuple((s, *lines[x][0]) for s, x in ((1, b), (-1, a)) if lines[x][0] is not None)
+            row = Row("angle", terms, 0.0, label, lines[b][1] - lines[a][1])
+        elif "at" in d.data and (len(d.bodies) == 1 or d.bodies[0] == GROUND):
+            u = d.data["direction"] if "direction" in d.data else d.data["axis"]
+            row = Row("travel", ((site[_key(d.data["at"])], d.data.get("origin", np.zeros(2)), u),), 0.0, label)
+        else:
+            continue  # a travel along a moving line: held by the sketch as drawn
+        drawn = row.value(X0)
+        rows.append(Row(row.kind, row.terms, drawn if start is None else start, label, row.offset))
+        if start is not None and not mech._dimensions:
+            if abs(rows[-1].residual(X0, start)) > 1e-9 * (1.0 if row.kind == "angle" else L):
+                raise ModelError(f"driver {d.name!r} starts at {start:.12g} but the sketch has {drawn:.12g}: draw "
+                                 f"the sketch at its start, or state the dimensions with distance() so that "
+                                 f"compile assembles it there")
+    return rows
+
+
+def _mode_triangles(mech, site):
+    """The assembly mode drawn, as triangles (sites a, b, c, what) whose turn must stay: every
+    triangle of three stated lengths, and every dyad's side (the rest follows the drawing, step
+    by step)."""
+    stated = {frozenset((d.a, d.b)) for d in mech._dimensions}
+    names = sorted({n for d in mech._dimensions for n in (d.a, d.b)})
+    triangles = [(site[a], site[b], site[c], f"the triangle {a}, {b}, {c}")
+                 for a, b, c in itertools.combinations(names, 3)
+                 if {frozenset((a, b)), frozenset((b, c)), frozenset((a, c))} <= stated]
+    return triangles + [(site[a], site[b], site[n], f"{n}, {side} of the line {a} -> {b} (its dyad),")
+                        for n, a, b, side in mech._sides]
+
+
+def _direction_of(X, i, j):
+    d = X[j] - X[i]
+    return float(np.arctan2(d[1], d[0]))
+
+
+def _char_length(points, joints):
+    """The extent of the sketch (or its largest radius): the scale of the scaled Jacobian,
+    so it moves with the sketch, never with where the world origin happens to be."""
+    P = np.array([p for _, p in points.values()] + [p for j in joints for _, p in j.touch_points()]).reshape(-1, 2)
+    radii = [j.data[k] for j in joints for k in ("radius", "radius_a", "radius_b") if k in j.data]
+    L = max(float(np.max(np.ptp(P, axis=0))) if len(P) else 0.0, max(radii, default=0.0))
     # an extent so small that 1/L or L**2 leave the float range is no length (all points coincide)
     return L if L > np.sqrt(np.finfo(float).tiny) else 1.0
 

@@ -56,8 +56,12 @@ def same_mechanism(a, b):
     """Bodies, points, joints and drivers equal bit for bit (directions, which the builder
     normalises again on reading, to one unit in the last place)."""
     assert a.name == b.name
+    assert drawn_angles(a) == pytest.approx(drawn_angles(b), rel=0, abs=1e-14)
     a, b = a.sketch(), b.sketch()
-    assert a.bodies == b.bodies
+    assert [isinstance(v, tuple) and v for v in a.bodies.values()] == [isinstance(v, tuple) and v for v in b.bodies.values()]
+    assert a.dimensions == b.dimensions
+    if a.dimensions:  # without dimensions the sketch shows the starts, and files leave them out
+        assert a.starts == pytest.approx(b.starts, rel=1e-14, abs=1e-300)
     assert sorted(a.points) == sorted(b.points)  # joint points come with their joints
     for k in a.points:
         assert a.points[k][0] == b.points[k][0] and np.array_equal(a.points[k][1], b.points[k][1])
@@ -69,6 +73,20 @@ def same_mechanism(a, b):
                 np.testing.assert_allclose(ja.data[key], jb.data[key], rtol=0, atol=4e-16)
             else:
                 assert np.array_equal(ja.data[key], jb.data[key]), (ja.name, key)
+
+
+def drawn_angles(m):
+    """Each body's angle in the sketch as drawn: a number given, else its line's direction (its
+    named line, or the default one), else 0."""
+    out, sk = [], m.sketch()
+    for b, spec in sk.bodies.items():
+        line = spec if isinstance(spec, tuple) else m.reference_line(b) if b != "ground" and spec is None else None
+        if line is None or not set(line) <= set(sk.points):
+            out.append(0.0 if spec is None or isinstance(spec, tuple) else spec)
+        else:
+            d = sk.points[line[1]][1] - sk.points[line[0]][1]
+            out.append(math.atan2(d[1], d[0]))
+    return out
 
 
 @pytest.mark.parametrize("name", sorted(CATALOGUE))
@@ -132,16 +150,25 @@ def mechanisms(draw):
     for k in range(draw(st.integers(0, 3))):
         p = f"p{k}"
         m.add_point(p, draw(st.sampled_from(allb)), at=draw(point))
+    named = sorted(m.sketch().points)
+    for k in range(draw(st.integers(0, 3)) if len(named) > 1 else 0):
+        a, b = draw(st.lists(st.sampled_from(named), min_size=2, max_size=2, unique=True))
+        try:
+            m.distance(a, b, draw(radius))
+        except planar.ModelError:
+            pass  # not on one body, or stated already
     joints = [j.name for j in m.sketch().joints if j.coordinate() is not None]
     for k in range(draw(st.integers(0, 3))):
         how = draw(st.sampled_from(["joint", "body", "point"]))
+        start = draw(st.none() | st.floats(-5, 5))
         try:
             if how == "joint" and joints:
-                m.drive(draw(st.sampled_from(joints)), name=draw(st.sampled_from([None, f"d{k}"])))
+                m.drive(draw(st.sampled_from(joints)), name=draw(st.sampled_from([None, f"d{k}"])), start=start)
             elif how == "body":
-                m.drive(body=draw(st.sampled_from(bodies)))
+                m.drive(body=draw(st.sampled_from(bodies)), start=start)
             elif m.sketch().points:
-                m.drive(point=draw(st.sampled_from(sorted(m.sketch().points))), axis=draw(st.sampled_from("xy")))
+                m.drive(point=draw(st.sampled_from(sorted(m.sketch().points))), axis=draw(st.sampled_from("xy")),
+                        start=start)
         except planar.ModelError:
             pass  # the same driver twice: skip it
     return m

@@ -12,7 +12,7 @@ import numpy as np
 
 from planar.errors import AssemblyError
 from planar.mechanisms import _checks
-from planar.mechanisms.sketch import along, angle_of, circle_circle, left_of, polar
+from planar.mechanisms.sketch import along, circle_circle, left_of, polar
 from planar.model import Mechanism
 
 DRIVERS = ("crank", "coupler", "rocker")
@@ -68,7 +68,8 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     -------
     planar.Mechanism
         Bodies ``crank``, ``coupler``, ``rocker`` whose angles are th2, th3, th4; points
-        ``O2``, ``A``, ``B``, ``O4`` (the revolutes) and ``C``.
+        ``O2``, ``A``, ``B``, ``O4`` (the revolutes) and ``C``; the four lengths (and C's
+        distances from A and B) stated as dimensions.
 
     Examples
     --------
@@ -86,18 +87,21 @@ def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0,
     O2 = np.asarray(_checks.point_pair(pivot, "pivot", required=True), dtype=float)
     O4 = polar(O2, r1, th1)
     A, B = loop_pose(O2, O4, r2, r3, r4, driver, start, bool(crossed))
-    # the driven link gets the exact start angle, so the input is not wrapped to (-pi, pi]
-    angles = {"crank": angle_of(O2, A), "coupler": angle_of(A, B), "rocker": angle_of(O4, B)}
-    angles[driver] = start
 
-    m = Mechanism(name)
+    m = Mechanism(name)  # the bodies' angles are their lines O2 -> A, A -> B, O4 -> B
     for body in DRIVERS:
-        m.add_body(body, angle=angles[body])
+        m.add_body(body)
     m.add_revolute("O2", m.ground, "crank", at=O2)
     m.add_revolute("A", "crank", "coupler", at=A)
     m.add_revolute("B", "coupler", "rocker", at=B)
     m.add_revolute("O4", "rocker", m.ground, at=O4)
+    # the link lengths stated, so that a file of it re-assembles when one is edited
+    for a, b, r in (("O2", "O4", r1), ("O2", "A", r2), ("A", "B", r3), ("O4", "B", r4)):
+        m.distance(a, b, r)
     if pq is not None:
         m.add_point("C", "coupler", at=along(A, B, *pq))
-    m.drive(body=driver)
+        if pq[1] != 0:  # C off the line A -> B: its distances from A and B hold it on the coupler
+            m.distance("A", "C", float(np.hypot(*pq)))
+            m.distance("B", "C", float(np.hypot(r3 - pq[0], pq[1])))
+    m.drive(body=driver, start=start)  # the input starts at start, not wrapped to (-pi, pi]
     return m

@@ -61,8 +61,7 @@ def geared_five_bar(ground=8.0, gear_radius_2=3.0, gear_radius_4=3.5, link_5=6.0
     C = circle_circle(O2, R2 + 2 * R4, O5, r5, "the geared five-bar's reference configuration")[int(bool(crossed))]
     th30 = angle_of(O2, C)
     pose = {"B": polar(O2, R2 + R4, th30), "C": C}
-    angles = {"gear2": 0.0, "arm": th30, "gear4": th30, "link5": angle_of(O5, C)}
-    m = _build(name, O2, O5, pose, angles, R2, R4)
+    m = _build(name, O2, O5, pose, 0.0, R2, R4)
     if start == 0.0:
         return m
     res = m.sweep([start])
@@ -71,14 +70,13 @@ def geared_five_bar(ground=8.0, gear_radius_2=3.0, gear_radius_4=3.5, link_5=6.0
                             f"configuration ({res.model.name!r}: status {res.status[0]}); choose a start inside "
                             f"its motion range")
     pose = {p: res.position(p)[0] for p in pose}
-    angles = {b: float(res.angle(b)[0]) for b in BODIES}
-    return _build(name, O2, O5, pose, angles, R2, R4)
+    return _build(name, O2, O5, pose, float(res.angle("gear2")[0]), R2, R4)
 
 
-def _build(name, O2, O5, pose, angles, R2, R4):
-    m = Mechanism(name)
+def _build(name, O2, O5, pose, gear_angle, R2, R4):
+    m = Mechanism(name)  # the arm's, gear 4's and link 5's angles are their lines O2 -> B, B -> C, O5 -> C
     for b in BODIES:
-        m.add_body(b, angle=angles[b])
+        m.add_body(b, angle=gear_angle if b == "gear2" else None)
     m.add_revolute("O2", m.ground, "gear2", at=O2)
     m.add_revolute("A", m.ground, "arm", at=O2)
     m.add_revolute("B", "arm", "gear4", at=pose["B"])

@@ -15,7 +15,7 @@ r4 to its right; r3 is the slider's travel along that line.
 import numpy as np
 
 from planar.mechanisms import _checks
-from planar.mechanisms.sketch import angle_of, circle_circle, circle_line, line_through, polar
+from planar.mechanisms.sketch import circle_circle, circle_line, line_through, polar
 from planar.model import Mechanism
 
 DRIVERS = ("crank", "link3", "slide")
@@ -80,13 +80,11 @@ def inverted_slider_crank(ground=20.0, crank=8.5, *, offset=0.0, frame_angle=0.0
     else:
         A = circle_circle(O2, r2, O4, np.hypot(start, r4), what)[int(crossed)]
         th3, _ = line_through(O4, r4, A, start >= 0, what)
-    angles = {"crank": angle_of(O2, A), "link3": th3}
-    if driver != "slide":
-        angles[driver] = start
+    angles = {"link3": start if driver == "link3" else th3}
     foot = polar(O4, r4, angles["link3"] - np.pi / 2)
 
     m = Mechanism(name)
-    m.add_body("crank", angle=angles["crank"])
+    m.add_body("crank")  # its angle is its line O2 -> A
     m.add_body("link3", angle=angles["link3"])
     m.add_body("slider", angle=angles["link3"] - np.pi / 2)
     m.add_revolute("O2", m.ground, "crank", at=O2)
@@ -94,7 +92,7 @@ def inverted_slider_crank(ground=20.0, crank=8.5, *, offset=0.0, frame_angle=0.0
     m.add_revolute("A", "crank", "slider", at=A)
     m.add_prismatic("slide", "link3", "slider", at=A, direction=polar((0, 0), 1.0, angles["link3"]), origin=foot)
     if driver == "slide":
-        m.drive("slide")
+        m.drive("slide", start=start)
     else:
-        m.drive(body=driver)
+        m.drive(body=driver, start=start)
     return m

@@ -53,13 +53,13 @@ def open_chain(lengths=(5.0, 8.0, 9.0), *, start=None, driver="absolute", name="
     m = Mechanism(name)
     P, prev = np.zeros(2), m.ground
     for k, (rk, th) in enumerate(zip(r, angles), 1):
-        link = m.add_body(f"link{k}", angle=th)
+        link = m.add_body(f"link{k}")  # its angle is its line J_k -> J_k+1 (or -> tip)
         m.add_revolute(f"J{k}", prev, link, at=P)
         P, prev = polar(P, rk, th), link
     m.add_point("tip", prev, at=P)
     for k in range(1, len(r) + 1):
         if driver == "absolute":
-            m.drive(body=f"link{k}")
+            m.drive(body=f"link{k}", start=start[k - 1])
         else:
-            m.drive(f"J{k}")
+            m.drive(f"J{k}", start=start[k - 1])
     return m

@@ -39,12 +39,27 @@ def _dyad(m, names, bodies, P, Q, r_p, r_q, crossed, what):
     from Q (on ``bodies[3]``), pinned together at the intersection left of P -> Q (right if
     ``crossed``). ``names`` are the three revolutes at P, the middle joint and Q."""
     M = circle_circle(P, r_p, Q, r_q, what)[int(bool(crossed))]
-    m.add_body(bodies[0], angle=angle_of(P, M))
-    m.add_body(bodies[1], angle=angle_of(Q, M))
+    m.add_body(bodies[0], angle=(names[0], names[1]))
+    m.add_body(bodies[1], angle=(names[2], names[1]))
     m.add_revolute(names[0], bodies[2], bodies[0], at=P)
     m.add_revolute(names[1], bodies[0], bodies[1], at=M)
     m.add_revolute(names[2], bodies[1], bodies[3], at=Q)
+    m.distance(names[0], names[1], r_p)
+    m.distance(names[2], names[1], r_q)
     return m
+
+
+def _held(m, name, a, b):
+    """State the distances from joints a and b of one body to its joint ``name`` (only from a
+    when the three are in line, where both would over-state it), so that the joint stays on the
+    body when a length of a file is edited."""
+    P = {n: m.sketch().position(n) for n in (name, a, b)}
+    d, e = P[b] - P[a], P[name] - P[a]
+    refs = (a, b) if abs(d[0] * e[1] - d[1] * e[0]) > 1e-12 * (d @ d) else (a,)
+    for ref in refs:
+        r = float(np.hypot(*(P[name] - P[ref])))
+        if r > 1e-12 * np.sqrt(d @ d):  # a joint on a joint is held by it already
+            m.distance(ref, name, r)
 
 
 def watt_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_point=(2.0, 1.5),
@@ -82,8 +97,11 @@ def watt_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_poin
     pq_c = _checks.point_pair(coupler_point, "coupler_point", required=True)
     pq_d = _checks.point_pair(rocker_point, "rocker_point", required=True)
     m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
-    return _dyad(m, ("C", "E", "D"), ("link5", "link6", "coupler", "rocker"), along(A, B, *pq_c),
-                 along(O4, B, *pq_d), r5, r6, crossed_2, "the Watt six-bar's dyad C-E-D")
+    m = _dyad(m, ("C", "E", "D"), ("link5", "link6", "coupler", "rocker"), along(A, B, *pq_c),
+              along(O4, B, *pq_d), r5, r6, crossed_2, "the Watt six-bar's dyad C-E-D")
+    _held(m, "C", "A", "B")
+    _held(m, "D", "O4", "B")
+    return m
 
 
 def stephenson_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_point=(2.0, 1.5),
@@ -115,8 +133,11 @@ def stephenson_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, couple
     pq = _checks.point_pair(coupler_point, "coupler_point", required=True)
     O6 = np.array(_checks.point_pair(pivot_6, "pivot_6", required=True))
     m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
-    return _dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), along(A, B, *pq), O6, r5, r6,
-                 crossed_2, "the Stephenson six-bar's dyad C-D-O6")
+    m = _dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), along(A, B, *pq), O6, r5, r6,
+              crossed_2, "the Stephenson six-bar's dyad C-D-O6")
+    _held(m, "C", "A", "B")
+    _held(m, "O6", "O2", "O4")
+    return m
 
 
 def two_loop_six_bar(lengths=(4.0, 1.5, 4.0, 3.5, 5.0, 2.0, 5.0, 3.5), *, frame_angle=0.0, frame_angle_2=0.0,
@@ -152,5 +173,8 @@ def two_loop_six_bar(lengths=(4.0, 1.5, 4.0, 3.5, 5.0, 2.0, 5.0, 3.5), *, frame_
     phase = _checks.number(phase, "phase")
     m, O4, A, B = _first_loop(name, *r[:4], frame_angle, crossed, start)
     D = polar(O4, r[5], angle_of(O4, B) + phase)
-    return _dyad(m, ("D", "E", "O6"), ("coupler2", "rocker2", "rocker", m.ground), D, polar(O4, r[4], th5),
-                 r[6], r[7], crossed_2, "the second loop D-E-O6")
+    m = _dyad(m, ("D", "E", "O6"), ("coupler2", "rocker2", "rocker", m.ground), D, polar(O4, r[4], th5),
+              r[6], r[7], crossed_2, "the second loop D-E-O6")
+    _held(m, "D", "O4", "B")
+    _held(m, "O6", "O2", "O4")
+    return m

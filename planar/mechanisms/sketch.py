@@ -14,6 +14,7 @@ kinematic solutions. Positions, rates and sweeps always come from the solver.
 
 import numpy as np
 
+from planar.dimensions import circle_circle  # noqa: F401  (the builders' constructions, in one place)
 from planar.errors import AssemblyError
 
 
@@ -48,24 +49,6 @@ def left_of(A, B, P):
     A, B, P = (np.asarray(v, dtype=float) for v in (A, B, P))
     d, e = B - A, P - A
     return bool(d[0] * e[1] - d[1] * e[0] > 0)
-
-
-def circle_circle(c1, r1, c2, r2, what="the two circles"):
-    """Both intersections of circle(c1, r1) and circle(c2, r2): (left, right) of the directed
-    line c1 -> c2. Raises :class:`planar.AssemblyError` naming ``what`` when they do not meet."""
-    c1, c2 = np.asarray(c1, dtype=float), np.asarray(c2, dtype=float)
-    d = c2 - c1
-    L = float(np.hypot(*d))
-    if L == 0 or L > r1 + r2 or L < abs(r1 - r2):
-        raise AssemblyError(f"{what} cannot be placed: circles of radii {r1:.12g} and {r2:.12g} with "
-                            f"centres {L:.12g} apart do not meet; choose a start inside the motion range "
-                            f"or other dimensions")
-    a = (r1**2 - r2**2 + L**2) / (2 * L)  # from c1 to the chord's foot, along c1 -> c2
-    h = np.sqrt(max(r1**2 - a**2, 0.0))
-    u = d / L
-    n = np.array([-u[1], u[0]])
-    foot = c1 + a * u
-    return foot + h * n, foot - h * n
 
 
 def circle_line(c, r, p, u, what="the circle and the line"):

@@ -10,7 +10,7 @@
 import numpy as np
 
 from planar.mechanisms import _checks
-from planar.mechanisms.sketch import along, angle_of, circle_circle, circle_line, polar
+from planar.mechanisms.sketch import along, circle_circle, circle_line, polar
 from planar.model import Mechanism
 
 DRIVERS = ("crank", "coupler", "slider")
@@ -83,22 +83,23 @@ def slider_crank(crank=2.0, coupler=5.0, *, offset=1.0, slide_angle=0.0, coupler
     else:
         B = foot + start * u
         A = circle_circle(O2, r2, B, r3, what)[int(crossed)]
-    angles = {"crank": angle_of(O2, A), "coupler": angle_of(A, B)}
-    if driver != "slider":
-        angles[driver] = start
-
-    m = Mechanism(name)
-    m.add_body("crank", angle=angles["crank"])
-    m.add_body("coupler", angle=angles["coupler"])
+    m = Mechanism(name)  # the crank's and coupler's angles are their lines O2 -> A and A -> B
+    m.add_body("crank")
+    m.add_body("coupler")
     m.add_body("slider", angle=th1)
     m.add_revolute("O2", m.ground, "crank", at=O2)
     m.add_revolute("A", "crank", "coupler", at=A)
     m.add_revolute("B", "coupler", "slider", at=B)
     m.add_prismatic("slide", m.ground, "slider", at=B, direction=u, origin=foot)
+    m.distance("O2", "A", r2)  # stated, so that a file of it re-assembles when one is edited
+    m.distance("A", "B", r3)
     if pq is not None:
         m.add_point("C", "coupler", at=along(A, B, *pq))
+        if pq[1] != 0:  # C off the line A -> B: its distances from A and B hold it on the coupler
+            m.distance("A", "C", float(np.hypot(*pq)))
+            m.distance("B", "C", float(np.hypot(r3 - pq[0], pq[1])))
     if driver == "slider":
-        m.drive("slide")
+        m.drive("slide", start=start)
     else:
-        m.drive(body=driver)
+        m.drive(body=driver, start=start)
     return m

@@ -1,0 +1,266 @@
+"""Dimensions: lengths stated between joints and points, and the assembly that makes them hold.
+
+With :meth:`planar.Mechanism.distance` the sketch positions are rough guesses: compile moves
+the joints and points to the pose nearest them where every stated length holds exactly, with
+the drivers at their start values. The first pivot on the ground stays where drawn and the next
+one stays on the line drawn from it (the frame's origin and direction); a slider's point stays
+on its line on the ground; the data of other joints (lines on moving bodies, gear centres,
+rolling contacts) stay as drawn. The assembly follows the lengths from the drawn ones to the
+stated ones in small steps, so it keeps the assembly mode drawn, never the mirror image; the
+sides of dyads and the turn of triangles of three stated lengths are checked.
+
+:class:`Dyad` places a joint or point at given distances from two known ones, on a named side,
+and states both distances: a linkage is a few lines from its published dimensions.
+
+>>> import numpy as np, planar
+>>> m = planar.Mechanism("four-bar")
+>>> crank, coupler, rocker = m.add_body("crank"), m.add_body("coupler"), m.add_body("rocker")
+>>> m.add_revolute("O2", m.ground, crank, at=(0, 0))
+>>> m.add_revolute("O4", rocker, m.ground, at=(4, 0))
+>>> m.add_revolute("A", crank, coupler, at=(1, 1.7))                # roughly 2 at 60 degrees
+>>> m.add_revolute("B", coupler, rocker, at=planar.Dyad("A", 3, "O4", 4, side="left"))
+>>> m.distance("O2", "A", 2)
+>>> m.distance("O2", "O4", 4)                                       # the ground link too
+>>> m.drive("O2", start=np.radians(60))
+>>> model = m.compile()
+>>> model.sketch.position("A").round(6).tolist(), model.sketch.position("B").round(6).tolist()
+([1.0, 1.732051], [3.08095, 3.892987])
+>>> np.degrees([model.sketch.bodies[b] for b in ("crank", "coupler", "rocker")]).round(2).tolist()
+[60.0, 46.08, 103.28]
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from planar.errors import AssemblyError, ModelError
+
+
+def circle_circle(c1, r1, c2, r2, what="the two circles"):
+    """Both intersections of circle(c1, r1) and circle(c2, r2): (left, right) of the directed
+    line c1 -> c2. Raises :class:`planar.AssemblyError` naming ``what`` when they do not meet.
+
+    >>> left, right = circle_circle((0, 0), 5, (8, 0), 5)
+    >>> left.tolist(), right.tolist()
+    ([4.0, 3.0], [4.0, -3.0])
+    """
+    c1, c2 = np.asarray(c1, dtype=float), np.asarray(c2, dtype=float)
+    d = c2 - c1
+    L = float(np.hypot(*d))
+    if L == 0 or L > r1 + r2 or L < abs(r1 - r2):
+        raise AssemblyError(f"{what} cannot be placed: circles of radii {r1:.12g} and {r2:.12g} with "
+                            f"centres {L:.12g} apart do not meet; choose a start inside the motion range "
+                            f"or other dimensions")
+    a = (r1**2 - r2**2 + L**2) / (2 * L)  # from c1 to the chord's foot, along c1 -> c2
+    h = np.sqrt(max(r1**2 - a**2, 0.0))
+    u = d / L
+    n = np.array([-u[1], u[0]])
+    foot = c1 + a * u
+    return foot + h * n, foot - h * n
+
+
+@dataclass(frozen=True)
+class Dyad:
+    """The point ``length_a`` from joint or point ``a`` and ``length_b`` from ``b``, on the
+    ``side`` ("left" or "right") of the directed line a -> b. Give it as the ``at=`` of
+    :meth:`planar.Mechanism.add_revolute` or :meth:`~planar.Mechanism.add_point`: the new joint
+    or point is placed there and both distances are stated (each must join two joints or
+    points of one body).
+
+    >>> Dyad("A", 3.0, "O4", 4.0, side="left").place((0, 0), (5, 0)).tolist()
+    [1.8, 2.4]
+    """
+
+    a: str
+    length_a: float
+    b: str
+    length_b: float
+    side: str = "left"
+
+    def __post_init__(self):
+        if self.side not in ("left", "right"):
+            raise ModelError(f"a dyad's side must be 'left' or 'right' of the line {self.a} -> {self.b}, "
+                             f"got {self.side!r}")
+        for key in ("length_a", "length_b"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float, np.floating, np.integer)) and np.isfinite(v) and v > 0):
+                raise ModelError(f"a dyad's {key} must be a positive number, got {v!r}")
+
+    def place(self, pa, pb, what="the dyad"):
+        """The point, given the positions of ``a`` and ``b``."""
+        return circle_circle(pa, float(self.length_a), pb, float(self.length_b), what)[self.side == "right"]
+
+
+@dataclass(frozen=True)
+class Dimension:
+    """A stated length between two joints or points of one body."""
+
+    a: str
+    b: str
+    length: float
+
+    def __str__(self):
+        return f"distance {self.a}-{self.b} = {self.length:.12g}"
+
+
+# ---- the assembly: rows on the positions of the sketch's sites ------------------------------
+
+def _wrap(x):
+    return (x + np.pi) % (2 * np.pi) - np.pi
+
+
+@dataclass(frozen=True)
+class Row:
+    """One equation on the site positions X (S, 2): ``value(X) = target``.
+
+    ``kind`` "length": |X[j] - X[i]| (``terms`` ((i, j),)); "angle": the sum of the world
+    directions of the lines i -> j in ``terms``, each with its sign, plus ``offset`` (compared
+    modulo 2 pi); "travel": (X[i] - origin) . u with ``terms`` ((i, origin, u),)."""
+
+    kind: str
+    terms: tuple
+    target: float
+    label: str
+    offset: float = 0.0
+
+    def value(self, X):
+        if self.kind == "length":
+            (i, j), = self.terms
+            return float(np.hypot(*(X[j] - X[i])))
+        if self.kind == "angle":
+            return self.offset + sum(s * np.arctan2(*(X[j] - X[i])[::-1]) for s, i, j in self.terms)
+        (i, origin, u), = self.terms
+        return float(np.dot(X[i] - origin, u))
+
+    def residual(self, X, target):
+        r = self.value(X) - target
+        return _wrap(r) if self.kind == "angle" else r
+
+    def grad(self, X):
+        """[(site, d value / d X[site])]."""
+        if self.kind == "length":
+            (i, j), = self.terms
+            d = X[j] - X[i]
+            e = d / max(np.hypot(*d), 1e-300)
+            return [(i, -e), (j, e)]
+        if self.kind == "angle":
+            out = []
+            for s, i, j in self.terms:
+                d = X[j] - X[i]
+                g = s * np.array([-d[1], d[0]]) / max(d @ d, 1e-300)
+                out += [(i, -g), (j, g)]
+            return out
+        (i, _, u), = self.terms
+        return [(i, np.asarray(u, float))]
+
+
+class _Problem:
+    """Rows on sites; each site free (basis I), on a line (basis u) or fixed (no basis)."""
+
+    def __init__(self, X0, bases, rows, L):
+        self.X0 = np.asarray(X0, float)
+        self.bases, self.rows, self.L = bases, rows, L
+        self.cols = np.cumsum([0] + [B.shape[1] for B in bases])
+        self.scale = np.array([1.0 / L if r.kind != "angle" else 1.0 for r in rows])
+
+    def X(self, z):
+        X = self.X0.copy()
+        for s, B in enumerate(self.bases):
+            X[s] += B @ z[self.cols[s]:self.cols[s + 1]]
+        return X
+
+    def residuals(self, z, targets, rows=None):
+        X = self.X(z)
+        rows = range(len(self.rows)) if rows is None else rows
+        return np.array([self.rows[k].residual(X, targets[k]) * self.scale[k] for k in rows])
+
+    def jacobian(self, z):
+        X = self.X(z)
+        J = np.zeros((len(self.rows), self.cols[-1]))
+        for k, row in enumerate(self.rows):
+            for s, g in row.grad(X):
+                J[k, self.cols[s]:self.cols[s + 1]] += g @ self.bases[s] * self.scale[k]
+        return J * self.L  # unknowns in units of L
+
+    def newton(self, z, targets, iterations=30):
+        """Minimum-norm Gauss-Newton from z: (z, converged)."""
+        for _ in range(iterations):
+            r = self.residuals(z, targets)
+            if np.max(np.abs(r), initial=0.0) <= 1e-14:
+                return z, True
+            dx = np.linalg.lstsq(self.jacobian(z), r, rcond=None)[0]
+            dx *= min(1.0, 0.25 / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most L/4 a step
+            z = z - dx * self.L
+        return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12
+
+
+def assemble(X0, bases, rows, triangles, L):
+    """Site positions X (S, 2) nearest X0 where every row holds, the lengths and angles
+    followed from their drawn values to the targets in steps; raises AssemblyError naming the
+    row that cannot hold (drivers first, then the dimensions, the last stated first) and by
+    how much, or the triangle (sites a, b, c, what) that would have to turn over."""
+    p = _Problem(X0, bases, rows, L)
+    z0 = np.zeros(p.cols[-1])
+    z, t = _follow(p, z0, *_path(rows, p.X0))
+    if t < 1.0:
+        _diagnose(X0, bases, rows, L)
+    X = p.X(z)
+    for a, b, c, what in triangles:
+        before, after = _turn(p.X0, a, b, c), _turn(X, a, b, c)
+        if abs(before) > 1e-9 * L**2 and np.sign(before) != np.sign(after):
+            raise AssemblyError(f"{what} would have to turn over to hold the dimensions (the assembly mode "
+                                f"drawn cannot be kept): draw the sketch closer to the dimensions")
+    return X
+
+
+def _path(rows, X):
+    """Row values at X and the targets, reached the short way round for angles."""
+    now = np.array([r.value(X) for r in rows])
+    change = np.array([r.residual(X, r.target) for r in rows])
+    return now, now - change
+
+
+def _follow(p, z, a, b, smallest=1.0 / 4096):
+    """Follow the row targets from a (held at z) to b in steps that halve where Newton fails,
+    down to ``smallest``: (z, how far it got, 0 to 1)."""
+    t, dt = 0.0, 0.125
+    while t < 1.0:
+        step = min(dt, 1.0 - t)
+        z_new, ok = p.newton(z, a + (t + step) * (b - a))
+        if ok:
+            z, t, dt = z_new, t + step, min(2 * step, 0.25)
+        elif step > smallest:
+            dt = step / 2
+        else:
+            break
+    return z, t
+
+
+def _turn(X, a, b, c):
+    d, e = X[b] - X[a], X[c] - X[a]
+    return d[0] * e[1] - d[1] * e[0]
+
+
+def _diagnose(X0, bases, rows, L):
+    """Raise the AssemblyError: the first row (drivers, then dimensions, last stated first)
+    without which the others hold, with the value nearest its target they let it reach."""
+    order = [k for k in reversed(range(len(rows))) if rows[k].kind != "length"]
+    order += [k for k in reversed(range(len(rows))) if rows[k].kind == "length"]
+    for k in order:
+        others = _Problem(X0, bases, rows[:k] + rows[k + 1:], L)
+        z, t = _follow(others, np.zeros(others.cols[-1]), *_path(others.rows, others.X0))
+        if t < 1.0:
+            continue
+        p = _Problem(X0, bases, rows, L)
+        a, b = _path(rows, p.X(z))
+        a[np.arange(len(rows)) != k] = b[np.arange(len(rows)) != k]
+        z, _ = _follow(p, z, a, b, smallest=1e-12)
+        row = rows[k]
+        got, off = row.value(p.X(z)), row.residual(p.X(z), row.target)
+        unit = f" rad ({np.degrees(got):.6g} deg)" if row.kind == "angle" else ""
+        raise AssemblyError(f"{row.label} cannot hold with the others: the nearest assembly has "
+                            f"{got:.6g}{unit}, {abs(off):.3g}{' rad' if unit else ''} "
+                            f"{'more' if off > 0 else 'less'} than stated; change it or the dimensions it "
+                            f"closes a loop with")
+    raise AssemblyError(f"the dimensions cannot all hold together, and no one of them alone is at fault "
+                        f"({', '.join(r.label for r in rows)}): check them against the published values")
