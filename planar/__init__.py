@@ -5,11 +5,24 @@ rolling joints; drive it; sweep the inputs. Positions come from a batched Newton
 velocities and accelerations from linear solves with the same Jacobian.
 """
 
+from importlib.metadata import PackageNotFoundError, version as _dist_version
+
 from planar.errors import (AssemblyError, ConnectivityError, FileFormatError, InputError,
                            MobilityError, ModelError, PlanarError, RedundancyError)
 from planar.designs import DesignSweep, sweep_designs
 from planar.model import Body, Mechanism, Model
 from planar.results import Status, Sweep
+
+
+def _version():
+    # the installed distribution's version; a source tree that is not installed has none
+    try:
+        return _dist_version("planar-kinematics")
+    except PackageNotFoundError:
+        return "0+unknown"
+
+
+__version__: str = _version()
 
 __all__ = [
     "Mechanism", "Model", "Body", "Sweep", "Status", "sweep_designs", "DesignSweep",

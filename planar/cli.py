@@ -516,8 +516,11 @@ def _outputs(p, out_default=None):
 
 
 def parser():
+    from planar import __version__
+
     p = _Parser(prog="planar", description="Planar mechanism kinematics from the command line.",
                 epilog="Exit codes: 0 done, 1 bad mechanism/file/sweep, 2 bad command line, 3 cannot write.")
+    p.add_argument("--version", action="version", version=f"planar {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     d = sub.add_parser("demo", help="sweep a four-bar with a coupler point; write plots, animation, CSV")

@@ -810,7 +810,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     ``outputs`` lists ``"kind:name"`` specs (default :func:`default_outputs`); ``ax`` is a
     sequence with one axes per panel, or None for a new figure. Inputs that do not assemble are
     shaded; the sweep's events (limit and singular positions) are marked with vertical lines.
-    Returns the array of axes.
+    Returns the list of axes, one per panel.
     """
     units = units or Units()
     outputs = list(outputs) if outputs is not None else default_outputs(res.model)
@@ -845,7 +845,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
         for side in ("top", "right"):
             a.spines[side].set_visible(False)
     axes[-1].set_xlabel(xlabel)
-    return axes
+    return list(axes)
 
 
 def _runs(mask):

@@ -19,10 +19,12 @@ every solve and picks the assembly mode. Angles are radians.
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import networkx as nx
 import numpy as np
 import scipy.linalg
+from numpy.typing import ArrayLike
 
 from planar.errors import (AssemblyError, ConnectivityError, InputError, MobilityError,
                            ModelError, RedundancyError)
@@ -31,6 +33,9 @@ from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Pri
 from planar.joints.base import SketchFrames
 from planar.blocks import plan as block_plan
 from planar.system import build_system
+
+if TYPE_CHECKING:
+    from planar.results import Sweep
 
 GROUND = "ground"
 
@@ -81,16 +86,20 @@ class Mechanism:
     Bodies, points and joints share one namespace; drivers have their own.
     """
 
-    def __init__(self, name="mechanism"):
+    def __init__(self, name: str = "mechanism") -> None:
         self.name = name
         self._bodies = {GROUND: 0.0}  # name -> sketch angle
-        self._points = {}  # name -> (body, world point)
-        self._joints = []
-        self._drivers = []
+        self._points: dict = {}  # name -> (body, world point)
+        self._joints: list = []
+        self._drivers: list = []
         self._names = {GROUND}
-        self._model = None
+        self._model: Model | None = None
 
-    def sketch(self):
+    def __repr__(self) -> str:
+        return (f"<Mechanism {self.name!r}: {len(self._bodies) - 1} moving bodies, {len(self._joints)} joints, "
+                f"{len(self._drivers)} driver(s)>")
+
+    def sketch(self) -> "Sketch":
         """What has been drawn so far, read-only: a :class:`Sketch`.
 
         >>> m = Mechanism("m")
@@ -103,7 +112,7 @@ class Mechanism:
     # ---- building ------------------------------------------------------------------------
 
     @property
-    def ground(self):
+    def ground(self) -> Body:
         """The fixed body (frame), at the origin with angle 0."""
         return Body(GROUND)
 
@@ -129,14 +138,14 @@ class Mechanism:
             raise ModelError(f"joint {joint!r} joins body {a!r} to itself: a joint needs two different bodies")
         return a, b
 
-    def add_body(self, name, angle=0.0):
+    def add_body(self, name: str, angle: float = 0.0) -> Body:
         """Add a moving body. ``angle`` is its angle in the sketch (radians): results report
         it plus the body's rotation since, so giving the direction of a link makes
         ``angle(body)`` that link's absolute angle."""
         self._bodies[self._new_name(name, "body")] = float(_finite(angle, f"angle of body {name!r}", ()))
         return Body(name)
 
-    def add_point(self, name, body, at):
+    def add_point(self, name: str, body: Body | str, at: ArrayLike) -> None:
         """Name the point of ``body`` that is at ``at`` in the sketch."""
         body = self._body(body)
         self._points[self._new_name(name, "point")] = (body, _point(at, f"point {name!r} at"))
@@ -147,7 +156,7 @@ class Mechanism:
         if anchor is not None:
             self._points[joint.name] = anchor
 
-    def add_revolute(self, name, body_a, body_b, at):
+    def add_revolute(self, name: str, body_a: Body | str, body_b: Body | str, at: ArrayLike) -> None:
         """Pin joint between two bodies at sketch point ``at``. Its coordinate is the angle of
         b relative to a."""
         a, b = self._pair(body_a, body_b, name)
@@ -159,7 +168,8 @@ class Mechanism:
         return dict(at=at, direction=_direction(direction, f"joint {name!r} direction"),
                     origin=at if origin is None else _point(origin, f"joint {name!r} origin"))
 
-    def add_prismatic(self, name, body_a, body_b, at, direction, origin=None):
+    def add_prismatic(self, name: str, body_a: Body | str, body_b: Body | str, at: ArrayLike, direction: ArrayLike,
+                      origin: ArrayLike | None = None) -> None:
         """Slider: the point ``at`` of ``body_b`` moves along the line of ``body_a`` through
         ``origin`` (default ``at``) with ``direction``; no relative rotation. Its coordinate is
         the travel along the line from ``origin``."""
@@ -169,7 +179,8 @@ class Mechanism:
         self._new_name(name, "joint")
         self._add(Prismatic(name, (a, b), **data))
 
-    def add_slot(self, name, body_a, body_b, at, direction, origin=None):
+    def add_slot(self, name: str, body_a: Body | str, body_b: Body | str, at: ArrayLike, direction: ArrayLike,
+                 origin: ArrayLike | None = None) -> None:
         """Pin in slot: as :meth:`add_prismatic` but the bodies turn freely."""
         a, b = self._pair(body_a, body_b, name)
         data = self._line_data(name, at, direction, origin)
@@ -186,8 +197,9 @@ class Mechanism:
                              f"through {data['at'].tolist()} along {data['direction'].tolist()}: "
                              f"give an origin on that line")
 
-    def add_gear(self, name, gear_a, gear_b, radius_a, radius_b, *, internal=False, carrier=None,
-                 centre_a=None, centre_b=None, hold_distance=False):
+    def add_gear(self, name: str, gear_a: Body | str, gear_b: Body | str, radius_a: float, radius_b: float, *,
+                 internal: bool = False, carrier: Body | str | None = None, centre_a: ArrayLike | None = None,
+                 centre_b: ArrayLike | None = None, hold_distance: bool = False) -> None:
         """Two pitch circles in mesh (external, or ``internal`` with one inside the other).
 
         With ``carrier`` (a body, or the ground) both centres are fixed on it: the row is linear
@@ -204,6 +216,8 @@ class Mechanism:
             raise ModelError(f"gear {name!r}: an internal mesh needs different radii")
         for key, value in (("centre_a", centre_a), ("centre_b", centre_b)):
             data[key] = None if value is None else _point(value, f"gear {name!r} {key}")
+        cls: type
+        bodies: tuple
         if carrier is not None:
             c = self._body(carrier, "carrier")
             if c in (a, b):
@@ -239,7 +253,8 @@ class Mechanism:
         raise ModelError(f"gear {name!r}: no revolute puts the centre of {gear!r} on the carrier {carrier!r}; "
                          f"add it first or give the centre")
 
-    def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left"):
+    def add_rack_pinion(self, name: str, pinion: Body | str, rack: Body | str, radius: float, *, centre: ArrayLike,
+                        through: ArrayLike, direction: ArrayLike, side: str = "left") -> None:
         """Pinion (pitch ``radius``, centre ``centre`` on the pinion) rolling without slip on the
         rack's pitch line through ``through`` along ``direction`` (fixed in ``rack``, any body).
         ``side`` says where the pinion centre is: left or right of the directed line."""
@@ -259,13 +274,15 @@ class Mechanism:
         self._new_name(name, "joint")
         self._add(RackPinion(name, (r, p), **data))
 
-    def add_rolling(self, name, wheel, body, radius, *, centre, through, direction, side="left"):
+    def add_rolling(self, name: str, wheel: Body | str, body: Body | str, radius: float, *, centre: ArrayLike,
+                    through: ArrayLike, direction: ArrayLike, side: str = "left") -> None:
         """A wheel rolling without slip on a straight line fixed in ``body`` (the ground or a
         moving body): the same contact as :meth:`add_rack_pinion`."""
         self.add_rack_pinion(name, wheel, body, radius, centre=centre, through=through,
                              direction=direction, side=side)
 
-    def drive(self, joint=None, *, body=None, point=None, axis=None, name=None):
+    def drive(self, joint: str | None = None, *, body: Body | str | None = None, point: str | None = None,
+              axis: str | None = None, name: str | None = None) -> None:
         """Make one input. Exactly one of: ``joint`` (a revolute's relative angle, a slider's or
         slot's travel), ``body`` (its absolute angle), ``point`` with ``axis`` "x" or "y" (a
         world coordinate of a named point). Inputs are in the order they are added."""
@@ -297,18 +314,20 @@ class Mechanism:
 
     # ---- compiling -----------------------------------------------------------------------
 
-    def compile(self):
+    def compile(self) -> "Model":
         """Check and freeze the mechanism into a :class:`Model` (cached until the next change)."""
         if self._model is None:
             self._model = _compile(self)
         return self._model
 
-    def sweep(self, values, velocity=1.0, acceleration=0.0, **options):
+    def sweep(self, values: ArrayLike, velocity: ArrayLike = 1.0, acceleration: ArrayLike = 0.0,
+              **options: Any) -> "Sweep":
         """Solve positions, velocities and accelerations over input ``values``; see
         :meth:`Model.sweep`."""
         return self.compile().sweep(values, velocity, acceleration, **options)
 
-    def circuit(self, samples=361, velocity=1.0, acceleration=0.0, **options):
+    def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0,
+                **options: Any) -> "Sweep":
         """The whole circuit through the sketch, the input reversing at each limit; see
         :meth:`Model.circuit`."""
         return self.compile().circuit(samples, velocity, acceleration, **options)
@@ -360,6 +379,10 @@ class Model:
     redundant_joints: tuple
     coordinates: dict  # joint name -> (system of its coordinate rows, row)
 
+    def __repr__(self) -> str:
+        return (f"<Model {self.name!r}: {len(self.body_names) - 1} moving bodies, {len(self.joints)} joints, "
+                f"dof {self.dof}, inputs {list(self.input_names)}>")
+
     @property
     def n(self):
         return self.system.n
@@ -369,14 +392,14 @@ class Model:
         return self.system.m
 
     @property
-    def dof(self):
+    def dof(self) -> int:
         return self.n - self.rank
 
     @property
-    def input_names(self):
+    def input_names(self) -> tuple[str, ...]:
         return tuple(d.name for d in self.drivers)
 
-    def body_id(self, body):
+    def body_id(self, body: Body | str) -> int:
         name = body.name if isinstance(body, Body) else body
         try:
             return self.body_names.index(name)
@@ -395,7 +418,8 @@ class Model:
                 return j
         raise ModelError(f"unknown joint {name!r}: the joints are {[j.name for j in self.joints]}")
 
-    def sweep(self, values, velocity=1.0, acceleration=0.0, **options):
+    def sweep(self, values: ArrayLike, velocity: ArrayLike = 1.0, acceleration: ArrayLike = 0.0,
+              **options: Any) -> "Sweep":
         """Positions, velocities and accelerations for each row of input ``values``.
 
         ``values`` is (N,) for one input or (N, f); ``velocity`` and ``acceleration`` are the
@@ -420,7 +444,8 @@ class Model:
         return run_sweep(self, U, self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N),
                          **options)
 
-    def circuit(self, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_step=0.05):
+    def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
+                max_step: float = 0.05) -> "Sweep":
         """The whole circuit through the assembled sketch of a one-input model, in one sweep.
 
         The input starts at the sketch and rises; where it cannot go further (a limit
