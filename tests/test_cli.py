@@ -70,6 +70,7 @@ def test_run_defaults_to_a_folder_named_after_the_file(here, capsys):
     assert "omega:crank [deg/s]" in rows[0]
 
 
+@pytest.mark.numba
 def test_run_on_the_compiled_engine_writes_the_same_table(here, capsys):
     io.save(CATALOGUE["four_bar"](), here / "fb.json")
     tables = []
