@@ -22,7 +22,7 @@ from planar.analysis import grashof, mobility, motion_range, output, stroke
 from planar.errors import InputError, PlanarError
 from planar.joints import Revolute, Slot
 from planar.results import Status
-from planar.units import RATE_UNITS, Units, parse_rate
+from planar.units import LENGTH_RATE_UNITS, LENGTH_UNITS, RATE_UNITS, Units, convert_length, parse_rate
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
 
@@ -111,12 +111,14 @@ def _settings(doc, args):
     """Units and sweep settings of a file with the command line's overrides."""
     from dataclasses import replace
 
-    units = doc.units
-    if getattr(args, "angle_unit", None):
-        units = replace(units, angle=args.angle_unit)
+    speed = getattr(args, "speed", None)
+    speed_unit = parse_rate(speed)[1] if speed is not None else None
+    # outputs' rates: in --rate-unit, else in the unit --speed names, else in the file's
+    rate = getattr(args, "rate_unit", None) or (speed_unit if speed_unit in RATE_UNITS else doc.units.rate)
+    units = replace(doc.units, angle=getattr(args, "angle_unit", None) or doc.units.angle, rate=rate)
     model = doc.mechanism.compile()
     sweep = doc.sweep or default_sweep(model, doc.units)
-    if units.angle != doc.units.angle:  # the file's numbers are in its own units: restate them
+    if units != doc.units:  # the file's numbers are in its own units: restate them
         sweep = _restate(sweep, model, doc.units, units)
     changes = {}
     for key in ("start", "stop", "acceleration"):
@@ -127,15 +129,8 @@ def _settings(doc, args):
         if args.num < 2:
             raise InputError(f"--num must be at least 2, got {args.num}")
         changes["num"] = args.num
-    if getattr(args, "speed", None) is not None:
-        value, unit = parse_rate(args.speed)
-        if unit is not None:
-            units = replace(units, rate=unit)
-        changes["speed"] = (value,)
-    elif getattr(args, "rate_unit", None) and args.rate_unit != units.rate:
-        speed = [float(Units(rate=units.rate).rate_to_internal(s)) for s in sweep.speed]
-        units = replace(units, rate=args.rate_unit)
-        changes["speed"] = tuple(float(units.rate_from_internal(s)) for s in speed)
+    if speed is not None:
+        changes["speed"] = _speed(speed, model, units)
     if getattr(args, "rocking", False):
         changes["rocking"] = True
     if getattr(args, "circuit", False):
@@ -143,17 +138,40 @@ def _settings(doc, args):
     return model, units, replace(sweep, **changes)
 
 
+def _restate_inputs(values, model, old, new, d):
+    """Input values (``d`` 0), rates (1) or accelerations (2) of each input in ``old`` units
+    restated in ``new`` units."""
+    out = []
+    for k, v in enumerate(values):
+        is_len = bool(model.input_lengths[min(k, len(model.input_lengths) - 1)])
+        out.append(float(new.input_from_internal(old.input_to_internal(v, is_len, d), is_len, d)))
+    return tuple(out)
+
+
 def _restate(sweep, model, old, new):
     from dataclasses import replace
 
-    def conv(values, d):
-        out = []
-        for k, v in enumerate(values):
-            is_len = bool(model.input_lengths[min(k, len(model.input_lengths) - 1)])
-            out.append(float(new.input_from_internal(old.input_to_internal(v, is_len, d), is_len, d)))
-        return tuple(out)
+    return replace(sweep, **{key: _restate_inputs(getattr(sweep, key), model, old, new, d)
+                             for key, d in (("start", 0), ("stop", 0), ("speed", 1), ("acceleration", 2))})
 
-    return replace(sweep, start=conv(sweep.start, 0), stop=conv(sweep.stop, 0))
+
+def _speed(text, model, units):
+    """``--speed``: one speed for every input, in ``units`` (the run's) when it names no unit of
+    its own, else converted from its unit (an angular rate for angle inputs, length/s for
+    sliding and point inputs)."""
+    value, unit = parse_rate(text)
+    if unit is None:
+        return (value,)
+    out = []
+    for name, is_len in zip(model.input_names, model.input_lengths):
+        if bool(is_len) != (unit in LENGTH_RATE_UNITS):
+            want = "a length per second, like 40mm/s" if is_len else "an angular rate, like 120rpm or 10rad/s"
+            raise InputError(f"--speed {text}: input {name!r} is {'a length' if is_len else 'an angle'}: give {want}")
+        if is_len:
+            out.append(float(convert_length(value, LENGTH_RATE_UNITS[unit], units.length)))
+        else:
+            out.append(float(units.rate_from_internal(Units(rate=unit).rate_to_internal(value))))
+    return tuple(out)
 
 
 def run_sweep(model, units, settings, circuit=False, engine="numpy"):
@@ -412,7 +430,7 @@ def cmd_run(args):
         print("planar: error: --circuit starts at the sketch and ends back there: drop --start and --stop",
               file=sys.stderr)
         return EXIT_USAGE
-    doc = io.load(args.file)
+    doc = io.load(args.file, args.length_unit)
     out = Path(args.out) if args.out else Path(f"{Path(args.file).stem}-out")
     _run(doc, args.file, args, out)
     return EXIT_OK
@@ -421,7 +439,7 @@ def cmd_run(args):
 def cmd_info(args):
     from planar import io
 
-    doc = io.load(args.file)
+    doc = io.load(args.file, args.length_unit)
     model, lines = info_lines(doc, args.file)
     units = doc.units
     settings = doc.sweep or default_sweep(model, units)
@@ -515,6 +533,11 @@ def _outputs(p, out_default=None):
                    help="points to trace and draw arrows on, comma separated (default: the named points)")
 
 
+def _length_unit(p):
+    p.add_argument("--length-unit", choices=tuple(LENGTH_UNITS),
+                   help="restate the file's lengths (its units.length: m, cm, mm or in) in this unit")
+
+
 def parser():
     from planar import __version__
 
@@ -546,11 +569,13 @@ def parser():
                         "structure, 10-65 s, then cached)")
     r.add_argument("--angle-unit", choices=("deg", "rad"), help="angle unit of the outputs and of --start/--stop")
     r.add_argument("--rate-unit", choices=tuple(RATE_UNITS), help="unit of angular rates in the outputs")
+    _length_unit(r)
     _outputs(r)
     r.set_defaults(func=cmd_run)
 
     i = sub.add_parser("info", help="mobility, redundancy, Grashof class, motion ranges and events of a file")
     i.add_argument("file", help="mechanism file (JSON)")
+    _length_unit(i)
     i.set_defaults(func=cmd_info)
 
     e = sub.add_parser("example", help="write a catalogue mechanism to a file (no NAME: list the catalogue)")

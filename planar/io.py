@@ -29,7 +29,9 @@ like the script that would build it::
 - Every joint entry is ``{"type", "name", "bodies"}`` plus the keyword arguments of the
   builder method ``add_<type>``; ``bodies`` are its two body arguments in order. Optional fields
   may be left out.
-- Points are world coordinates of the assembled sketch, in ``units.length`` (a label only).
+- Points are world coordinates of the assembled sketch, in ``units.length``: "m", "cm", "mm"
+  or "in" convert (``load(path, length_unit="mm")`` restates every length of the file in mm),
+  any other label only names them.
 - A body's ``angle`` is its sketch angle in ``units.angle``; ``angle_rad`` gives it in radians
   whatever the units (files written by planar use it where degrees would not round-trip).
 - ``sweep``: ``start``/``stop`` of each input (a number, or a list with one per input) in
@@ -62,11 +64,11 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.errors import FileFormatError, ModelError, PlanarError
+from planar.errors import FileFormatError, InputError, ModelError, PlanarError
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic, RackPinion,
                            Revolute, RollingContact, Slot, TravelDriver)
 from planar.model import GROUND, Mechanism
-from planar.units import Units
+from planar.units import Units, convert_length
 
 VERSION = 1
 
@@ -218,8 +220,11 @@ def _tuple(v):
     return tuple(float(x) for x in v) if isinstance(v, list) else (float(v),)
 
 
-def from_dict(data, source="<mechanism file>"):
-    """Validate a document (parsed JSON) and build it; see the module doc for the format."""
+def from_dict(data, source="<mechanism file>", length_unit=None):
+    """Validate a document (parsed JSON) and build it, its lengths restated in ``length_unit``
+    when given; see the module doc for the format."""
+    if length_unit is not None:
+        data = convert_lengths(from_dict(data, source).data, length_unit, source)
     c = _Checker(source)
     c.mapping(data, "file", _TOP)
     if data.get("version", VERSION) != VERSION:
@@ -285,6 +290,50 @@ def from_dict(data, source="<mechanism file>"):
             acceleration=_tuple(0.0 if got["acceleration"] is None else got["acceleration"]),
             rocking=bool(got["rocking"]))
     return MechanismFile(m, units, sweep, _canonical(data))
+
+
+def convert_lengths(data, unit, source="<mechanism file>"):
+    """A valid document with every length (points, joint positions and radii, and the sweep's
+    values of sliding and point inputs) restated in ``unit``, and ``units.length`` set to it.
+
+    >>> doc = {"units": {"length": "cm"}, "bodies": [{"name": "b"}],
+    ...        "joints": [{"type": "slot", "name": "s", "bodies": ["ground", "b"], "at": [2, 0], "direction": [1, 0]}],
+    ...        "drivers": [{"joint": "s"}], "sweep": {"start": 0, "stop": 2.5}}
+    >>> new = convert_lengths(doc, "mm")
+    >>> new["joints"][0]["at"], new["sweep"], new["units"]
+    ([20.0, 0.0], {'start': 0.0, 'stop': 25.0}, {'length': 'mm'})
+    """
+    have = data.get("units", {}).get("length", "")
+    try:
+        convert_length(1.0, have, unit)
+    except InputError as e:
+        raise FileFormatError(f"{source}: units.length: {e}") from None
+
+    def conv(v):
+        return [float(x) for x in convert_length(v, have, unit)] if isinstance(v, list) else float(convert_length(v, have, unit))
+
+    out = json.loads(json.dumps(data))
+    for p in out.get("points", []):
+        p["at"] = conv(p["at"])
+    joints = {}
+    for j in out.get("joints", []):
+        joints[j["name"]] = j["type"]
+        for key, (kind, _) in JOINT_FIELDS[j["type"]].items():
+            if key in j and kind in ("point", "positive"):
+                j[key] = conv(j[key])
+    # which inputs are lengths: a slider's or slot's travel, a point's coordinate
+    lengths = [("point" in d) or joints.get(d.get("joint")) in ("prismatic", "slot") for d in out.get("drivers", [])]
+    s = out.get("sweep", {})
+    for key in ("start", "stop", "speed", "acceleration"):
+        if key in s and lengths:
+            values = s[key] if isinstance(s[key], list) else [s[key]]
+            if len(values) == 1:
+                values = values * len(lengths)
+            if len(values) == len(lengths):  # else the sweep is refused later, naming the field
+                new = [conv(v) if is_len else v for v, is_len in zip(values, lengths)]
+                s[key] = new[0] if not isinstance(s[key], list) and len(set(new)) == 1 else new
+    out.setdefault("units", {})["length"] = unit
+    return out
 
 
 def _build(c, where, call, *args, **kwargs):
@@ -423,17 +472,19 @@ def _format(data):
     return "{\n" + ",\n".join(lines) + "\n}\n"
 
 
-def loads(text, source="<string>"):
-    """Read a mechanism document from JSON text: a :class:`MechanismFile`."""
+def loads(text, source="<string>", length_unit=None):
+    """Read a mechanism document from JSON text: a :class:`MechanismFile` (its lengths in
+    ``length_unit`` when given)."""
     try:
         data = json.loads(text)
     except json.JSONDecodeError as e:
         raise FileFormatError(f"{source}: not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}") from None
-    return from_dict(data, source)
+    return from_dict(data, source, length_unit)
 
 
-def load(path):
-    """Read a mechanism file: a :class:`MechanismFile` (``.mechanism``, ``.units``, ``.sweep``)."""
+def load(path, length_unit=None):
+    """Read a mechanism file: a :class:`MechanismFile` (``.mechanism``, ``.units``, ``.sweep``),
+    its lengths restated in ``length_unit`` ("m", "cm", "mm" or "in") when given."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -441,7 +492,7 @@ def load(path):
         raise FileFormatError(f"{path}: cannot read the file: {e.strerror or e}") from None
     except UnicodeDecodeError:
         raise FileFormatError(f"{path}: not a text file (a mechanism file is UTF-8 JSON)") from None
-    return loads(text, str(path))
+    return loads(text, str(path), length_unit)
 
 
 def save(obj, path, units=None, sweep=None):
