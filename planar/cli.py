@@ -19,12 +19,18 @@ from pathlib import Path
 import numpy as np
 
 from planar.analysis import grashof, mobility, motion_range, output, stroke
-from planar.errors import InputError, PlanarError
+from planar.errors import FileFormatError, InputError, PlanarError
 from planar.joints import Revolute, Slot
 from planar.results import Status
 from planar.units import LENGTH_RATE_UNITS, LENGTH_UNITS, RATE_UNITS, Units, convert_length, parse_rate
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
+MAX_ROWS = 10_000_000  # table rows a run writes: beyond, the CSV alone takes many minutes and gigabytes
+MAX_FRAMES, DPI, FPS = 2000, (20, 1200), (1, 100)
+
+
+class UsageError(InputError):
+    """The command line is wrong (exit code 2): the message names the option and the fix."""
 
 
 class _Progress:
@@ -112,7 +118,7 @@ def _settings(doc, args):
     from dataclasses import replace
 
     speed = getattr(args, "speed", None)
-    speed_unit = parse_rate(speed)[1] if speed is not None else None
+    speed_unit = _parse_speed(speed)[1] if speed is not None else None
     # outputs' rates: in --rate-unit, else in the unit --speed names, else in the file's
     rate = getattr(args, "rate_unit", None) or (speed_unit if speed_unit in RATE_UNITS else doc.units.rate)
     units = replace(doc.units, angle=getattr(args, "angle_unit", None) or doc.units.angle, rate=rate)
@@ -127,7 +133,7 @@ def _settings(doc, args):
             changes[key] = tuple(v)
     if getattr(args, "num", None) is not None:
         if args.num < 2:
-            raise InputError(f"--num must be at least 2, got {args.num}")
+            raise UsageError(f"--num must be at least 2, got {args.num}")
         changes["num"] = args.num
     if speed is not None:
         changes["speed"] = _speed(speed, model, units)
@@ -155,18 +161,25 @@ def _restate(sweep, model, old, new):
                              for key, d in (("start", 0), ("stop", 0), ("speed", 1), ("acceleration", 2))})
 
 
+def _parse_speed(text):
+    try:
+        return parse_rate(text)
+    except InputError as e:
+        raise UsageError(f"--speed: {e}") from None
+
+
 def _speed(text, model, units):
     """``--speed``: one speed for every input, in ``units`` (the run's) when it names no unit of
     its own, else converted from its unit (an angular rate for angle inputs, length/s for
     sliding and point inputs)."""
-    value, unit = parse_rate(text)
+    value, unit = _parse_speed(text)
     if unit is None:
         return (value,)
     out = []
     for name, is_len in zip(model.input_names, model.input_lengths):
         if bool(is_len) != (unit in LENGTH_RATE_UNITS):
             want = "a length per second, like 40mm/s" if is_len else "an angular rate, like 120rpm or 10rad/s"
-            raise InputError(f"--speed {text}: input {name!r} is {'a length' if is_len else 'an angle'}: give {want}")
+            raise UsageError(f"--speed {text}: input {name!r} is {'a length' if is_len else 'an angle'}: give {want}")
         if is_len:
             out.append(float(convert_length(value, LENGTH_RATE_UNITS[unit], units.length)))
         else:
@@ -174,11 +187,32 @@ def _speed(text, model, units):
     return tuple(out)
 
 
-def run_sweep(model, units, settings, circuit=False, engine="numpy"):
-    """The sweep the settings ask for (on ``engine``); with ``circuit``, the whole circuit
-    through the sketch instead (``num`` values, the settings' speed and acceleration along the
-    motion)."""
-    U, Ud, Udd = settings.values(model, units)
+def sweep_values(model, units, settings, source, args=None):
+    """The settings' input values and rates, checked before any work: a sweep too long, too far
+    or with the wrong number of values is blamed on the command line's sweep options when it
+    gave some (:class:`UsageError`), else on the file."""
+    from planar import arguments
+    from planar.sweep import run_sweep as walk
+
+    try:
+        if settings.num * (2 if settings.rocking else 1) > MAX_ROWS:
+            raise InputError(f"{settings.num} sweep values: a run writes at most {MAX_ROWS:,} rows; "
+                             f"sweep fewer values (or call Model.sweep from Python)")
+        U, Ud, Udd = settings.values(model, units)
+        arguments.values(model, U, arguments.sweep_options({}, walk)["max_step"])
+    except PlanarError as e:
+        given = [f"--{k}" for k in ("start", "stop", "num", "speed", "acceleration") if getattr(args, k, None) is not None]
+        if given:
+            raise UsageError(f"{', '.join(given)}: {e}") from None
+        raise FileFormatError(f"{source}: {e}") from None
+    return U, Ud, Udd
+
+
+def run_sweep(model, units, settings, circuit=False, engine="numpy", values=None):
+    """The sweep the settings ask for (on ``engine``), over ``values`` (U, Ud, Udd) when given;
+    with ``circuit``, the whole circuit through the sketch instead (``num`` values, the
+    settings' speed and acceleration along the motion)."""
+    U, Ud, Udd = values or settings.values(model, units)
     if circuit:
         return model.circuit(samples=settings.num, velocity=abs(float(Ud[0, 0])), acceleration=float(Udd[0, 0]))
     return model.sweep(U, velocity=Ud, acceleration=Udd, engine=engine)
@@ -374,8 +408,17 @@ def _run(doc, source, args, out):
     from planar import animate, draw
 
     model, units, settings = _settings(doc, args)
+    unknown = [p for p in args.points or () if p not in model.points]
+    if unknown:
+        raise UsageError(f"--points: no point or joint {unknown[0]!r} in {model.name!r}: the names are "
+                         f"{', '.join(sorted(model.points))}")
+    formats = [f.strip() for f in (args.tables or "csv").split(",") if f.strip()]
+    for fmt in formats:
+        if fmt not in ("csv", "json"):
+            raise UsageError(f"--tables: unknown table format {fmt!r}: use csv, json or csv,json")
     circuit = getattr(args, "circuit", False)
-    res = run_sweep(model, units, settings, circuit, getattr(args, "engine", "numpy"))
+    values = sweep_values(model, units, settings, source, args)
+    res = run_sweep(model, units, settings, circuit, getattr(args, "engine", "numpy"), values)
     _, lines = info_lines(doc, source)
     for line in lines[1:]:
         print(line)
@@ -385,10 +428,7 @@ def _run(doc, source, args, out):
     stem = _stem(model.name)
     written = []
     cols = table(res, units)
-    formats = [f.strip() for f in (args.tables or "csv").split(",") if f.strip()]
     for fmt in formats:
-        if fmt not in ("csv", "json"):
-            raise InputError(f"unknown table format {fmt!r}: use csv, json or csv,json")
         p = out / f"{stem}.{fmt}"
         _write(p, write_csv if fmt == "csv" else (lambda c, q: write_json(c, q, model.name)), cols, p)
         written.append(p)
@@ -427,9 +467,7 @@ def cmd_run(args):
     from planar import io
 
     if args.circuit and (args.start is not None or args.stop is not None):
-        print("planar: error: --circuit starts at the sketch and ends back there: drop --start and --stop",
-              file=sys.stderr)
-        return EXIT_USAGE
+        raise UsageError("--circuit starts at the sketch and ends back there: drop --start and --stop")
     doc = io.load(args.file, args.length_unit)
     out = Path(args.out) if args.out else Path(f"{Path(args.file).stem}-out")
     _run(doc, args.file, args, out)
@@ -443,7 +481,7 @@ def cmd_info(args):
     model, lines = info_lines(doc, args.file)
     units = doc.units
     settings = doc.sweep or default_sweep(model, units)
-    res = run_sweep(model, units, settings)
+    res = run_sweep(model, units, settings, values=sweep_values(model, units, settings, args.file))
     for line in lines + range_lines(model, units) + summary(res, units, settings) + stroke_lines(model, units):
         print(line)
     return EXIT_OK
@@ -470,9 +508,7 @@ def cmd_example(args):
             print(f"  {name:24s} {first.split('. ')[0].rstrip('.')}")
         return EXIT_OK
     if args.name not in CATALOGUE:
-        print(f"planar: error: no catalogue mechanism {args.name!r}: the names are {', '.join(CATALOGUE)}",
-              file=sys.stderr)
-        return EXIT_USAGE
+        raise UsageError(f"no catalogue mechanism {args.name!r}: the names are {', '.join(CATALOGUE)}")
     mech, units, sweep = _example_doc(args.name)
     path = Path(args.output or f"{args.name}.json")
     _write(path, io.save, mech, path, units, sweep)
@@ -515,8 +551,31 @@ def cmd_demo(args):
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
-        self.print_usage(sys.stderr)
-        self.exit(EXIT_USAGE, f"planar: error: {message}\n")
+        self.exit(EXIT_USAGE, f"planar: error: {message} (see {self.prog} --help)\n")
+
+
+def _bounded(lo, hi):
+    """An argparse type: an integer from ``lo`` to ``hi``."""
+    def read(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"{v} is not from {lo} to {hi}")
+        return v
+    return read
+
+
+def _finite(text):
+    """An argparse type: a finite number."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return v
 
 
 def _outputs(p, out_default=None):
@@ -526,9 +585,11 @@ def _outputs(p, out_default=None):
     p.add_argument("--no-plot", action="store_true", help="do not write the PNG figures")
     p.add_argument("--no-animation", action="store_true", help="do not write the animation")
     p.add_argument("--animation", choices=("gif", "mp4"), default="gif", help="animation format (mp4 needs ffmpeg)")
-    p.add_argument("--frames", type=int, default=60, help="most frames in the animation (default 60)")
-    p.add_argument("--fps", type=int, default=15, help="animation frames per second (default 15)")
-    p.add_argument("--dpi", type=int, default=90, help="figure resolution (default 90)")
+    p.add_argument("--frames", type=_bounded(2, MAX_FRAMES), default=60,
+                   help=f"most frames in the animation, 2 to {MAX_FRAMES} (default 60)")
+    p.add_argument("--fps", type=_bounded(*FPS), default=15,
+                   help=f"animation frames per second, {FPS[0]} to {FPS[1]} (default 15)")
+    p.add_argument("--dpi", type=_bounded(*DPI), default=90, help=f"figure resolution, {DPI[0]} to {DPI[1]} (default 90)")
     p.add_argument("--points", type=lambda s: [x for x in s.split(",") if x], default=None,
                    help="points to trace and draw arrows on, comma separated (default: the named points)")
 
@@ -548,17 +609,17 @@ def parser():
 
     d = sub.add_parser("demo", help="sweep a four-bar with a coupler point; write plots, animation, CSV")
     _outputs(d, "planar-demo")
-    d.add_argument("--num", type=int, default=73, help="sweep values over the turn (default 73)")
+    d.add_argument("--num", type=_bounded(2, MAX_ROWS), default=73, help="sweep values over the turn (default 73)")
     d.set_defaults(func=cmd_demo)
 
     r = sub.add_parser("run", help="sweep a mechanism file and write tables, plots and an animation")
     r.add_argument("file", help="mechanism file (JSON; see planar example)")
-    r.add_argument("--start", type=float, nargs="+", help="input value(s) at the start, in the file's units")
-    r.add_argument("--stop", type=float, nargs="+", help="input value(s) at the end, in the file's units")
-    r.add_argument("--num", type=int, help="number of sweep values")
+    r.add_argument("--start", type=_finite, nargs="+", help="input value(s) at the start, in the file's units")
+    r.add_argument("--stop", type=_finite, nargs="+", help="input value(s) at the end, in the file's units")
+    r.add_argument("--num", type=_bounded(2, MAX_ROWS), help=f"number of sweep values, 2 to {MAX_ROWS:,}")
     r.add_argument("--speed", help="input speed: a number in the file's rate unit, or with a unit: "
                                    "10rad/s, 90deg/s, 120rpm (length/s for sliding inputs)")
-    r.add_argument("--acceleration", type=float, nargs="+", help="input acceleration(s)")
+    r.add_argument("--acceleration", type=_finite, nargs="+", help="input acceleration(s)")
     motion = r.add_mutually_exclusive_group()
     motion.add_argument("--rocking", action="store_true", help="sweep start -> stop -> start")
     motion.add_argument("--circuit", action="store_true",
@@ -591,11 +652,15 @@ def main(argv=None):
     try:
         return args.func(args)
     except PlanarError as e:
-        print(f"planar: error: {e}", file=sys.stderr)
-        return EXIT_INPUT
+        print(f"planar: error: {_one_line(e)}", file=sys.stderr)
+        return EXIT_USAGE if isinstance(e, UsageError) else EXIT_INPUT
     except _OutputError as e:
-        print(f"planar: error: {e}", file=sys.stderr)
+        print(f"planar: error: {_one_line(e)}", file=sys.stderr)
         return EXIT_OUTPUT
+
+
+def _one_line(e):
+    return " ".join(str(e).split())
 
 
 if __name__ == "__main__":

@@ -181,7 +181,13 @@ class SweepSettings:
 
     def values(self, model, units):
         """Input values (N, f) and rates (N, f), (N, f) in internal units for ``model``."""
+        from planar import arguments
+
         f = len(model.drivers)
+        if f == 0:
+            raise FileFormatError(f"drivers: the mechanism has no driver to sweep: add {model.dof} to drivers, "
+                                  f'like {{"joint": "O2"}} or {{"body": "crank"}}')
+        arguments.size(model, self.num * (2 if self.rocking else 1), "the sweep (sweep.num)")
         cols = []
         for name, key in (("start", self.start), ("stop", self.stop), ("speed", self.speed),
                           ("acceleration", self.acceleration)):
@@ -479,7 +485,31 @@ def loads(text, source="<string>", length_unit=None):
         data = json.loads(text)
     except json.JSONDecodeError as e:
         raise FileFormatError(f"{source}: not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}") from None
+    except RecursionError:
+        raise FileFormatError(f"{source}: lists or objects nested too deeply for a mechanism file "
+                              f"(at most {MAX_DEPTH} levels)") from None
+    depth = _depth(data)
+    if depth > MAX_DEPTH:
+        raise FileFormatError(f"{source}: lists or objects nested more than {MAX_DEPTH} levels deep: "
+                              f"a mechanism file nests 4 (file, joints, a joint, its point)")
     return from_dict(data, source, length_unit)
+
+
+MAX_DEPTH = 16  # the format nests 4 levels (file, "joints", a joint, "at"): room to grow, far from recursion
+
+
+def _depth(data):
+    """How deep lists and objects nest in ``data`` (without recursion: a file may nest deeply)."""
+    deepest, todo = 0, [(data, 0)]
+    while todo:
+        v, d = todo.pop()
+        if isinstance(v, (list, dict)):
+            d += 1
+            deepest = max(deepest, d)
+            if deepest > MAX_DEPTH:
+                break
+            todo.extend((x, d) for x in (v.values() if isinstance(v, dict) else v))
+    return deepest
 
 
 def load(path, length_unit=None):

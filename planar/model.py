@@ -435,11 +435,14 @@ class Model:
         structure, 4-6x faster at large N; needs the ``fast`` extra; the first sweep of a
         structure compiles for 10-65 s, then it is cached on disk; see :mod:`planar.compiled`).
         """
+        from planar import arguments
         from planar.sweep import run_sweep
 
         if not self.drivers:
             raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
+        options = arguments.sweep_options(options, run_sweep)
         U = self._inputs(values, "values")
+        arguments.values(self, U, options["max_step"])
         N = U.shape[0]
         return run_sweep(self, U, self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N),
                          **options)
@@ -466,9 +469,12 @@ class Model:
         >>> np.degrees([e.input for e in res.events]).round(6).tolist()
         [117.279613, -117.279613]
         """
+        from planar import arguments
         from planar.circuit import circuit
 
-        return circuit(self, samples, velocity, acceleration, tol=tol, max_step=max_step)
+        arguments.size(self, samples, "the circuit")
+        return circuit(self, samples, velocity, acceleration, tol=arguments.tolerance(tol),
+                       max_step=arguments.max_step(max_step))
 
     def _inputs(self, values, what, N=None):
         """``values`` as a new C-contiguous (N, f) array (the sweep keeps it: a copy, so the
