@@ -21,6 +21,7 @@ import numpy as np
 from planar.analysis import grashof, mobility, motion_range, output, stroke
 from planar.errors import FileFormatError, InputError, PlanarError
 from planar.joints import Revolute, Slot
+from planar.progress import Progress
 from planar.results import Status
 from planar.units import LENGTH_RATE_UNITS, LENGTH_UNITS, RATE_UNITS, Units, convert_length, parse_rate
 
@@ -31,20 +32,6 @@ MAX_FRAMES, DPI, FPS = 2000, (20, 1200), (1, 100)
 
 class UsageError(InputError):
     """The command line is wrong (exit code 2): the message names the option and the fix."""
-
-
-class _Progress:
-    """A one-line counter on a terminal; silent when stdout is a file or a pipe."""
-
-    def __init__(self, what, stream=None):
-        self.what, self.stream = what, stream or sys.stdout
-        self.on = self.stream.isatty()
-
-    def __call__(self, done, total):
-        if self.on:
-            end = "\n" if done == total else ""
-            self.stream.write(f"\r{self.what} {done}/{total}{end}")
-            self.stream.flush()
 
 
 # ---- tables ----------------------------------------------------------------------------------
@@ -77,11 +64,14 @@ def _header(name, unit):
 
 
 def write_csv(cols, path):
+    progress, N = Progress(f"writing {Path(path).name}: rows"), len(cols[0][2]) if cols else 0
     with open(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         w.writerow([_header(n, u) for n, u, _ in cols])
-        for row in zip(*(v for _, _, v in cols)):
+        for i, row in enumerate(zip(*(v for _, _, v in cols)), 1):
             w.writerow([v if isinstance(v, str) else ("" if not math.isfinite(v) else repr(float(v))) for v in row])
+            if i % 4096 == 0 or i == N:
+                progress(i, N)
 
 
 def write_json(cols, path, name):
@@ -452,7 +442,7 @@ def _run(doc, source, args, out):
         p = out / f"{stem}.{kind}"
         _write(p, lambda: animate.animate(res, p, points=args.points, fps=args.fps, max_frames=args.frames,
                                           rocking=settings.rocking, dpi=args.dpi * 3 // 4, units=units,
-                                          progress=_Progress("animation frame")))
+                                          progress=Progress(f"writing {p.name}: frames")))
         written.append(p)
     print("wrote " + ", ".join(str(p) for p in written))
     return res

@@ -2,6 +2,7 @@
 their exit codes."""
 
 import csv
+import importlib.util
 import json
 import subprocess
 import sys
@@ -216,12 +217,24 @@ def test_progress_only_on_a_terminal():
         def flush(self):
             pass
 
-    for tty, want in ((True, "\rframe 1/2\rframe 2/2\n"), (False, "")):
-        stream = Tty(tty)
-        p = cli._Progress("frame", stream)
-        p(1, 2)
-        p(2, 2)
-        assert stream.text == want
+    import planar.progress
+
+    for tqdm in (None, "installed"):  # the counter without tqdm, tqdm's bar with it
+        with pytest.MonkeyPatch.context() as mp:
+            if tqdm is None:
+                mp.setitem(sys.modules, "tqdm", None)
+            elif importlib.util.find_spec("tqdm") is None:
+                continue
+            for tty, delay in ((True, 0.0), (False, 0.0), (True, 60.0)):
+                stream = Tty(tty)
+                p = planar.progress.Progress("frame", stream, delay=delay)
+                p(1, 2)
+                p(2, 2)
+                if tty and delay == 0.0:
+                    assert "frame" in stream.text  # tqdm clears its bar when done
+                    assert tqdm or stream.text == "\rframe 1/2\rframe 2/2\n"
+                else:  # off a terminal, or work done before the delay: nothing
+                    assert stream.text == ""
 
 
 def test_default_sweep_is_a_turn_or_a_travel():
