@@ -25,6 +25,8 @@ from planar.errors import InputError
 
 TOL_RANGE = (1e-15, 1e-3)  # scaled residual: below 1e-15 rounding cannot meet it; above 1e-3 a pose is off
 MAX_STEPS = 1e8  # continuation steps of max_step through the sweep's values
+# input rates and accelerations (per the mechanism's size for lengths): beyond, v**2 overflows
+MAX_RATE, MAX_ACCELERATION = 1e100, 1e200
 BYTES_PER_COORDINATE = 40  # per value and coordinate: positions, rates, accelerations and the work arrays
 
 
@@ -68,6 +70,17 @@ def sweep_options(options, run):
     if "rates" in out and not isinstance(out["rates"], (bool, np.bool_)):
         raise InputError(f"rates must be True or False, got {out['rates']!r}")
     return out
+
+
+def rates(model, Ud, Udd):
+    """Refuse input rates and accelerations so large that the accelerations overflow."""
+    scale = np.where(model.input_lengths, model.L, 1.0)
+    for what, a, limit in (("velocity", Ud, MAX_RATE), ("acceleration", Udd, MAX_ACCELERATION)):
+        big = float(np.max(np.abs(a) / scale)) if a.size else 0.0
+        if big > limit:
+            raise InputError(f"sweep {what} reaches {big:.3g} (radians, or the mechanism's size, per second"
+                             f"{'' if what == 'velocity' else ' squared'}): beyond {limit:g} the accelerations "
+                             f"overflow; give it in larger units of time")
 
 
 def _memory():

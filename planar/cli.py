@@ -190,6 +190,7 @@ def sweep_values(model, units, settings, source, args=None):
                              f"sweep fewer values (or call Model.sweep from Python)")
         U, Ud, Udd = settings.values(model, units)
         arguments.values(model, U, arguments.sweep_options({}, walk)["max_step"])
+        arguments.rates(model, Ud, Udd)
     except PlanarError as e:
         given = [f"--{k}" for k in ("start", "stop", "num", "speed", "acceleration") if getattr(args, k, None) is not None]
         if given:
@@ -453,21 +454,30 @@ def _stem(name):
     return keep or "mechanism"
 
 
-def cmd_run(args):
+def _load(args):
+    """The file of the command line, read and compiled (the model is cached for later calls);
+    an error names the file."""
     from planar import io
 
+    doc = io.load(args.file, args.length_unit)
+    try:
+        doc.mechanism.compile()
+    except PlanarError as e:
+        raise FileFormatError(f"{args.file}: {e}") from None
+    return doc
+
+
+def cmd_run(args):
     if args.circuit and (args.start is not None or args.stop is not None):
         raise UsageError("--circuit starts at the sketch and ends back there: drop --start and --stop")
-    doc = io.load(args.file, args.length_unit)
+    doc = _load(args)
     out = Path(args.out) if args.out else Path(f"{Path(args.file).stem}-out")
     _run(doc, args.file, args, out)
     return EXIT_OK
 
 
 def cmd_info(args):
-    from planar import io
-
-    doc = io.load(args.file, args.length_unit)
+    doc = _load(args)
     model, lines = info_lines(doc, args.file)
     units = doc.units
     settings = doc.sweep or default_sweep(model, units)

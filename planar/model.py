@@ -444,8 +444,9 @@ class Model:
         U = self._inputs(values, "values")
         arguments.values(self, U, options["max_step"])
         N = U.shape[0]
-        return run_sweep(self, U, self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N),
-                         **options)
+        Ud, Udd = self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N)
+        arguments.rates(self, Ud, Udd)
+        return run_sweep(self, U, Ud, Udd, **options)
 
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
                 max_step: float = 0.05) -> "Sweep":
