@@ -26,6 +26,9 @@ def test_licence_and_distribution_name():
     assert (ROOT / "LICENSE").read_text().startswith("MIT License")
     text = (ROOT / "pyproject.toml").read_text()
     assert 'name = "planar-kinematics"' in text
+
+
+def test_install_hints_name_the_distribution():
     for path in [ROOT / "README.md", *ROOT.glob("docs/*.md"), *ROOT.glob("planar/**/*.py")]:
         hints = re.findall(r"pip install [\"']?planar\b(?!-kinematics)", path.read_text())
         assert not hints, f"{path.name}: install hint names the package index's 'planar', another project"
