@@ -27,13 +27,25 @@ def ffmpeg_available():
 
 
 def frame_indices(res, max_frames=120, rocking=False):
-    """Indices of the poses to show: the poses with valid positions, thinned to at most
-    ``max_frames``; with ``rocking``, forwards then back (an input that swings to and fro)."""
-    drawable = np.flatnonzero(np.all(np.isfinite(np.asarray(res.q)), axis=1))
+    """Indices of the poses to show: the poses with valid positions, every k-th of them for the
+    smallest k that gives at most ``max_frames`` (evenly spaced in the sweep's values), the last
+    left out when it repeats the first (a whole turn: the animation loops back to it); with
+    ``rocking``, forwards then back (an input that swings to and fro).
+
+    >>> from planar.mechanisms import four_bar
+    >>> res = four_bar().sweep(np.radians(np.arange(0.0, 361.0, 5.0)))   # 73 values, 0 to 360 deg
+    >>> np.degrees(res.inputs[frame_indices(res, 60), 0]).round(6)[[0, 1, 2, -1]].tolist()
+    [0.0, 10.0, 20.0, 350.0]
+    """
+    if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 1:
+        raise InputError(f"max_frames must be a whole number of at least 1, got {max_frames!r}")
+    q = np.asarray(res.q)
+    drawable = np.flatnonzero(np.all(np.isfinite(q), axis=1))
     if drawable.size == 0:
         raise InputError("no pose of this sweep solved: nothing to animate (check the input range)")
-    if drawable.size > max_frames:
-        drawable = drawable[np.unique(np.linspace(0, drawable.size - 1, max_frames).round().astype(int))]
+    if drawable.size > 2 and not rocking and _same_pose(res.model, q[drawable[0]], q[drawable[-1]]):
+        drawable = drawable[:-1]
+    drawable = drawable[:: -(-drawable.size // max_frames)]
     if rocking and drawable.size > 2:
         drawable = np.r_[drawable, drawable[-2:0:-1]]
     return drawable
@@ -119,6 +131,13 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
     finally:
         plt.close(fig)
     return path
+
+
+def _same_pose(model, a, b):
+    """Whether poses a and b (n,) put every body at the same place (angles modulo a turn)."""
+    d = (b - a).reshape(-1, 3)
+    d[:, 2] = np.angle(np.exp(1j * d[:, 2]))
+    return bool(np.all(np.abs(d[:, :2]) <= 1e-9 * model.L) and np.all(np.abs(d[:, 2]) <= 1e-9))
 
 
 def _fit_figure(fig, ax, size):

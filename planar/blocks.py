@@ -178,7 +178,7 @@ class Factors:
         return x[: p.n].T
 
 
-_PLANS = weakref.WeakKeyDictionary()
+_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def plan(model, cols=None):

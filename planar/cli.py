@@ -21,26 +21,19 @@ from pathlib import Path
 import numpy as np
 
 from planar.analysis import grashof, mobility, motion_range, output, stroke
-from planar.errors import IndeterminateWarning, InputError, PlanarError
+from planar.errors import FileFormatError, IndeterminateWarning, InputError, PlanarError
 from planar.joints import Revolute, Slot
+from planar.progress import Progress
 from planar.results import Status
-from planar.units import RATE_UNITS, Units, parse_rate
+from planar.units import LENGTH_RATE_UNITS, LENGTH_UNITS, RATE_UNITS, Units, convert_length, parse_rate
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
+MAX_ROWS = 10_000_000  # table rows a run writes: beyond, the CSV alone takes many minutes and gigabytes
+MAX_FRAMES, DPI, FPS = 2000, (20, 1200), (1, 100)
 
 
-class _Progress:
-    """A one-line counter on a terminal; silent when stdout is a file or a pipe."""
-
-    def __init__(self, what, stream=None):
-        self.what, self.stream = what, stream or sys.stdout
-        self.on = self.stream.isatty()
-
-    def __call__(self, done, total):
-        if self.on:
-            end = "\n" if done == total else ""
-            self.stream.write(f"\r{self.what} {done}/{total}{end}")
-            self.stream.flush()
+class UsageError(InputError):
+    """The command line is wrong (exit code 2): the message names the option and the fix."""
 
 
 # ---- tables ----------------------------------------------------------------------------------
@@ -87,11 +80,14 @@ def _header(name, unit):
 
 
 def write_csv(cols, path):
+    progress, N = Progress(f"writing {Path(path).name}: rows"), len(cols[0][2]) if cols else 0
     with open(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         w.writerow([_header(n, u) for n, u, _ in cols])
-        for row in zip(*(v for _, _, v in cols)):
+        for i, row in enumerate(zip(*(v for _, _, v in cols)), 1):
             w.writerow([v if isinstance(v, str) else ("" if not math.isfinite(v) else repr(float(v))) for v in row])
+            if i % 4096 == 0 or i == N:
+                progress(i, N)
 
 
 def write_json(cols, path, name):
@@ -127,12 +123,14 @@ def _settings(doc, args):
     """Units and sweep settings of a file with the command line's overrides."""
     from dataclasses import replace
 
-    units = doc.units
-    if getattr(args, "angle_unit", None):
-        units = replace(units, angle=args.angle_unit)
+    speed = getattr(args, "speed", None)
+    speed_unit = _parse_speed(speed)[1] if speed is not None else None
+    # outputs' rates: in --rate-unit, else in the unit --speed names, else in the file's
+    rate = getattr(args, "rate_unit", None) or (speed_unit if speed_unit in RATE_UNITS else doc.units.rate)
+    units = replace(doc.units, angle=getattr(args, "angle_unit", None) or doc.units.angle, rate=rate)
     model = doc.mechanism.compile()
     sweep = doc.sweep or default_sweep(model, doc.units)
-    if units.angle != doc.units.angle:  # the file's numbers are in its own units: restate them
+    if units != doc.units:  # the file's numbers are in its own units: restate them
         sweep = _restate(sweep, model, doc.units, units)
     changes = {}
     for key in ("start", "stop", "acceleration"):
@@ -141,17 +139,10 @@ def _settings(doc, args):
             changes[key] = tuple(v)
     if getattr(args, "num", None) is not None:
         if args.num < 2:
-            raise InputError(f"--num must be at least 2, got {args.num}")
+            raise UsageError(f"--num must be at least 2, got {args.num}")
         changes["num"] = args.num
-    if getattr(args, "speed", None) is not None:
-        value, unit = parse_rate(args.speed)
-        if unit is not None:
-            units = replace(units, rate=unit)
-        changes["speed"] = (value,)
-    elif getattr(args, "rate_unit", None) and args.rate_unit != units.rate:
-        speed = [float(Units(rate=units.rate).rate_to_internal(s)) for s in sweep.speed]
-        units = replace(units, rate=args.rate_unit)
-        changes["speed"] = tuple(float(units.rate_from_internal(s)) for s in speed)
+    if speed is not None:
+        changes["speed"] = _speed(speed, model, units)
     if getattr(args, "rocking", False):
         changes["rocking"] = True
     if getattr(args, "circuit", False):
@@ -159,24 +150,76 @@ def _settings(doc, args):
     return model, units, replace(sweep, **changes)
 
 
+def _restate_inputs(values, model, old, new, d):
+    """Input values (``d`` 0), rates (1) or accelerations (2) of each input in ``old`` units
+    restated in ``new`` units."""
+    out = []
+    for k, v in enumerate(values):
+        is_len = bool(model.input_lengths[min(k, len(model.input_lengths) - 1)])
+        out.append(float(new.input_from_internal(old.input_to_internal(v, is_len, d), is_len, d)))
+    return tuple(out)
+
+
 def _restate(sweep, model, old, new):
     from dataclasses import replace
 
-    def conv(values, d):
-        out = []
-        for k, v in enumerate(values):
-            is_len = bool(model.input_lengths[min(k, len(model.input_lengths) - 1)])
-            out.append(float(new.input_from_internal(old.input_to_internal(v, is_len, d), is_len, d)))
-        return tuple(out)
-
-    return replace(sweep, start=conv(sweep.start, 0), stop=conv(sweep.stop, 0))
+    return replace(sweep, **{key: _restate_inputs(getattr(sweep, key), model, old, new, d)
+                             for key, d in (("start", 0), ("stop", 0), ("speed", 1), ("acceleration", 2))})
 
 
-def run_sweep(model, units, settings, circuit=False, engine="numpy"):
-    """The sweep the settings ask for (on ``engine``); with ``circuit``, the whole circuit
-    through the sketch instead (``num`` values, the settings' speed and acceleration along the
-    motion)."""
-    U, Ud, Udd = settings.values(model, units)
+def _parse_speed(text):
+    try:
+        return parse_rate(text)
+    except InputError as e:
+        raise UsageError(f"--speed: {e}") from None
+
+
+def _speed(text, model, units):
+    """``--speed``: one speed for every input, in ``units`` (the run's) when it names no unit of
+    its own, else converted from its unit (an angular rate for angle inputs, length/s for
+    sliding and point inputs)."""
+    value, unit = _parse_speed(text)
+    if unit is None:
+        return (value,)
+    out = []
+    for name, is_len in zip(model.input_names, model.input_lengths):
+        if bool(is_len) != (unit in LENGTH_RATE_UNITS):
+            want = "a length per second, like 40mm/s" if is_len else "an angular rate, like 120rpm or 10rad/s"
+            raise UsageError(f"--speed {text}: input {name!r} is {'a length' if is_len else 'an angle'}: give {want}")
+        if is_len:
+            out.append(float(convert_length(value, LENGTH_RATE_UNITS[unit], units.length)))
+        else:
+            out.append(float(units.rate_from_internal(Units(rate=unit).rate_to_internal(value))))
+    return tuple(out)
+
+
+def sweep_values(model, units, settings, source, args=None):
+    """The settings' input values and rates, checked before any work: a sweep too long, too far
+    or with the wrong number of values is blamed on the command line's sweep options when it
+    gave some (:class:`UsageError`), else on the file."""
+    from planar import arguments
+    from planar.sweep import run_sweep as walk
+
+    try:
+        if settings.num * (2 if settings.rocking else 1) > MAX_ROWS:
+            raise InputError(f"{settings.num} sweep values: a run writes at most {MAX_ROWS:,} rows; "
+                             f"sweep fewer values (or call Model.sweep from Python)")
+        U, Ud, Udd = settings.values(model, units)
+        arguments.values(model, U, arguments.sweep_options({}, walk)["max_step"])
+        arguments.rates(model, Ud, Udd)
+    except PlanarError as e:
+        given = [f"--{k}" for k in ("start", "stop", "num", "speed", "acceleration") if getattr(args, k, None) is not None]
+        if given:
+            raise UsageError(f"{', '.join(given)}: {e}") from None
+        raise FileFormatError(f"{source}: {e}") from None
+    return U, Ud, Udd
+
+
+def run_sweep(model, units, settings, circuit=False, engine="numpy", values=None):
+    """The sweep the settings ask for (on ``engine``), over ``values`` (U, Ud, Udd) when given;
+    with ``circuit``, the whole circuit through the sketch instead (``num`` values, the
+    settings' speed and acceleration along the motion)."""
+    U, Ud, Udd = values or settings.values(model, units)
     if circuit:
         return model.circuit(samples=settings.num, velocity=abs(float(Ud[0, 0])), acceleration=float(Udd[0, 0]))
     return model.sweep(U, velocity=Ud, acceleration=Udd, engine=engine)
@@ -399,8 +442,17 @@ def _run(doc, source, args, out):
     from planar import animate, draw
 
     model, units, settings = _settings(doc, args)
+    unknown = [p for p in args.points or () if p not in model.points]
+    if unknown:
+        raise UsageError(f"--points: no point or joint {unknown[0]!r} in {model.name!r}: the names are "
+                         f"{', '.join(sorted(model.points))}")
+    formats = [f.strip() for f in (args.tables or "csv").split(",") if f.strip()]
+    for fmt in formats:
+        if fmt not in ("csv", "json"):
+            raise UsageError(f"--tables: unknown table format {fmt!r}: use csv, json or csv,json")
     circuit = getattr(args, "circuit", False)
-    res = run_sweep(model, units, settings, circuit, getattr(args, "engine", "numpy"))
+    values = sweep_values(model, units, settings, source, args)
+    res = run_sweep(model, units, settings, circuit, getattr(args, "engine", "numpy"), values)
     _, lines = info_lines(doc, source)
     for line in lines[1:]:
         print(line)
@@ -417,10 +469,7 @@ def _run(doc, source, args, out):
     stem = _stem(model.name)
     written = []
     cols = table(res, units) + (force_table(forces, units) if forces is not None else [])
-    formats = [f.strip() for f in (args.tables or "csv").split(",") if f.strip()]
     for fmt in formats:
-        if fmt not in ("csv", "json"):
-            raise InputError(f"unknown table format {fmt!r}: use csv, json or csv,json")
         p = out / f"{stem}.{fmt}"
         _write(p, write_csv if fmt == "csv" else (lambda c, q: write_json(c, q, model.name)), cols, p)
         written.append(p)
@@ -448,7 +497,7 @@ def _run(doc, source, args, out):
         p = out / f"{stem}.{kind}"
         _write(p, lambda: animate.animate(res, p, points=args.points, fps=args.fps, max_frames=args.frames,
                                           rocking=settings.rocking, dpi=args.dpi * 3 // 4, units=units,
-                                          progress=_Progress("animation frame")))
+                                          progress=Progress(f"writing {p.name}: frames")))
         written.append(p)
     print("wrote " + ", ".join(str(p) for p in written))
     return res
@@ -459,27 +508,34 @@ def _stem(name):
     return keep or "mechanism"
 
 
-def cmd_run(args):
+def _load(args):
+    """The file of the command line, read and compiled (the model is cached for later calls);
+    an error names the file."""
     from planar import io
 
+    doc = io.load(args.file, args.length_unit)
+    try:
+        doc.mechanism.compile()
+    except PlanarError as e:
+        raise FileFormatError(f"{args.file}: {e}") from None
+    return doc
+
+
+def cmd_run(args):
     if args.circuit and (args.start is not None or args.stop is not None):
-        print("planar: error: --circuit starts at the sketch and ends back there: drop --start and --stop",
-              file=sys.stderr)
-        return EXIT_USAGE
-    doc = io.load(args.file)
+        raise UsageError("--circuit starts at the sketch and ends back there: drop --start and --stop")
+    doc = _load(args)
     out = Path(args.out) if args.out else Path(f"{Path(args.file).stem}-out")
     _run(doc, args.file, args, out)
     return EXIT_OK
 
 
 def cmd_info(args):
-    from planar import io
-
-    doc = io.load(args.file)
+    doc = _load(args)
     model, lines = info_lines(doc, args.file)
     units = doc.units
     settings = doc.sweep or default_sweep(model, units)
-    res = run_sweep(model, units, settings)
+    res = run_sweep(model, units, settings, values=sweep_values(model, units, settings, args.file))
     for line in lines + range_lines(model, units) + summary(res, units, settings) + stroke_lines(model, units):
         print(line)
     return EXIT_OK
@@ -506,9 +562,7 @@ def cmd_example(args):
             print(f"  {name:24s} {first.split('. ')[0].rstrip('.')}")
         return EXIT_OK
     if args.name not in CATALOGUE:
-        print(f"planar: error: no catalogue mechanism {args.name!r}: the names are {', '.join(CATALOGUE)}",
-              file=sys.stderr)
-        return EXIT_USAGE
+        raise UsageError(f"no catalogue mechanism {args.name!r}: the names are {', '.join(CATALOGUE)}")
     mech, units, sweep = _example_doc(args.name)
     path = Path(args.output or f"{args.name}.json")
     _write(path, io.save, mech, path, units, sweep)
@@ -551,8 +605,31 @@ def cmd_demo(args):
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
-        self.print_usage(sys.stderr)
-        self.exit(EXIT_USAGE, f"planar: error: {message}\n")
+        self.exit(EXIT_USAGE, f"planar: error: {message} (see {self.prog} --help)\n")
+
+
+def _bounded(lo, hi):
+    """An argparse type: an integer from ``lo`` to ``hi``."""
+    def read(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"{v} is not from {lo} to {hi}")
+        return v
+    return read
+
+
+def _finite(text):
+    """An argparse type: a finite number."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return v
 
 
 def _outputs(p, out_default=None):
@@ -562,31 +639,41 @@ def _outputs(p, out_default=None):
     p.add_argument("--no-plot", action="store_true", help="do not write the PNG figures")
     p.add_argument("--no-animation", action="store_true", help="do not write the animation")
     p.add_argument("--animation", choices=("gif", "mp4"), default="gif", help="animation format (mp4 needs ffmpeg)")
-    p.add_argument("--frames", type=int, default=60, help="most frames in the animation (default 60)")
-    p.add_argument("--fps", type=int, default=15, help="animation frames per second (default 15)")
-    p.add_argument("--dpi", type=int, default=90, help="figure resolution (default 90)")
+    p.add_argument("--frames", type=_bounded(2, MAX_FRAMES), default=60,
+                   help=f"most frames in the animation, 2 to {MAX_FRAMES} (default 60)")
+    p.add_argument("--fps", type=_bounded(*FPS), default=15,
+                   help=f"animation frames per second, {FPS[0]} to {FPS[1]} (default 15)")
+    p.add_argument("--dpi", type=_bounded(*DPI), default=90, help=f"figure resolution, {DPI[0]} to {DPI[1]} (default 90)")
     p.add_argument("--points", type=lambda s: [x for x in s.split(",") if x], default=None,
                    help="points to trace and draw arrows on, comma separated (default: the named points)")
 
 
+def _length_unit(p):
+    p.add_argument("--length-unit", choices=tuple(LENGTH_UNITS),
+                   help="restate the file's lengths (its units.length: m, cm, mm or in) in this unit")
+
+
 def parser():
+    from planar import __version__
+
     p = _Parser(prog="planar", description="Planar mechanism kinematics from the command line.",
                 epilog="Exit codes: 0 done, 1 bad mechanism/file/sweep, 2 bad command line, 3 cannot write.")
+    p.add_argument("--version", action="version", version=f"planar {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     d = sub.add_parser("demo", help="sweep a four-bar with a coupler point; write plots, animation, CSV")
     _outputs(d, "planar-demo")
-    d.add_argument("--num", type=int, default=73, help="sweep values over the turn (default 73)")
+    d.add_argument("--num", type=_bounded(2, MAX_ROWS), default=73, help="sweep values over the turn (default 73)")
     d.set_defaults(func=cmd_demo)
 
     r = sub.add_parser("run", help="sweep a mechanism file and write tables, plots and an animation")
     r.add_argument("file", help="mechanism file (JSON; see planar example)")
-    r.add_argument("--start", type=float, nargs="+", help="input value(s) at the start, in the file's units")
-    r.add_argument("--stop", type=float, nargs="+", help="input value(s) at the end, in the file's units")
-    r.add_argument("--num", type=int, help="number of sweep values")
+    r.add_argument("--start", type=_finite, nargs="+", help="input value(s) at the start, in the file's units")
+    r.add_argument("--stop", type=_finite, nargs="+", help="input value(s) at the end, in the file's units")
+    r.add_argument("--num", type=_bounded(2, MAX_ROWS), help=f"number of sweep values, 2 to {MAX_ROWS:,}")
     r.add_argument("--speed", help="input speed: a number in the file's rate unit, or with a unit: "
                                    "10rad/s, 90deg/s, 120rpm (length/s for sliding inputs)")
-    r.add_argument("--acceleration", type=float, nargs="+", help="input acceleration(s)")
+    r.add_argument("--acceleration", type=_finite, nargs="+", help="input acceleration(s)")
     motion = r.add_mutually_exclusive_group()
     motion.add_argument("--rocking", action="store_true", help="sweep start -> stop -> start")
     motion.add_argument("--circuit", action="store_true",
@@ -600,11 +687,13 @@ def parser():
     r.add_argument("--forces", action="store_true",
                    help="kinetostatics from the file's masses, gravity and loads: driver efforts and joint reactions "
                         "in the tables, NAME_forces.png and NAME_efforts.png")
+    _length_unit(r)
     _outputs(r)
     r.set_defaults(func=cmd_run)
 
     i = sub.add_parser("info", help="mobility, redundancy, Grashof class, motion ranges and events of a file")
     i.add_argument("file", help="mechanism file (JSON)")
+    _length_unit(i)
     i.set_defaults(func=cmd_info)
 
     e = sub.add_parser("example", help="write a catalogue mechanism to a file (no NAME: list the catalogue)")
@@ -624,11 +713,15 @@ def main(argv=None):
     try:
         return args.func(args)
     except PlanarError as e:
-        print(f"planar: error: {e}", file=sys.stderr)
-        return EXIT_INPUT
+        print(f"planar: error: {_one_line(e)}", file=sys.stderr)
+        return EXIT_USAGE if isinstance(e, UsageError) else EXIT_INPUT
     except _OutputError as e:
-        print(f"planar: error: {e}", file=sys.stderr)
+        print(f"planar: error: {_one_line(e)}", file=sys.stderr)
         return EXIT_OUTPUT
+
+
+def _one_line(e):
+    return " ".join(str(e).split())
 
 
 if __name__ == "__main__":

@@ -30,11 +30,24 @@ from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Sl
 from planar.results import POSED, Status
 from planar.units import Units
 
+
+
+def _palette(first, total, saturations, value):
+    """``first``, then colours of hues spaced by the golden angle up to ``total``: no two alike,
+    so that bodies, paths and curves keep distinct colours however many there are (up to
+    ``total``, more than a mechanism has)."""
+    from colorsys import hsv_to_rgb
+
+    extra = [hsv_to_rgb((0.07 + 0.6180339887 * k) % 1.0, saturations[k % 2], value)
+             for k in range(total - len(first))]
+    return tuple(first) + tuple("#" + "".join(f"{round(255 * c):02x}" for c in rgb) for rgb in extra)
+
+
 EDGE = "#262626"
-FILLS = ("#a6cee3", "#fdbf6f", "#b2df8a", "#cab2d6", "#fb9a99", "#ffff99", "#8dd3c7", "#d9d9d9",
-         "#bebada", "#80b1d3")
+FILLS = _palette(("#a6cee3", "#fdbf6f", "#b2df8a", "#cab2d6", "#fb9a99", "#ffff99", "#8dd3c7", "#d9d9d9",
+                  "#bebada", "#80b1d3"), 100, (0.25, 0.4), 0.97)
 VELOCITY, ACCELERATION = "#1f5fbf", "#c0282d"
-PATH_COLOURS = ("#6a3d9a", "#1b9e77", "#d95f02", "#e7298a", "#66a61e", "#e6ab02")
+PATH_COLOURS = _palette(("#6a3d9a", "#1b9e77", "#d95f02", "#e7298a", "#66a61e", "#e6ab02"), 100, (0.8, 0.6), 0.7)
 # the kinds of planar.events.Event: marker and colour
 EVENT_MARK = {"limit": ("s", "#d62728"), "bifurcation": ("D", "#9467bd"), "singular": ("X", "#000000"),
               "near_singular": ("^", "#ff7f0e")}
@@ -468,25 +481,42 @@ class Scene:
         return arts
 
     def label_points(self, ax, q):
+        """Name every labelled point next to it, away from the drawing's centre where there is
+        room: each label takes the first place around its point (outwards first, then turning
+        either way, then farther out) where its box meets no label placed before and no point."""
         names = self.labelled
         pts = [_world(q, *self.model.points[n]) for n in names]
         if not pts:
             return []
         pts = np.array(pts)
         centre = pts.mean(axis=0)
+        h = 1.2 * self.size  # a label's height in data units (fontsize 10 at the default scale)
+        taken = [np.r_[p - 0.4 * self.size, p + 0.4 * self.size] for p in pts]  # the points' markers
         arts, done = [], np.zeros(len(pts), bool)
         for k in range(len(pts)):
             if done[k]:
                 continue
             same = np.flatnonzero(np.linalg.norm(pts - pts[k], axis=1) <= 1e-6 * self.L)
             done[same] = True
+            text = ", ".join(names[s] for s in same)
+            half = np.array([0.33 * h * len(text) + 0.2 * h, 0.5 * h])
             d = pts[k] - centre
-            d = d / np.hypot(*d) if np.hypot(*d) > 1e-9 * self.L else np.array([0.0, 1.0])
-            at = pts[k] + 1.6 * self.size * d + (0.0, 0.6 * self.size)
-            arts.append(ax.text(*at, ", ".join(names[s] for s in same), ha="center", va="center",
-                                fontsize=10, fontstyle="italic", zorder=6))
-            ax.update_datalim([at + (0.0, 0.6 * self.size)])  # keep labels inside the axes
+            out = np.arctan2(d[1], d[0]) if np.hypot(*d) > 1e-9 * self.L else np.pi / 2
+            places = [pts[k] + r * u + u * half
+                      for r in (1.0 * self.size, 2.2 * self.size, 3.6 * self.size)
+                      for t in (0, 1, -1, 2, -2, 3, -3, 4)
+                      for u in [np.array([np.cos(out + t * np.pi / 4), np.sin(out + t * np.pi / 4)])]]
+            at = next((c for c in places if not any(_overlap(np.r_[c - half, c + half], b) for b in taken)),
+                      places[0])
+            taken.append(np.r_[at - half, at + half])
+            arts.append(ax.text(*at, text, ha="center", va="center", fontsize=10, fontstyle="italic", zorder=6))
+            ax.update_datalim([at - half, at + half])  # keep labels inside the axes
         return arts
+
+
+def _overlap(a, b):
+    """Whether boxes (x0, y0, x1, y1) a and b overlap."""
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 def _distinct(pts, tol):
@@ -810,7 +840,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     ``outputs`` lists ``"kind:name"`` specs (default :func:`default_outputs`); ``ax`` is a
     sequence with one axes per panel, or None for a new figure. Inputs that do not assemble are
     shaded; the sweep's events (limit and singular positions) are marked with vertical lines.
-    Returns the array of axes.
+    Returns the list of axes, one per panel.
     """
     units = units or Units()
     outputs = list(outputs) if outputs is not None else default_outputs(res.model)
@@ -818,7 +848,8 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     for spec in outputs:
         panels.setdefault(spec.partition(":")[0], []).append(spec)
     if ax is None:
-        fig, ax = _pyplot().subplots(len(panels), 1, sharex=True, figsize=(7, 1.9 * len(panels) + 0.8),
+        # at most 9 inches tall, to fit a screen whatever the number of panels
+        fig, ax = _pyplot().subplots(len(panels), 1, sharex=True, figsize=(7, min(1.9 * len(panels) + 0.8, 9.0)),
                                      layout="constrained", squeeze=False)
         fig.suptitle(f"{res.model.name}: outputs against the input", fontsize=11)
     axes = np.asarray(ax, dtype=object).ravel()
@@ -845,7 +876,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
         for side in ("top", "right"):
             a.spines[side].set_visible(False)
     axes[-1].set_xlabel(xlabel)
-    return axes
+    return list(axes)
 
 
 def _broken(res, *series):

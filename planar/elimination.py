@@ -66,8 +66,8 @@ class Program:
     M0: np.ndarray
     M1: np.ndarray
     lam: tuple
-    var: np.ndarray = None
-    vscale: np.ndarray = None
+    var: np.ndarray | None = None
+    vscale: np.ndarray | None = None
     coup: tuple = ()
 
     def signature(self):

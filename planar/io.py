@@ -41,7 +41,9 @@ like the script that would build it::
   time units are the user's (kg, m, s give forces in N); only angles are converted.
 - A gear's or rack's ``pressure_angle`` is in ``units.angle`` (``pressure_angle_rad`` in
   radians); default 20 degrees (a ``rolling`` contact has none).
-- Points are world coordinates of the sketch, in ``units.length`` (a label only); with
+- Points are world coordinates of the sketch, in ``units.length``: "m", "cm", "mm" or "in"
+  convert (``load(path, length_unit="mm")`` restates every length of the file in mm, and the
+  mass properties, gravity and loads with them), any other label only names them. With
   ``dimensions`` (each the length ``between`` two joints or points of one body, as
   :meth:`planar.Mechanism.distance`) they are rough guesses, and loading assembles them: editing
   a length re-assembles the mechanism.
@@ -86,11 +88,11 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.errors import FileFormatError, ModelError, PlanarError
+from planar.errors import FileFormatError, InputError, ModelError, PlanarError
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic, RackPinion,
                            Revolute, RollingContact, Slot, TravelDriver)
 from planar.model import GROUND, Mechanism
-from planar.units import Units
+from planar.units import Units, convert_length
 
 VERSION = 1
 
@@ -214,7 +216,13 @@ class SweepSettings:
 
     def values(self, model, units):
         """Input values (N, f) and rates (N, f), (N, f) in internal units for ``model``."""
+        from planar import arguments
+
         f = len(model.drivers)
+        if f == 0:
+            raise FileFormatError(f"drivers: the mechanism has no driver to sweep: add {model.dof} to drivers, "
+                                  f'like {{"joint": "O2"}} or {{"body": "crank"}}')
+        arguments.size(model, self.num * (2 if self.rocking else 1), "the sweep (sweep.num)")
         cols = []
         for name, key in (("start", self.start), ("stop", self.stop), ("speed", self.speed),
                           ("acceleration", self.acceleration)):
@@ -253,8 +261,11 @@ def _tuple(v):
     return tuple(float(x) for x in v) if isinstance(v, list) else (float(v),)
 
 
-def from_dict(data, source="<mechanism file>"):
-    """Validate a document (parsed JSON) and build it; see the module doc for the format."""
+def from_dict(data, source="<mechanism file>", length_unit=None):
+    """Validate a document (parsed JSON) and build it, its lengths restated in ``length_unit``
+    when given; see the module doc for the format."""
+    if length_unit is not None:
+        data = convert_lengths(from_dict(data, source).data, length_unit, source)
     c = _Checker(source)
     c.mapping(data, "file", _TOP)
     if data.get("version", VERSION) != VERSION:
@@ -384,6 +395,71 @@ def _body_angle(c, m, body, where, key, value):
         d = pts[line[1]][1] - pts[line[0]][1]
         value += math.atan2(d[1], d[0])
     m._bodies[body] = value  # the builder's numeric angle: the body's angle in the sketch
+
+
+def convert_lengths(data, unit, source="<mechanism file>"):
+    """A valid document with every length (points, joint positions and radii, and the sweep's
+    values of sliding and point inputs) restated in ``unit``, and ``units.length`` set to it.
+
+    >>> doc = {"units": {"length": "cm"}, "bodies": [{"name": "b"}],
+    ...        "joints": [{"type": "slot", "name": "s", "bodies": ["ground", "b"], "at": [2, 0], "direction": [1, 0]}],
+    ...        "drivers": [{"joint": "s"}], "sweep": {"start": 0, "stop": 2.5}}
+    >>> new = convert_lengths(doc, "mm")
+    >>> new["joints"][0]["at"], new["sweep"], new["units"]
+    ([20.0, 0.0], {'start': 0.0, 'stop': 25.0}, {'length': 'mm'})
+    """
+    have = data.get("units", {}).get("length", "")
+    try:
+        convert_length(1.0, have, unit)
+    except InputError as e:
+        raise FileFormatError(f"{source}: units.length: {e}") from None
+
+    def conv(v):
+        return [float(x) for x in convert_length(v, have, unit)] if isinstance(v, list) else float(convert_length(v, have, unit))
+
+    out = json.loads(json.dumps(data))
+    k = float(convert_length(1.0, have, unit))
+    for p in out.get("points", []):
+        p["at"] = conv(p["at"])
+    for d in out.get("dimensions", []):
+        d["length"] = conv(d["length"])
+    # mass and time keep their units: com and gravity scale as lengths, forces too (mass x
+    # length / time^2), inertia and torques as length^2
+    for b in out.get("bodies", []):
+        if "com" in b:
+            b["com"] = conv(b["com"])
+        if "inertia" in b:
+            b["inertia"] = b["inertia"] * k * k
+    if "gravity" in out:
+        out["gravity"] = conv(out["gravity"])
+    for ld in out.get("loads", []):
+        for key in ("at", "force"):
+            if key in ld:
+                ld[key] = conv(ld[key])
+        if "torque" in ld:
+            ld["torque"] = ld["torque"] * k * k
+    joints = {}
+    for j in out.get("joints", []):
+        joints[j["name"]] = j["type"]
+        for key, (kind, _) in JOINT_FIELDS[j["type"]].items():
+            if key in j and kind in ("point", "positive"):
+                j[key] = conv(j[key])
+    # which inputs are lengths: a slider's or slot's travel, a point's coordinate
+    lengths = [("point" in d) or joints.get(d.get("joint")) in ("prismatic", "slot") for d in out.get("drivers", [])]
+    for d, is_len in zip(out.get("drivers", []), lengths):
+        if is_len and "start" in d:
+            d["start"] = conv(d["start"])
+    s = out.get("sweep", {})
+    for key in ("start", "stop", "speed", "acceleration"):
+        if key in s and lengths:
+            values = s[key] if isinstance(s[key], list) else [s[key]]
+            if len(values) == 1:
+                values = values * len(lengths)
+            if len(values) == len(lengths):  # else the sweep is refused later, naming the field
+                new = [conv(v) if is_len else v for v, is_len in zip(values, lengths)]
+                s[key] = new[0] if not isinstance(s[key], list) and len(set(new)) == 1 else new
+    out.setdefault("units", {})["length"] = unit
+    return out
 
 
 def _build(c, where, call, *args, **kwargs):
@@ -565,17 +641,43 @@ def _format(data):
     return "{\n" + ",\n".join(lines) + "\n}\n"
 
 
-def loads(text, source="<string>"):
-    """Read a mechanism document from JSON text: a :class:`MechanismFile`."""
+def loads(text, source="<string>", length_unit=None):
+    """Read a mechanism document from JSON text: a :class:`MechanismFile` (its lengths in
+    ``length_unit`` when given)."""
     try:
         data = json.loads(text)
     except json.JSONDecodeError as e:
         raise FileFormatError(f"{source}: not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}") from None
-    return from_dict(data, source)
+    except RecursionError:
+        raise FileFormatError(f"{source}: lists or objects nested too deeply for a mechanism file "
+                              f"(at most {MAX_DEPTH} levels)") from None
+    depth = _depth(data)
+    if depth > MAX_DEPTH:
+        raise FileFormatError(f"{source}: lists or objects nested more than {MAX_DEPTH} levels deep: "
+                              f"a mechanism file nests 4 (file, joints, a joint, its point)")
+    return from_dict(data, source, length_unit)
 
 
-def load(path):
-    """Read a mechanism file: a :class:`MechanismFile` (``.mechanism``, ``.units``, ``.sweep``)."""
+MAX_DEPTH = 16  # the format nests 4 levels (file, "joints", a joint, "at"): room to grow, far from recursion
+
+
+def _depth(data):
+    """How deep lists and objects nest in ``data`` (without recursion: a file may nest deeply)."""
+    deepest, todo = 0, [(data, 0)]
+    while todo:
+        v, d = todo.pop()
+        if isinstance(v, (list, dict)):
+            d += 1
+            deepest = max(deepest, d)
+            if deepest > MAX_DEPTH:
+                break
+            todo.extend((x, d) for x in (v.values() if isinstance(v, dict) else v))
+    return deepest
+
+
+def load(path, length_unit=None):
+    """Read a mechanism file: a :class:`MechanismFile` (``.mechanism``, ``.units``, ``.sweep``),
+    its lengths restated in ``length_unit`` ("m", "cm", "mm" or "in") when given."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -583,7 +685,7 @@ def load(path):
         raise FileFormatError(f"{path}: cannot read the file: {e.strerror or e}") from None
     except UnicodeDecodeError:
         raise FileFormatError(f"{path}: not a text file (a mechanism file is UTF-8 JSON)") from None
-    return loads(text, str(path))
+    return loads(text, str(path), length_unit)
 
 
 def save(obj, path, units=None, sweep=None):

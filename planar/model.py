@@ -28,10 +28,12 @@ angles of a four-bar are the textbook's theta2, theta3 and theta4. Angles are ra
 import itertools
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import networkx as nx
 import numpy as np
 import scipy.linalg
+from numpy.typing import ArrayLike
 
 from planar.dimensions import Dimension, Dyad, Row, assemble
 from planar.errors import (AssemblyError, ConnectivityError, InputError, MobilityError,
@@ -42,6 +44,9 @@ from planar.joints.base import SketchFrames
 from planar.mass import compile_mass
 from planar.blocks import plan as block_plan
 from planar.system import build_system
+
+if TYPE_CHECKING:
+    from planar.results import Sweep
 
 GROUND = "ground"
 
@@ -99,7 +104,7 @@ class Mechanism:
     Bodies, points and joints share one namespace; drivers have their own.
     """
 
-    def __init__(self, name="mechanism"):
+    def __init__(self, name: str = "mechanism") -> None:
         self.name = name
         self._bodies = {GROUND: 0.0}  # name -> angle as given: None (the rule), a number or a line (p, q)
         self._points = {}  # name -> (body, world point)
@@ -109,12 +114,16 @@ class Mechanism:
         self._starts = {}  # driver name -> start value
         self._sides = []  # (name, a, b, side) of each joint or point placed by a Dyad
         self._names = {GROUND}
-        self._model = None
+        self._model: Model | None = None
         self._mass = {}  # body -> (mass, sketch centre of mass, inertia about it)
         self._loads = []  # (body, sketch point, force, torque, fixed)
         self._gravity = None
 
-    def sketch(self):
+    def __repr__(self) -> str:
+        return (f"<Mechanism {self.name!r}: {len(self._bodies) - 1} moving bodies, {len(self._joints)} joints, "
+                f"{len(self._drivers)} driver(s)>")
+
+    def sketch(self) -> "Sketch":
         """What has been drawn so far, read-only: a :class:`Sketch` (positions as drawn; the
         assembled ones are ``compile().sketch``). Its ``bodies`` hold the angles as given.
 
@@ -130,7 +139,7 @@ class Mechanism:
     # ---- building ------------------------------------------------------------------------
 
     @property
-    def ground(self):
+    def ground(self) -> Body:
         """The fixed body (frame), at the origin with angle 0."""
         return Body(GROUND)
 
@@ -156,7 +165,8 @@ class Mechanism:
             raise ModelError(f"joint {joint!r} joins body {a!r} to itself: a joint needs two different bodies")
         return a, b
 
-    def add_body(self, name, angle=None, *, mass=None, com=None, inertia=0.0):
+    def add_body(self, name: str, angle: float | tuple[str, str] | None = None, *, mass: float | None = None,
+                 com: ArrayLike | None = None, inertia: float = 0.0) -> Body:
         """Add a moving body. Its angle (what results report as ``angle(body)``) is the world
         direction of its reference line: by default the line from its joint nearest the
         ground to its next joint (see :meth:`reference_line`); ``angle=(p, q)`` names another
@@ -179,7 +189,7 @@ class Mechanism:
             self.set_mass(name, mass, com, inertia)
         return Body(name)
 
-    def set_mass(self, body, mass, com, inertia=0.0):
+    def set_mass(self, body: Body | str, mass: float, com: ArrayLike, inertia: float = 0.0) -> None:
         """Give ``body`` its ``mass``, centre of mass ``com`` (a sketch point, like ``at``) and
         moment of inertia about it, for :meth:`planar.Sweep.forces` (bodies without are massless).
 
@@ -209,7 +219,8 @@ class Mechanism:
         self._gravity = None if g is None else tuple(_point(g, "gravity").tolist())
         self._model = None
 
-    def add_load(self, body, force=(0.0, 0.0), at=None, torque=0.0, *, fixed="world"):
+    def add_load(self, body: Body | str, force: Any = (0.0, 0.0), at: ArrayLike | None = None, torque: Any = 0.0, *,
+                 fixed: str = "world") -> None:
         """An external ``force`` at sketch point ``at`` of ``body`` and a ``torque`` on it. Each is
         a constant, or a function of the sweep's input values (N, f) giving (N, 2) or (N,).
         ``fixed="world"`` keeps the force's direction; ``"body"`` turns it with the body (it is
@@ -228,7 +239,7 @@ class Mechanism:
         self._loads.append((b, np.zeros(2) if at is None else _point(at, f"load on {b!r} at"), force, torque, fixed))
         self._model = None
 
-    def add_point(self, name, body, at):
+    def add_point(self, name: str, body: Body | str, at: ArrayLike | str | Dyad) -> None:
         """Name the point of ``body`` that is at ``at`` in the sketch: (x, y), the name of a joint
         or point placed before, or a :class:`planar.Dyad`."""
         body = self._body(body)
@@ -270,7 +281,7 @@ class Mechanism:
                 return set(j.bodies)
         return {self._points[name][0]}
 
-    def distance(self, a, b, length):
+    def distance(self, a: str, b: str, length: float) -> None:
         """State the length between joints or points ``a`` and ``b`` of one body. The sketch
         positions become rough guesses: compile assembles them exactly (see
         :mod:`planar.dimensions`), and :attr:`Model.sketch` holds the assembled positions.
@@ -303,7 +314,7 @@ class Mechanism:
         if anchor is not None:
             self._points[joint.name] = anchor
 
-    def add_revolute(self, name, body_a, body_b, at):
+    def add_revolute(self, name: str, body_a: Body | str, body_b: Body | str, at: ArrayLike | str | Dyad) -> None:
         """Pin joint between two bodies at sketch point ``at``: (x, y), the name of a joint or
         point placed before (a third body on the same pin), or a :class:`planar.Dyad`. Its
         coordinate is the angle of b relative to a."""
@@ -319,7 +330,8 @@ class Mechanism:
         return dict(at=at, direction=_direction(direction, f"joint {name!r} direction"),
                     origin=at if origin is None else _point(origin, f"joint {name!r} origin"))
 
-    def add_prismatic(self, name, body_a, body_b, at, direction, origin=None):
+    def add_prismatic(self, name: str, body_a: Body | str, body_b: Body | str, at: ArrayLike, direction: ArrayLike,
+                      origin: ArrayLike | None = None) -> None:
         """Slider: the point ``at`` of ``body_b`` moves along the line of ``body_a`` through
         ``origin`` (default ``at``) with ``direction``; no relative rotation. Its coordinate is
         the travel along the line from ``origin``."""
@@ -329,7 +341,8 @@ class Mechanism:
         self._new_name(name, "joint")
         self._add(Prismatic(name, (a, b), **data))
 
-    def add_slot(self, name, body_a, body_b, at, direction, origin=None):
+    def add_slot(self, name: str, body_a: Body | str, body_b: Body | str, at: ArrayLike, direction: ArrayLike,
+                 origin: ArrayLike | None = None) -> None:
         """Pin in slot: as :meth:`add_prismatic` but the bodies turn freely."""
         a, b = self._pair(body_a, body_b, name)
         data = self._line_data(name, at, direction, origin)
@@ -346,8 +359,10 @@ class Mechanism:
                              f"through {data['at'].tolist()} along {data['direction'].tolist()}: "
                              f"give an origin on that line")
 
-    def add_gear(self, name, gear_a, gear_b, radius_a, radius_b, *, internal=False, carrier=None,
-                 centre_a=None, centre_b=None, hold_distance=False, pressure_angle=np.radians(20)):
+    def add_gear(self, name: str, gear_a: Body | str, gear_b: Body | str, radius_a: float, radius_b: float, *,
+                 internal: bool = False, carrier: Body | str | None = None, centre_a: ArrayLike | None = None,
+                 centre_b: ArrayLike | None = None, hold_distance: bool = False,
+                 pressure_angle: float = np.radians(20)) -> None:
         """Two pitch circles in mesh (external, or ``internal`` with one inside the other).
 
         With ``carrier`` (a body, or the ground) both centres are fixed on it: the row is linear
@@ -365,6 +380,8 @@ class Mechanism:
             raise ModelError(f"gear {name!r}: an internal mesh needs different radii")
         for key, value in (("centre_a", centre_a), ("centre_b", centre_b)):
             data[key] = None if value is None else _point(value, f"gear {name!r} {key}")
+        cls: type
+        bodies: tuple
         if carrier is not None:
             c = self._body(carrier, "carrier")
             if c in (a, b):
@@ -400,8 +417,9 @@ class Mechanism:
         raise ModelError(f"gear {name!r}: no revolute puts the centre of {gear!r} on the carrier {carrier!r}; "
                          f"add it first or give the centre")
 
-    def add_rack_pinion(self, name, pinion, rack, radius, *, centre, through, direction, side="left",
-                        pressure_angle=np.radians(20)):
+    def add_rack_pinion(self, name: str, pinion: Body | str, rack: Body | str, radius: float, *, centre: ArrayLike,
+                        through: ArrayLike, direction: ArrayLike, side: str = "left",
+                        pressure_angle: float = np.radians(20)) -> None:
         """Pinion (pitch ``radius``, centre ``centre`` on the pinion) rolling without slip on the
         rack's pitch line through ``through`` along ``direction`` (fixed in ``rack``, any body).
         ``side`` says where the pinion centre is: left or right of the directed line;
@@ -422,13 +440,15 @@ class Mechanism:
         self._new_name(name, "joint")
         self._add(RackPinion(name, (r, p), **data))
 
-    def add_rolling(self, name, wheel, body, radius, *, centre, through, direction, side="left"):
+    def add_rolling(self, name: str, wheel: Body | str, body: Body | str, radius: float, *, centre: ArrayLike,
+                    through: ArrayLike, direction: ArrayLike, side: str = "left") -> None:
         """A wheel rolling without slip on a straight line fixed in ``body`` (the ground or a
         moving body): the same contact as :meth:`add_rack_pinion`."""
         self.add_rack_pinion(name, wheel, body, radius, centre=centre, through=through,
                              direction=direction, side=side, pressure_angle=0.0)
 
-    def drive(self, joint=None, *, body=None, point=None, axis=None, name=None, start=None):
+    def drive(self, joint: str | None = None, *, body: Body | str | None = None, point: str | None = None,
+              axis: str | None = None, name: str | None = None, start: float | None = None) -> None:
         """Make one input. Exactly one of: ``joint`` (a revolute's relative angle, a slider's or
         slot's travel), ``body`` (its absolute angle), ``point`` with ``axis`` "x" or "y" (a
         world coordinate of a named point). Inputs are in the order they are added.
@@ -464,7 +484,7 @@ class Mechanism:
         self._drivers.append(drv)
         self._model = None
 
-    def reference_line(self, body):
+    def reference_line(self, body: Body | str) -> tuple[str, str] | None:
         """The (p, q) names of the line whose direction is ``body``'s angle by default, or None
         for a body with fewer than two named positions (its angle is then the sketch's x axis
         turned with it): p is its joint nearest the ground (graph distance of the body the joint
@@ -484,18 +504,20 @@ class Mechanism:
 
     # ---- compiling -----------------------------------------------------------------------
 
-    def compile(self):
+    def compile(self) -> "Model":
         """Check and freeze the mechanism into a :class:`Model` (cached until the next change)."""
         if self._model is None:
             self._model = _compile(self.name, _resolve(self))
         return self._model
 
-    def sweep(self, values, velocity=1.0, acceleration=0.0, **options):
+    def sweep(self, values: ArrayLike, velocity: ArrayLike = 1.0, acceleration: ArrayLike = 0.0,
+              **options: Any) -> "Sweep":
         """Solve positions, velocities and accelerations over input ``values``; see
         :meth:`Model.sweep`."""
         return self.compile().sweep(values, velocity, acceleration, **options)
 
-    def circuit(self, samples=361, velocity=1.0, acceleration=0.0, **options):
+    def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0,
+                **options: Any) -> "Sweep":
         """The whole circuit through the sketch, the input reversing at each limit; see
         :meth:`Model.circuit`."""
         return self.compile().circuit(samples, velocity, acceleration, **options)
@@ -571,6 +593,10 @@ class Model:
     gravity: np.ndarray = None  # (2,) world gravitational acceleration
     loads: tuple = ()  # planar.mass.Load
 
+    def __repr__(self) -> str:
+        return (f"<Model {self.name!r}: {len(self.body_names) - 1} moving bodies, {len(self.joints)} joints, "
+                f"dof {self.dof}, inputs {list(self.input_names)}>")
+
     @property
     def n(self):
         return self.system.n
@@ -580,14 +606,14 @@ class Model:
         return self.system.m
 
     @property
-    def dof(self):
+    def dof(self) -> int:
         return self.n - self.rank
 
     @property
-    def input_names(self):
+    def input_names(self) -> tuple[str, ...]:
         return tuple(d.name for d in self.drivers)
 
-    def body_id(self, body):
+    def body_id(self, body: Body | str) -> int:
         name = body.name if isinstance(body, Body) else body
         try:
             return self.body_names.index(name)
@@ -606,7 +632,8 @@ class Model:
                 return j
         raise ModelError(f"unknown joint {name!r}: the joints are {[j.name for j in self.joints]}")
 
-    def sweep(self, values, velocity=1.0, acceleration=0.0, **options):
+    def sweep(self, values: ArrayLike, velocity: ArrayLike = 1.0, acceleration: ArrayLike = 0.0,
+              **options: Any) -> "Sweep":
         """Positions, velocities and accelerations for each row of input ``values``.
 
         ``values`` is (N,) for one input or (N, f); ``velocity`` and ``acceleration`` are the
@@ -622,16 +649,21 @@ class Model:
         structure, 4-6x faster at large N; needs the ``fast`` extra; the first sweep of a
         structure compiles for 10-65 s, then it is cached on disk; see :mod:`planar.compiled`).
         """
+        from planar import arguments
         from planar.sweep import run_sweep
 
         if not self.drivers:
             raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
+        options = arguments.sweep_options(options, run_sweep)
         U = self._inputs(values, "values")
+        arguments.values(self, U, options["max_step"])
         N = U.shape[0]
-        return run_sweep(self, U, self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N),
-                         **options)
+        Ud, Udd = self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N)
+        arguments.rates(self, Ud, Udd)
+        return run_sweep(self, U, Ud, Udd, **options)
 
-    def circuit(self, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_step=0.05):
+    def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
+                max_step: float = 0.05) -> "Sweep":
         """The whole circuit through the assembled sketch of a one-input model, in one sweep.
 
         The input starts at the sketch and rises; where it cannot go further (a limit
@@ -652,9 +684,12 @@ class Model:
         >>> np.degrees([e.input for e in res.events]).round(6).tolist()
         [117.279613, -117.279613]
         """
+        from planar import arguments
         from planar.circuit import circuit
 
-        return circuit(self, samples, velocity, acceleration, tol=tol, max_step=max_step)
+        arguments.size(self, samples, "the circuit")
+        return circuit(self, samples, velocity, acceleration, tol=arguments.tolerance(tol),
+                       max_step=arguments.max_step(max_step))
 
     def _inputs(self, values, what, N=None):
         """``values`` as a new C-contiguous (N, f) array (the sweep keeps it: a copy, so the

@@ -2,15 +2,21 @@
 
 from dataclasses import dataclass
 from enum import IntEnum
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from planar.errors import ModelError
 from planar.geometry import perp
 
+if TYPE_CHECKING:
+    from planar.kinetostatics import Forces
+    from planar.model import Body, Model
+
 
 class Status(IntEnum):
-    """What happened at one input value.
+    """What happened at one input value (printed by its name: ``print(Status.SOLVED)`` shows
+    SOLVED; compared and stored as its integer code).
 
     SOLVED, NEAR_SINGULAR, BRANCH_EVENT and JUMPED points carry valid positions, velocities
     and accelerations. A SINGULAR point has valid positions; its rates are NaN (the Jacobian is
@@ -29,12 +35,18 @@ class Status(IntEnum):
     # past limit positions that lie between the two (plots break their lines there)
     JUMPED = 8
 
+    def __str__(self) -> str:
+        return self.name
+
+    def __format__(self, spec: str) -> str:
+        return format(self.name, spec)
+
     @property
-    def valid(self):
+    def valid(self) -> bool:
         return self <= Status.BRANCH_EVENT or self == Status.JUMPED
 
     @property
-    def posed(self):
+    def posed(self) -> bool:
         """Positions valid (rates may not be)."""
         return self <= Status.SINGULAR or self in (Status.LIMIT, Status.JUMPED)
 
@@ -55,7 +67,7 @@ class Sweep:
     bifurcations, near-singular stretches).
     """
 
-    model: object
+    model: "Model"
     inputs: np.ndarray  # (N, f)
     input_rates: np.ndarray
     input_accelerations: np.ndarray
@@ -75,21 +87,21 @@ class Sweep:
             if isinstance(v, np.ndarray):
                 v.flags.writeable = False
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.status.shape[0]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         counts = {Status(s).name: int(c) for s, c in zip(*np.unique(self.status, return_counts=True))}
         return f"Sweep({self.model.name!r}, N={len(self)}, inputs={list(self.model.input_names)}, {counts})"
 
     @property
-    def ok(self):
+    def ok(self) -> np.ndarray:
         """(N,) True where positions, velocities and accelerations are all valid (positions
         only for a sweep asked for no rates)."""
         return VALID[self.status]
 
     @property
-    def nearest_limit(self):
+    def nearest_limit(self) -> np.ndarray:
         """(N,) input value of the nearest limit position found, for points that did not
         assemble (NaN elsewhere, and where no limit was met). One input only."""
         out = np.full(len(self), np.nan)
@@ -108,15 +120,15 @@ class Sweep:
             return np.zeros(len(self)), np.zeros(len(self)), np.zeros(len(self))
         return arr[:, 3 * b - 3], arr[:, 3 * b - 2], arr[:, 3 * b - 1]
 
-    def angle(self, body):
+    def angle(self, body: "Body | str") -> np.ndarray:
         """Absolute angle of ``body`` (radians, unwrapped: its sketch angle plus its rotation)."""
         return self._body(body, self.q)[2]
 
-    def omega(self, body):
+    def omega(self, body: "Body | str") -> np.ndarray:
         """Angular velocity of ``body``."""
         return self._body(body, self.qd)[2]
 
-    def alpha(self, body):
+    def alpha(self, body: "Body | str") -> np.ndarray:
         """Angular acceleration of ``body``."""
         return self._body(body, self.qdd)[2]
 
@@ -127,33 +139,33 @@ class Sweep:
         S = np.stack((c * s[0] - sn * s[1], sn * s[0] + c * s[1]), axis=-1)
         return b, S
 
-    def position(self, name):
+    def position(self, name: str) -> np.ndarray:
         """(N, 2) world position of a named point or joint."""
         b, S = self._point(name)
         x, y, _ = self._body(self.model.body_names[b], self.q)
         return np.stack((x, y), axis=-1) + S
 
-    def velocity(self, name):
+    def velocity(self, name: str) -> np.ndarray:
         """(N, 2) velocity of a named point or joint."""
         b, S = self._point(name)
         xd, yd, w = self._body(self.model.body_names[b], self.qd)
         return np.stack((xd, yd), axis=-1) + perp(S) * w[:, None]
 
-    def acceleration(self, name):
+    def acceleration(self, name: str) -> np.ndarray:
         """(N, 2) acceleration of a named point or joint."""
         b, S = self._point(name)
         _, _, w = self._body(self.model.body_names[b], self.qd)
         xdd, ydd, a = self._body(self.model.body_names[b], self.qdd)
         return np.stack((xdd, ydd), axis=-1) + perp(S) * a[:, None] - S * (w**2)[:, None]
 
-    def forces(self):
+    def forces(self) -> "Forces":
         """Driving efforts and joint reactions at every value, from the model's masses, gravity
         and loads (:mod:`planar.kinetostatics`): one linear solve per value, so keep the result."""
         from planar.kinetostatics import forces
 
         return forces(self)
 
-    def coordinate(self, joint, derivative=0):
+    def coordinate(self, joint: str, derivative: int = 0) -> np.ndarray:
         """(N,) a joint's own coordinate (a revolute's relative angle, a slider's or slot's
         travel from its origin), or its first or second time derivative."""
         coords = self.model.coordinates

@@ -1,8 +1,9 @@
 """Units at the edges: planar computes in radians and seconds; files, the command line and plots
 speak the units their user names.
 
-Lengths are never converted: they are in whatever unit the user sketched in, and ``length`` only
-labels them. Angles are "deg" or "rad"; angular rates "rad/s", "deg/s" or "rpm"; angular
+Lengths are in whatever unit the user sketched in: ``length`` names it, and lengths convert
+between "m", "cm", "mm" and "in" (:func:`convert_length`; any other label, or "" for none, only
+labels them). Angles are "deg" or "rad"; angular rates "rad/s", "deg/s" or "rpm"; angular
 accelerations are in deg/s^2 when rates are in deg/s, else in rad/s^2.
 
 >>> u = Units(length="mm", angle="deg", rate="rpm")
@@ -10,8 +11,10 @@ accelerations are in deg/s^2 when rates are in deg/s, else in rad/s^2.
 6.283185307179586
 >>> float(u.angle_from_internal(3.141592653589793))
 180.0
->>> parse_rate("120rpm"), parse_rate("2.5")
-((120.0, 'rpm'), (2.5, None))
+>>> parse_rate("120rpm"), parse_rate("2.5"), parse_rate("40mm/s")
+((120.0, 'rpm'), (2.5, None), (40.0, 'mm/s'))
+>>> float(convert_length(25.4, "mm", "in")), convert_length([1.5, 2.0], "m", "mm").tolist()
+(1.0, [1500.0, 2000.0])
 """
 
 import math
@@ -24,6 +27,21 @@ from planar.errors import InputError
 
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 RATE_UNITS = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "rpm": 2.0 * math.pi / 60.0}
+# lengths in micrometres: integers, so that a whole number of units converts exactly
+LENGTH_UNITS = {"m": 1_000_000, "cm": 10_000, "mm": 1_000, "in": 25_400}
+LENGTH_RATE_UNITS = {f"{u}/s": u for u in LENGTH_UNITS}
+
+
+def convert_length(value, source, target):
+    """Lengths ``value`` in ``source`` units restated in ``target`` units (each one of m, cm,
+    mm, in; unchanged when both are the same label)."""
+    if source == target:
+        return value
+    for unit in (source, target):
+        if unit not in LENGTH_UNITS:
+            raise InputError(f"cannot convert lengths from {source or 'no unit'!r} to {target or 'no unit'!r}: "
+                             f"lengths convert between {', '.join(LENGTH_UNITS)}; name the length unit as one of them")
+    return np.multiply(value, LENGTH_UNITS[source]) / LENGTH_UNITS[target]
 
 
 def _check(unit, table, what):
@@ -127,9 +145,11 @@ class Units:
 
 
 def parse_rate(text):
-    """Split "120rpm", "2 rad/s", "90deg/s" or "3" into (value, unit or None)."""
-    m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(rad/s|deg/s|rpm)?\s*", str(text))
-    if not m:
-        raise InputError(f"cannot read the speed {text!r}: give a number with an optional unit, "
-                         f"like 120rpm, 2rad/s or 90deg/s")
+    """Split "120rpm", "2 rad/s", "90deg/s", "40mm/s" (a sliding input's speed) or "3" into
+    (value, unit or None)."""
+    units = "|".join(re.escape(u) for u in [*RATE_UNITS, *LENGTH_RATE_UNITS])
+    m = re.fullmatch(rf"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*({units})?\s*", str(text))
+    if not m or not math.isfinite(float(m.group(1))):
+        raise InputError(f"cannot read the speed {text!r}: give a finite number with an optional unit, "
+                         f"like 120rpm, 2rad/s, 90deg/s or, for a sliding input, 40mm/s")
     return float(m.group(1)), m.group(2)

@@ -19,23 +19,29 @@ def res():
 
 
 def test_gif_has_one_frame_per_pose(res, tmp_path):
+    # 25 values over a whole turn: the last pose is the first again, which the looping GIF shows
     calls = []
     out = anim.animate(res, tmp_path / "fb.gif", fps=10, dpi=40, progress=lambda d, n: calls.append((d, n)))
     with Image.open(out) as im:
-        assert im.n_frames == 25
+        assert im.n_frames == 24
         first = np.asarray(im.convert("RGB"))
         im.seek(12)
         middle = np.asarray(im.convert("RGB"))
     assert np.mean(np.any(first < 245, axis=-1)) > 0.01  # not blank
     assert np.any(first != middle)  # it moves
-    assert calls[-1] == (25, 25) and len(calls) == 25
+    assert calls[-1] == (24, 24) and len(calls) == 24
 
 
-def test_frames_are_thinned_and_rock(res):
+def test_frames_are_thinned_evenly_and_rock(res):
     f = anim.frame_indices(res, max_frames=10)
-    assert len(f) == 10 and f[0] == 0 and f[-1] == 24 and np.all(np.diff(f) > 0)
-    r = anim.frame_indices(res, max_frames=10, rocking=True)
-    np.testing.assert_array_equal(r, np.r_[f, f[-2:0:-1]])
+    assert f.tolist() == [0, 3, 6, 9, 12, 15, 18, 21]  # every third of the 24 distinct poses
+    r = anim.frame_indices(res, max_frames=10, rocking=True)  # there and back: both ends shown once
+    np.testing.assert_array_equal(r, np.r_[np.arange(0, 25, 3), np.arange(21, 0, -3)])
+    half = four_bar().sweep(np.linspace(0, np.pi, 25))  # not a whole turn: the last pose stays
+    assert anim.frame_indices(half, max_frames=12).tolist() == list(range(0, 25, 3))
+    assert len(anim.frame_indices(half)) == 25
+    with pytest.raises(InputError, match="max_frames must be a whole number of at least 1"):
+        anim.frame_indices(half, max_frames=0)
 
 
 def test_unsolved_poses_are_skipped():
@@ -58,8 +64,8 @@ def test_traces_reach_the_current_pose(res, tmp_path, monkeypatch):
     anim.animate(res, tmp_path / "t.gif", max_frames=5, dpi=30)
     i, ends = seen[-1]
     # the trace drawn before the last frame ends where C was on the frame before it
-    assert len(ends) == 1 and i == 24
-    np.testing.assert_allclose(ends[0], res.position("C")[18], atol=1e-12)
+    assert len(ends) == 1 and i == 20  # frames 0, 5, 10, 15, 20 of the 24 distinct poses
+    np.testing.assert_allclose(ends[0], res.position("C")[15], atol=1e-12)
 
 
 def test_refusals(res, tmp_path, monkeypatch):

@@ -4,6 +4,8 @@ differ in the last bit), the same events. The scalar kernels are checked against
 kernels joint by joint in tests/test_joints.py.
 """
 
+import sys
+
 import numpy as np
 import pytest
 from hypothesis import assume, example, given, settings
@@ -66,6 +68,7 @@ def assert_same_sweeps(model, values):
     return a
 
 
+@pytest.mark.numba
 @pytest.mark.parametrize("name", CASES)
 def test_compiled_sweep_equals_the_numpy_sweep(name):
     build_case, values = CASES[name]
@@ -83,6 +86,7 @@ def dyad_linkages(draw, kind):
     return {"pivot": pivot, "crank_tip": tip, "dyads": [(kind, 0, x, j, 1, y, draw(st.floats(0.1, 3.0)))]}
 
 
+@pytest.mark.numba
 @settings(max_examples=40)
 @given(desc=st.sampled_from(["RRR", "RRP"]).flatmap(dyad_linkages))
 @example(  # found by this test: a triple rocker, rates next to its limits (s ~ 0.006) agreed to 3e-12
@@ -103,6 +107,7 @@ def test_designs_of_one_structure_share_one_compiled_loop():
     assert compiled.source(T[0]) == compiled.source(T[1])  # lengths, scales, sketch constants: data
 
 
+@pytest.mark.numba
 def test_a_sweep_compiles_each_driver_once():
     # every call of the loop (final steps, anchors' Newton, the bulk pass, with and without
     # rates) passes the same types: one machine-code specialisation per driver, not one per use
@@ -114,6 +119,7 @@ def test_a_sweep_compiles_each_driver_once():
     assert len(module.loop.signatures) == 1 and len(module.serial.signatures) == 1
 
 
+@pytest.mark.numba
 def test_the_bulk_pass_leaves_a_solved_anchor_it_cannot_take_as_it_was():
     # the compiled pass takes the solved anchors with the other values (their final step); an
     # anchor whose step fails there (here: a table whose second interval guesses 0.3 off)
@@ -146,3 +152,9 @@ def test_the_bulk_pass_leaves_a_solved_anchor_it_cannot_take_as_it_was():
 def test_unknown_engine_is_refused():
     with pytest.raises(InputError, match="engine"):
         four_bar().sweep([0.0, 0.1], engine="fortran")
+
+
+def test_compiled_engine_without_numba_is_a_named_error(monkeypatch):
+    monkeypatch.setitem(sys.modules, "numba", None)  # as if numba were not installed
+    with pytest.raises(InputError, match="engine='numba' needs numba"):
+        four_bar().sweep([0.0, 0.1], engine="numba")

@@ -234,3 +234,47 @@ def test_the_every_joint_example_draws_all_parts():
     kinds = {type(j).__name__ for j in res.model.joints}
     assert kinds == {"Revolute", "Prismatic", "Slot", "CarrierGear", "Gear", "RackPinion"}
     assert len([p for p in ax.patches if isinstance(p, Circle)]) == 5  # gear1, gear2, planet, pinion, wheel
+
+
+def test_pictures_for_many_bodies_keep_distinct_colours_and_fit_a_screen():
+    from planar.mechanisms import open_chain
+
+    res = open_chain([1.0] * 12).sweep(np.zeros((3, 12)) + np.linspace(0, 1, 3)[:, None])
+    axes = draw.plot_outputs(res)
+    colours = [ln.get_color() for ln in axes[0].lines if ln.get_label().startswith("link")]
+    assert len(colours) == 12 and len(set(colours)) == 12
+    width, height = axes[0].figure.get_size_inches()
+    assert width <= 8 and height <= 9
+    scene = draw.Scene(res)
+    assert len({scene.colour(b) for b in range(1, 13)}) == 12
+    assert len(set(draw.PATH_COLOURS)) == len(draw.PATH_COLOURS) >= 64
+    assert len(set(draw.FILLS)) == len(draw.FILLS) >= 64
+
+
+def _label_boxes(ax):
+    ax.figure.canvas.draw()
+    renderer = ax.figure.canvas.get_renderer()
+    return [t.get_window_extent(renderer) for t in ax.texts if t.get_fontstyle() == "italic"]
+
+
+@pytest.mark.parametrize("build", ["every_joint_type", "crowded"])
+def test_point_labels_do_not_collide(build):
+    if build == "every_joint_type":
+        import importlib.util
+        from pathlib import Path
+
+        spec = importlib.util.spec_from_file_location(
+            "every_joint_type", Path(__file__).resolve().parents[1] / "examples" / "every_joint_type.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        mech = module.build()
+    else:  # named points packed closer than a label is wide
+        mech = four_bar(4, 2, 3, 4)
+        for k in range(6):
+            mech.add_point(f"P{k}", "coupler", at=(1.2 + 0.12 * k, 1.8 + 0.05 * k))
+    ax = draw.draw(mech)
+    boxes = _label_boxes(ax)
+    assert len(boxes) >= 6
+    for k, a in enumerate(boxes):
+        for b in boxes[k + 1:]:
+            assert not a.overlaps(b), (a, b)

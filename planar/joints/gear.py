@@ -3,6 +3,8 @@
 All rows are linear in the unwrapped body angles, so angles are never reduced modulo 2 pi.
 """
 
+from typing import ClassVar
+
 import numpy as np
 
 from planar.geometry import Frames, cross_cf, dot_cf, perp_cf
@@ -150,7 +152,7 @@ class Gear(Joint):
 
     n_rows = 1
     n_bodies = 2
-    length_rows = (True,)
+    length_rows: ClassVar[tuple] = (True,)
     sketch_rows = (0,)
     local_params = _gear_params
 

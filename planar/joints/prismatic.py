@@ -1,5 +1,7 @@
 """Prismatic joint (slider) and pin-in-slot: a point of body b on a line fixed in body a."""
 
+from typing import ClassVar
+
 import numpy as np
 
 from planar.joints.base import Joint, Line
@@ -30,7 +32,7 @@ class Slot(Joint):
 
     n_rows = 1
     n_bodies = 2
-    length_rows = (True,)
+    length_rows: ClassVar[tuple] = (True,)
 
     local_params = _line_params
 

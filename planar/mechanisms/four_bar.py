@@ -8,6 +8,8 @@
 ([46.080251], [1.43091])
 """
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from planar.errors import AssemblyError
@@ -43,8 +45,10 @@ def loop_pose(O2, O4, crank, coupler, rocker, driver, start, crossed):
                         f"use crossed={not crossed} or another start")
 
 
-def four_bar(ground=4.0, crank=2.0, coupler=3.0, rocker=4.0, *, frame_angle=0.0, coupler_point=None,
-             crossed=False, driver="crank", start=0.0, pivot=(0.0, 0.0), name="four_bar"):
+def four_bar(ground: float = 4.0, crank: float = 2.0, coupler: float = 3.0, rocker: float = 4.0, *,
+             frame_angle: float = 0.0, coupler_point: Sequence[float] | None = None, crossed: bool = False,
+             driver: str = "crank", start: float = 0.0, pivot: Sequence[float] = (0.0, 0.0),
+             name: str = "four_bar") -> Mechanism:
     """A four-bar sketched at input ``start`` and driven.
 
     Parameters

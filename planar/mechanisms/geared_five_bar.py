@@ -24,8 +24,9 @@ from planar.model import Mechanism
 BODIES = ("gear2", "arm", "gear4", "link5")
 
 
-def geared_five_bar(ground=8.0, gear_radius_2=3.0, gear_radius_4=3.5, link_5=6.0, *, crossed=False, start=0.0,
-                    name="geared_five_bar"):
+def geared_five_bar(ground: float = 8.0, gear_radius_2: float = 3.0, gear_radius_4: float = 3.5,
+                    link_5: float = 6.0, *, crossed: bool = False, start: float = 0.0,
+                    name: str = "geared_five_bar") -> Mechanism:
     """The seed's geared five-bar, driven by gear 2's angle and sketched at input ``start``.
 
     Parameters

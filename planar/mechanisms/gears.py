@@ -14,6 +14,8 @@ sketched. A planetary set with several planets has redundant mesh rows: the mode
 [0.333333333333, 0.333333333333]
 """
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from planar.errors import ModelError
@@ -22,7 +24,8 @@ from planar.mechanisms.sketch import polar
 from planar.model import Mechanism
 
 
-def rack_and_pinion(radius=1.0, *, rack_angle=0.0, driver="pinion", start=0.0, name="rack_and_pinion"):
+def rack_and_pinion(radius: float = 1.0, *, rack_angle: float = 0.0, driver: str = "pinion", start: float = 0.0,
+                    name: str = "rack_and_pinion") -> Mechanism:
     """A pinion turning about the origin drives a rack sliding on the ground.
 
     The rack's pitch line runs along ``rack_angle`` at ``radius`` to the right of the pinion
@@ -79,7 +82,8 @@ def rack_and_pinion(radius=1.0, *, rack_angle=0.0, driver="pinion", start=0.0, n
     return m
 
 
-def rolling_wheel(radius=1.0, *, track_radius=None, driver="wheel", start=0.0, name="rolling_wheel"):
+def rolling_wheel(radius: float = 1.0, *, track_radius: float | None = None, driver: str = "wheel",
+                  start: float = 0.0, name: str = "rolling_wheel") -> Mechanism:
     """A wheel rolling without slip on the ground line y = 0 (above it) or, with
     ``track_radius``, inside a fixed circle of that radius centred at the origin.
 
@@ -145,7 +149,8 @@ def rolling_wheel(radius=1.0, *, track_radius=None, driver="wheel", start=0.0, n
     return m
 
 
-def gear_train(radii=(1.0, 2.0, 1.5), *, start=0.0, name="gear_train"):
+def gear_train(radii: Sequence[float] = (1.0, 2.0, 1.5), *, start: float = 0.0,
+               name: str = "gear_train") -> Mechanism:
     """A simple train of external gears on fixed axes along the x axis, driven by the first.
 
     Gear k has pitch radius ``radii[k-1]``; its centre ``Ok`` lies where it meshes with the gear
@@ -180,8 +185,9 @@ def gear_train(radii=(1.0, 2.0, 1.5), *, start=0.0, name="gear_train"):
 MEMBERS = ("sun", "carrier", "ring")
 
 
-def planetary_gear_train(sun=1.0, planet=0.5, *, planets=3, fixed="ring", driver="sun", start=0.0,
-                         name="planetary_gear_train"):
+def planetary_gear_train(sun: float = 1.0, planet: float = 0.5, *, planets: int = 3, fixed: str = "ring",
+                         driver: str = "sun", start: float = 0.0,
+                         name: str = "planetary_gear_train") -> Mechanism:
     """A planetary (epicyclic) set: sun, ``planets`` equal planets on a carrier, and a ring.
 
     The sun (radius Rs), the carrier and the ring (radius Rs + 2 Rp) turn about the origin;

@@ -21,8 +21,9 @@ from planar.model import Mechanism
 DRIVERS = ("crank", "link3", "slide")
 
 
-def inverted_slider_crank(ground=20.0, crank=8.5, *, offset=0.0, frame_angle=0.0, crossed=False, driver="crank",
-                          start=None, name="inverted_slider_crank"):
+def inverted_slider_crank(ground: float = 20.0, crank: float = 8.5, *, offset: float = 0.0,
+                          frame_angle: float = 0.0, crossed: bool = False, driver: str = "crank",
+                          start: float | None = None, name: str = "inverted_slider_crank") -> Mechanism:
     """An inverted slider-crank sketched at input ``start`` and driven.
 
     Parameters

@@ -8,7 +8,10 @@
 ([[4.924039, 0.868241]], [[-17.364818, 98.480775]])
 """
 
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from planar.errors import ModelError
 from planar.mechanisms import _checks
@@ -16,7 +19,8 @@ from planar.mechanisms.sketch import polar
 from planar.model import Mechanism
 
 
-def open_chain(lengths=(5.0, 8.0, 9.0), *, start=None, driver="absolute", name="open_chain"):
+def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike | None = None,
+               driver: str = "absolute", name: str = "open_chain") -> Mechanism:
     """A serial chain from a ground pivot at the origin, every link driven.
 
     Parameters
@@ -45,10 +49,10 @@ def open_chain(lengths=(5.0, 8.0, 9.0), *, start=None, driver="absolute", name="
     """
     r = _checks.length_list(lengths, "lengths")
     _checks.choice(driver, ("absolute", "relative"), "driver")
-    start = np.zeros(len(r)) if start is None else np.asarray(start, dtype=float)
-    if start.shape != (len(r),) or not np.all(np.isfinite(start)):
-        raise ModelError(f"start must hold {len(r)} finite angles, one per link; got {start.tolist()!r}")
-    angles = start if driver == "absolute" else np.cumsum(start)
+    th0 = np.zeros(len(r)) if start is None else np.asarray(start, dtype=float)
+    if th0.shape != (len(r),) or not np.all(np.isfinite(th0)):
+        raise ModelError(f"start must hold {len(r)} finite angles, one per link; got {th0.tolist()!r}")
+    angles = th0 if driver == "absolute" else np.cumsum(th0)
 
     m = Mechanism(name)
     P, prev = np.zeros(2), m.ground

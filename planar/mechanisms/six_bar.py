@@ -19,11 +19,14 @@ the second's (the dyad's middle joint right of the line through its two end join
 True
 """
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from planar.mechanisms import _checks
 from planar.mechanisms.four_bar import four_bar, loop_pose
 from planar.mechanisms.sketch import along, angle_of, circle_circle, polar
+from planar.model import Mechanism
 
 
 def _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start):
@@ -62,9 +65,10 @@ def _held(m, name, a, b):
             m.distance(ref, name, r)
 
 
-def watt_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_point=(2.0, 1.5),
-                 rocker_point=(1.5, -1.5), link_5=3.0, link_6=3.0, frame_angle=0.0, crossed=False,
-                 crossed_2=False, start=0.0, name="watt_six_bar"):
+def watt_six_bar(ground: float = 4.0, crank: float = 1.5, coupler: float = 4.0, rocker: float = 3.5, *,
+                 coupler_point: Sequence[float] = (2.0, 1.5), rocker_point: Sequence[float] = (1.5, -1.5),
+                 link_5: float = 3.0, link_6: float = 3.0, frame_angle: float = 0.0, crossed: bool = False,
+                 crossed_2: bool = False, start: float = 0.0, name: str = "watt_six_bar") -> Mechanism:
     """Watt six-bar with a binary ground: a four-bar whose coupler point C and rocker point D
     are joined by link 5 (C to E) and link 6 (E to D).
 
@@ -104,9 +108,11 @@ def watt_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_poin
     return m
 
 
-def stephenson_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, coupler_point=(2.0, 1.5),
-                       link_5=4.0, link_6=3.0, pivot_6=(2.0, 6.0), frame_angle=0.0, crossed=False,
-                       crossed_2=False, start=0.0, name="stephenson_six_bar"):
+def stephenson_six_bar(ground: float = 4.0, crank: float = 1.5, coupler: float = 4.0, rocker: float = 3.5, *,
+                       coupler_point: Sequence[float] = (2.0, 1.5), link_5: float = 4.0, link_6: float = 3.0,
+                       pivot_6: Sequence[float] = (2.0, 6.0), frame_angle: float = 0.0, crossed: bool = False,
+                       crossed_2: bool = False, start: float = 0.0,
+                       name: str = "stephenson_six_bar") -> Mechanism:
     """Stephenson six-bar with a ternary ground: a four-bar whose coupler point C drives link 6
     (pivoted on the ground at O6) through link 5 (C to D).
 
@@ -140,8 +146,10 @@ def stephenson_six_bar(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, *, couple
     return m
 
 
-def two_loop_six_bar(lengths=(4.0, 1.5, 4.0, 3.5, 5.0, 2.0, 5.0, 3.5), *, frame_angle=0.0, frame_angle_2=0.0,
-                     phase=np.pi, crossed=False, crossed_2=False, start=0.0, name="two_loop_six_bar"):
+def two_loop_six_bar(lengths: Sequence[float] = (4.0, 1.5, 4.0, 3.5, 5.0, 2.0, 5.0, 3.5), *,
+                     frame_angle: float = 0.0, frame_angle_2: float = 0.0, phase: float = np.pi,
+                     crossed: bool = False, crossed_2: bool = False, start: float = 0.0,
+                     name: str = "two_loop_six_bar") -> Mechanism:
     """The student report's six-bar: two four-bars in series sharing the pivot O4.
 
     Loop 1: R2 + R3 = R1 + R4 (O2-A-B-O4, as :func:`planar.mechanisms.four_bar`). Loop 2:
@@ -171,7 +179,7 @@ def two_loop_six_bar(lengths=(4.0, 1.5, 4.0, 3.5, 5.0, 2.0, 5.0, 3.5), *, frame_
     r = _checks.length_list(lengths, "lengths", count=8)
     th5 = _checks.number(frame_angle_2, "frame_angle_2")
     phase = _checks.number(phase, "phase")
-    m, O4, A, B = _first_loop(name, *r[:4], frame_angle, crossed, start)
+    m, O4, A, B = _first_loop(name, r[0], r[1], r[2], r[3], frame_angle, crossed, start)
     D = polar(O4, r[5], angle_of(O4, B) + phase)
     m = _dyad(m, ("D", "E", "O6"), ("coupler2", "rocker2", "rocker", m.ground), D, polar(O4, r[4], th5),
               r[6], r[7], crossed_2, "the second loop D-E-O6")

@@ -7,6 +7,8 @@
 ([2.963774], [-5.771574])
 """
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from planar.mechanisms import _checks
@@ -16,8 +18,9 @@ from planar.model import Mechanism
 DRIVERS = ("crank", "coupler", "slider")
 
 
-def slider_crank(crank=2.0, coupler=5.0, *, offset=1.0, slide_angle=0.0, coupler_point=None, crossed=False,
-                 driver="crank", start=None, name="slider_crank"):
+def slider_crank(crank: float = 2.0, coupler: float = 5.0, *, offset: float = 1.0, slide_angle: float = 0.0,
+                 coupler_point: Sequence[float] | None = None, crossed: bool = False, driver: str = "crank",
+                 start: float | None = None, name: str = "slider_crank") -> Mechanism:
     """A slider-crank sketched at input ``start`` and driven.
 
     The crank pivot O2 is at the origin. The slide line runs at ``slide_angle`` through the

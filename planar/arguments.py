@@ -1,0 +1,121 @@
+"""Checks of the arguments of :meth:`planar.Model.sweep` and :meth:`planar.Model.circuit`, made
+before any work: each bad argument is an :class:`planar.InputError` naming it and the fix, and a
+sweep too large for the machine's memory, or whose walk through its values would take more
+continuation steps than :data:`MAX_STEPS`, is refused up front with the limit named.
+
+>>> from planar.mechanisms import four_bar
+>>> four_bar().sweep([0.0, 0.1], max_step=0)
+Traceback (most recent call last):
+...
+planar.errors.InputError: max_step must be a positive number of radians (or of the mechanism's size for a length input), got 0: the default is 0.05
+>>> four_bar().sweep([0.0, 1e300])
+Traceback (most recent call last):
+...
+planar.errors.InputError: the walk through these sweep values is 2e+301 continuation steps of max_step = 0.05, more than the limit of 1e+08: sweep a shorter span of the input, with fewer jumps between far values
+"""
+
+import inspect
+import math
+import os
+from numbers import Integral, Real
+
+import numpy as np
+
+from planar.errors import InputError
+
+TOL_RANGE = (1e-15, 1e-3)  # scaled residual: below 1e-15 rounding cannot meet it; above 1e-3 a pose is off
+MAX_STEPS = 1e8  # continuation steps of max_step through the sweep's values
+# input rates and accelerations (per the mechanism's size for lengths): beyond, v**2 overflows
+MAX_RATE, MAX_ACCELERATION = 1e100, 1e200
+BYTES_PER_COORDINATE = 40  # per value and coordinate: positions, rates, accelerations and the work arrays
+
+
+def _number(value, name, fix):
+    if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(value):
+        raise InputError(f"{name} must be a finite number, got {value!r}: {fix}")
+    return float(value)
+
+
+def tolerance(tol):
+    """``tol``: a number within :data:`TOL_RANGE`."""
+    lo, hi = TOL_RANGE
+    fix = f"give a scaled residual from {lo:g} to {hi:g} (the default is 1e-12)"
+    tol = _number(tol, "tol", fix)
+    if not lo <= tol <= hi:
+        raise InputError(f"tol must be from {lo:g} to {hi:g}, got {tol!r}: {fix}")
+    return tol
+
+
+def max_step(step):
+    """``max_step``: a positive number."""
+    fix = "the default is 0.05"
+    what = "max_step must be a positive number of radians (or of the mechanism's size for a length input)"
+    if isinstance(step, bool) or not isinstance(step, Real) or not math.isfinite(step) or step <= 0:
+        raise InputError(f"{what}, got {step!r}: {fix}")
+    return float(step)
+
+
+def sweep_options(options, run):
+    """The options of a sweep checked: names among ``run``'s keyword-only parameters, ``tol``,
+    ``max_step`` and ``rates`` of their kinds; the others are checked where they are used.
+    Returns them with ``max_step`` filled in."""
+    known = {k: p.default for k, p in inspect.signature(run).parameters.items() if p.kind == p.KEYWORD_ONLY}
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise InputError(f"unknown sweep option {unknown[0]!r}: the options are {', '.join(known)}")
+    out = dict(options)
+    if "tol" in out:
+        out["tol"] = tolerance(out["tol"])
+    out["max_step"] = max_step(out.get("max_step", known["max_step"]))
+    if "rates" in out and not isinstance(out["rates"], (bool, np.bool_)):
+        raise InputError(f"rates must be True or False, got {out['rates']!r}")
+    return out
+
+
+def rates(model, Ud, Udd):
+    """Refuse input rates and accelerations so large that the accelerations overflow."""
+    scale = np.where(model.input_lengths, model.L, 1.0)
+    for what, a, limit in (("velocity", Ud, MAX_RATE), ("acceleration", Udd, MAX_ACCELERATION)):
+        big = float(np.max(np.abs(a) / scale)) if a.size else 0.0
+        if big > limit:
+            raise InputError(f"sweep {what} reaches {big:.3g} (radians, or the mechanism's size, per second"
+                             f"{'' if what == 'velocity' else ' squared'}): beyond {limit:g} the accelerations "
+                             f"overflow; give it in larger units of time")
+
+
+def _memory():
+    """Bytes of physical memory, or None where the system does not say."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def size(model, N, what="the sweep"):
+    """Refuse ``N`` values of ``model`` when their results cannot fit in memory (a count that is
+    not an integer is refused where it is read)."""
+    if isinstance(N, bool) or not isinstance(N, Integral):
+        return
+    need = float(N) * max(model.n, 1) * BYTES_PER_COORDINATE
+    have = _memory()
+    if have is not None and need > have:
+        raise InputError(f"{what} of {N} values needs about {need / 2**30:.3g} GiB for its results, more than "
+                         f"this machine's {have / 2**30:.3g} GiB of memory: sweep fewer values, or in chunks")
+
+
+def values(model, U, step):
+    """Refuse no values, more values (N, f) than fit in memory, and values whose walk from the
+    sketch, value after value, takes more than :data:`MAX_STEPS` steps of ``step`` (radians,
+    or lengths over the mechanism's size)."""
+    if len(U) == 0:
+        raise InputError("the sweep has no values: give at least one input value")
+    size(model, len(U))
+    scale = np.where(model.input_lengths, model.L, 1.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        jumps = np.abs(np.diff(np.vstack([model.u0[None], U]), axis=0)) / scale
+        steps = float(np.sum(np.max(jumps, axis=1))) / step if len(U) else 0.0
+    if not steps <= MAX_STEPS:
+        raise InputError(f"the walk through these sweep values is {steps:.3g} continuation steps of max_step = "
+                         f"{step:g}, more than the limit of {MAX_STEPS:g}: sweep a shorter span of the input, "
+                         f"with fewer jumps between far values")
+
