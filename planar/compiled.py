@@ -72,7 +72,7 @@ Tables = namedtuple("Tables", [
 def check(plan):
     """Raise :class:`InputError` unless the compiled path can run ``plan``."""
     if importlib.util.find_spec("numba") is None:
-        raise InputError("engine='numba' needs numba: pip install 'planar[fast]', or use engine='numpy'")
+        raise InputError("engine='numba' needs numba: pip install 'planar-kinematics[fast]', or use engine='numpy'")
     from planar.joints.scalar import KERNELS
 
     missing = sorted({g.kind.__name__ for g in plan.system.groups if g.kind not in KERNELS})

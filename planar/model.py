@@ -106,18 +106,18 @@ class Mechanism:
 
     def __init__(self, name: str = "mechanism") -> None:
         self.name = name
-        self._bodies = {GROUND: 0.0}  # name -> angle as given: None (the rule), a number or a line (p, q)
-        self._points = {}  # name -> (body, world point)
-        self._joints = []
-        self._drivers = []
-        self._dimensions = []
-        self._starts = {}  # driver name -> start value
-        self._sides = []  # (name, a, b, side) of each joint or point placed by a Dyad
+        self._bodies: dict[str, Any] = {GROUND: 0.0}  # name -> angle as given: None (the rule), a number or a line (p, q)
+        self._points: dict = {}  # name -> (body, world point)
+        self._joints: list = []
+        self._drivers: list = []
+        self._dimensions: list = []
+        self._starts: dict = {}  # driver name -> start value
+        self._sides: list = []  # (name, a, b, side) of each joint or point placed by a Dyad
         self._names = {GROUND}
         self._model: Model | None = None
-        self._mass = {}  # body -> (mass, sketch centre of mass, inertia about it)
-        self._loads = []  # (body, sketch point, force, torque, fixed)
-        self._gravity = None
+        self._mass: dict = {}  # body -> (mass, sketch centre of mass, inertia about it)
+        self._loads: list = []  # (body, sketch point, force, torque, fixed)
+        self._gravity: tuple | None = None
 
     def __repr__(self) -> str:
         return (f"<Mechanism {self.name!r}: {len(self._bodies) - 1} moving bodies, {len(self._joints)} joints, "
@@ -175,21 +175,20 @@ class Mechanism:
         its axle alone). ``mass``, ``com`` and ``inertia``: see :meth:`set_mass` (``planar.bar``,
         ``disc`` and ``plate`` give them for simple shapes)."""
         what = f"angle of body {name!r}"
-        if angle is None:
-            spec = None
-        elif isinstance(angle, (tuple, list)) and len(angle) == 2 and all(isinstance(p, str) for p in angle):
+        spec: float | tuple[str, str] | None = None
+        if isinstance(angle, (tuple, list)) and len(angle) == 2 and all(isinstance(p, str) for p in angle):
             if angle[0] == angle[1]:
                 raise ModelError(f"the {what} is the line {angle[0]} -> {angle[1]}: name two different joints "
                                  f"or points")
             spec = (angle[0], angle[1])
-        else:
+        elif angle is not None:
             spec = float(_finite(angle, f"{what} (a number, or a line (p, q) of two point names)", ()))
         self._bodies[self._new_name(name, "body")] = spec
         if mass is not None:
             self.set_mass(name, mass, com, inertia)
         return Body(name)
 
-    def set_mass(self, body: Body | str, mass: float, com: ArrayLike, inertia: float = 0.0) -> None:
+    def set_mass(self, body: Body | str, mass: float, com: ArrayLike | None, inertia: float = 0.0) -> None:
         """Give ``body`` its ``mass``, centre of mass ``com`` (a sketch point, like ``at``) and
         moment of inertia about it, for :meth:`planar.Sweep.forces` (bodies without are massless).
 
@@ -538,10 +537,10 @@ class Sketch:
     joints: tuple
     drivers: tuple
     dimensions: tuple = ()
-    starts: dict = None
-    mass: dict = None
+    starts: dict | None = None
+    mass: dict | None = None
     loads: tuple = ()
-    gravity: tuple = None
+    gravity: tuple | None = None
 
     def position(self, name):
         """World position (2,) of a joint or point."""
@@ -587,10 +586,10 @@ class Model:
     redundant_joints: tuple
     coordinates: dict  # joint name -> (system of its coordinate rows, row)
     sketch: Sketch
-    mass: np.ndarray = None  # (n_bodies,) masses (0: massless)
-    com: np.ndarray = None  # (n_bodies, 2) centres of mass in the body frames
-    inertia: np.ndarray = None  # (n_bodies,) moments of inertia about the centres of mass
-    gravity: np.ndarray = None  # (2,) world gravitational acceleration
+    mass: np.ndarray | None = None  # (n_bodies,) masses (0: massless)
+    com: np.ndarray | None = None  # (n_bodies, 2) centres of mass in the body frames
+    inertia: np.ndarray | None = None  # (n_bodies,) moments of inertia about the centres of mass
+    gravity: np.ndarray | None = None  # (2,) world gravitational acceleration
     loads: tuple = ()  # planar.mass.Load
 
     def __repr__(self) -> str:
@@ -1061,7 +1060,7 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         diag = np.abs(np.diag(R))
         rank = int(np.sum(diag > 1e-9 * max(diag[0], 1e-300))) if diag.size else 0
         if best is None or rank > best[0]:
-            best = (rank, np.sort(rows[piv[:rank]]))
+            best = (rank, _first_independent(Js, rows, rank, 1e-9 * max(diag[0], 1e-300), piv))
         if rank == system.n or trial == 2:
             break
         # move along the free motion and reassemble, to leave a possibly singular sketch
@@ -1073,6 +1072,24 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         except (AssemblyError, IndexError):
             break
     return best
+
+
+def _first_independent(Js, rows, rank, tol, piv):
+    """The ``rank`` independent rows met first in the order the joints were added, so the
+    joints called redundant are the later ones whatever the rounding (the pivoted order ``piv``
+    where rounding leaves the greedy pick short)."""
+    Q = np.zeros((Js.shape[1], 0))
+    keep = []
+    for k, v in enumerate(Js):
+        r = v - Q @ (Q.T @ v)
+        r -= Q @ (Q.T @ r)  # twice is enough (Kahan)
+        size = np.linalg.norm(r)
+        if size > tol:
+            Q = np.column_stack([Q, r / size])
+            keep.append(k)
+            if len(keep) == rank:
+                return rows[keep]
+    return np.sort(rows[piv[:rank]])
 
 
 def _check_drivers(system, q0, u0, active, n_joint_rows, drivers, rs, cs):

@@ -96,11 +96,11 @@ def test_a_sweep_larger_than_memory_is_refused_with_the_limit(monkeypatch):
 
 
 @pytest.mark.parametrize("call, message", [
-    (lambda m: m.add_body("b", angle="x"), "angle of body 'b' must be numeric"),
+    (lambda m: m.add_body("b", angle="x"), r"angle of body 'b' \(a number, or a line \(p, q\) of two point names\) must be numeric"),
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
     (lambda m: m.add_revolute("J", m.ground, "nobody", at=(0, 0)), "unknown body 'nobody'"),
     (lambda m: m.add_revolute("J", m.ground, m.ground, at=(0, 0)), "joins body 'ground' to itself"),
-    (lambda m: m.add_point("P", m.ground, at=(0, math.nan)), "point 'P' at must be finite"),
+    (lambda m: m.add_point("P", m.ground, at=(0, math.nan)), "'P' at must be finite"),
     (lambda m: m.add_slot("S", m.ground, m.ground, at=(0, 0), direction=(1, 0)), "to itself"),
     (lambda m: m.drive(), "drive needs exactly one of joint=, body= or point="),
     (lambda m: m.drive("nope"), "unknown joint 'nope'"),

@@ -45,7 +45,7 @@ class Synthesis:
     index: np.ndarray
     defects: tuple
     size: float
-    point: str = None
+    point: str | None = None
     notes: dict = field(default_factory=dict)
 
     @property
