@@ -66,9 +66,9 @@ def main(outdir="."):
     print(f"{model.name}: {len(model.body_names) - 1} moving bodies, {len(model.joints)} joints, "
           f"{model.dof} degree of freedom")
     print("joint types:", ", ".join(sorted({type(j).__name__ for j in model.joints})))
-    # the pinion's pivot S and the rack's slider P each hold what the other does: the rank picks one
-    print("one redundant joint (a pinion on a fixed pivot over a rack that stays level):",
-          len(model.redundant_joints) == 1 and model.redundant_joints[0] in ("S", "P"))
+    # the contact's tangency row repeats what the pinion's pivot and the rack's slider hold: the
+    # joint added last of those that repeat is the one called redundant
+    print("redundant joints (a pinion on a fixed pivot over a rack that stays level):", list(model.redundant_joints))
 
     # gear1 turns twice while gear2 (twice its radius) turns once: one full cycle
     th1 = np.linspace(0.0, 4 * np.pi, 121)

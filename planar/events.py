@@ -348,7 +348,9 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
     h, gap = min(max_step, 0.1 * tr.d), None
     gap_min, y_gap = np.inf, y
     last_regular = (q, np.array(u_a, float))
-    for _ in range(int(20 * tr.d / max_step) + 400):  # bounded: a degenerate curve is given up
+    # bounded: a degenerate curve is given up; the allowance covers approaches to crossings, whose
+    # certified steps shrink with the gap (~150 steps each from gap 0.1 down to GAP_CROSS)
+    for _ in range(int(20 * tr.d / max_step) + 2000):
         st = tr.step(y, t, h, gap)
         if st is None:
             return out

@@ -75,7 +75,8 @@ def read_targets(path, columns, optional=()):
 
 
 def cmd_synth(args):
-    from planar.cli import EXIT_OK, _Progress, _write
+    from planar.cli import EXIT_OK, _write
+    from planar.progress import Progress
     from planar.synthesis import (function_four_bar, function_slider_crank, motion_four_bar, path_four_bar,
                                   path_six_bar)
     from planar.units import Units
@@ -89,7 +90,7 @@ def cmd_synth(args):
         mu = None if args.min_transmission is None else units.angle_to_internal(args.min_transmission)
         s = (path_six_bar if args.six_bar else path_four_bar)(
             np.column_stack((cols["x"], cols["y"])), timing=timing, designs=args.designs, tol=args.tol,
-            min_transmission=mu, seed=args.seed, progress=_Progress("search step"))
+            min_transmission=mu, seed=args.seed, progress=Progress("search step"))
     elif args.problem == "function":
         if args.input_range is None or args.output_range is None:
             raise InputError("function generation needs --input-range A0 A1 and --output-range B0 B1")
