@@ -659,6 +659,11 @@ def _load(src):
         tmp.write_text(src)
         os.replace(tmp, path)  # atomic: a concurrent process reads a whole file or none
     name = f"planar_plan_{key}"
+    if name not in sys.modules and not any((path.parent / "__pycache__").glob(f"{path.stem}.*.nbi")):
+        # numba has no machine code of this structure on disk: the first sweep compiles it
+        sys.stderr.write("planar: compiling the numba engine for this mechanism structure (once, 10-65 s; "
+                         "later sweeps and new processes reuse it)\n")
+        sys.stderr.flush()
     if name not in sys.modules:
         spec = importlib.util.spec_from_file_location(name, path)
         module = importlib.util.module_from_spec(spec)

@@ -158,3 +158,16 @@ def test_compiled_engine_without_numba_is_a_named_error(monkeypatch):
     monkeypatch.setitem(sys.modules, "numba", None)  # as if numba were not installed
     with pytest.raises(InputError, match="engine='numba' needs numba"):
         four_bar().sweep([0.0, 0.1], engine="numba")
+
+
+def test_a_new_structure_says_it_compiles(tmp_path, monkeypatch, capsys):
+    # a cache with no machine code of the source: the first sweep would compile, and says so
+    monkeypatch.setattr(compiled, "_cache_dir", lambda: tmp_path)
+    compiled._load(f"X = {tmp_path.name!r}\n")
+    assert "compiling the numba engine for this mechanism structure" in capsys.readouterr().err
+    cached = next(tmp_path.glob("plan_*.py"))
+    (tmp_path / "__pycache__").mkdir()
+    (tmp_path / "__pycache__" / f"{cached.stem}.loop-1.py311.nbi").touch()
+    sys.modules.pop(f"planar_{cached.stem}")
+    compiled._load(f"X = {tmp_path.name!r}\n")  # machine code on disk: loaded, not compiled
+    assert capsys.readouterr().err == ""
