@@ -1061,7 +1061,7 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         rank = int(np.sum(diag > 1e-9 * max(diag[0], 1e-300))) if diag.size else 0
         if best is None or rank > best[0]:
             best = (rank, _first_independent(Js, rows, rank, 1e-9 * max(diag[0], 1e-300), piv))
-        if rank == system.n or trial == 2:
+        if rank == min(len(rows), system.n) or trial == 2:  # every row independent: no higher rank
             break
         # move along the free motion and reassemble, to leave a possibly singular sketch
         _, s, Vt = np.linalg.svd(Js)
@@ -1095,14 +1095,14 @@ def _first_independent(Js, rows, rank, tol, piv):
 def _check_drivers(system, q0, u0, active, n_joint_rows, drivers, rs, cs):
     _, J = system.evaluate(q0[None], u0[None])
     Js = J[0][active] * rs[active, None] * cs[None, :]
-    base = Js[:n_joint_rows]
-    rank = np.linalg.matrix_rank(base, tol=1e-9 * max(1.0, np.abs(Js).max())) if base.size else 0
+    # unpivoted QR of the rows in order: |R_ii| is row i's distance from the span of the rows
+    # before it, so one factorisation says which driver depends on the rows before it
+    R = scipy.linalg.qr(Js.T, mode="r")[0]
+    reach = np.abs(np.diagonal(R))
     for k, d in enumerate(drivers):
-        Ak = Js[: n_joint_rows + k + 1]
-        rk = np.linalg.matrix_rank(Ak, tol=1e-9 * max(1.0, np.abs(Js).max()))
-        if rk <= rank:
+        i = n_joint_rows + k
+        if i >= reach.size or reach[i] <= 1e-9 * max(1.0, np.abs(Js).max()):
             raise MobilityError(f"driver {d.name!r} depends on the joints or on the drivers before it at the "
                                 f"sketch: either it cannot move independently (for example both gears of one "
                                 f"mesh driven: drive another coordinate, or remove it), or the sketch is a dead "
                                 f"centre of this driver (sketch the mechanism at another input value)")
-        rank = rk
