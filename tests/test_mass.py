@@ -74,7 +74,7 @@ def test_load_functions_of_the_inputs_and_their_shapes():
     np.testing.assert_array_equal(f, np.hstack((inputs, 2 * inputs)))
     np.testing.assert_array_equal(tau, 3 * inputs[:, 0])
     bad = Load(1, np.zeros(2), lambda u: u, 0.0, "world", 0.0)
-    with pytest.raises(ModelError, match=r"force function gave shape \(5, 1\) for 5 input values; it must give \(5, 2\)"):
+    with pytest.raises(ModelError, match=r"force function gave shape \(5, 1\) for 5 input values; it must give"):
         bad.at(inputs, np.zeros(5))
 
 
