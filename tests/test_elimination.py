@@ -14,7 +14,9 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from planar.blocks import plan
 from planar.elimination import CONST, VAR, ZERO, Program, _dense_lu, _lu_solve, _parity
+from planar.mechanisms import CATALOGUE, four_bar
 
 N = 6  # poses
 
@@ -112,9 +114,6 @@ def test_constant_columns_go_first_with_the_largest_constant_as_pivot(kinds_ij, 
 
 def test_four_bar_loop_leaves_a_two_by_two_whose_det_is_numpys():
     """The plan's 4x4 loop block of a four-bar, at poses along its motion."""
-    from planar.blocks import plan
-    from planar.mechanisms import four_bar
-
     model = four_bar(4, 2, 3.5, 3).compile()
     p = plan(model)
     res = model.sweep(np.linspace(0, 2 * np.pi, 9))
@@ -132,9 +131,6 @@ def test_a_limit_position_reads_singular():
     """A triple rocker at its limit (crank 117.28 deg): the loop block's normalised det is at
     rounding level, as numpy's det of the scaled block; the solve is non-finite or huge, and
     nothing raises."""
-    from planar.blocks import plan
-    from planar.mechanisms import four_bar
-
     model = four_bar(4, 3, 3, 3).compile()
     res = model.circuit(samples=41)
     limits = [e.index for e in res.events if e.kind == "limit"]
@@ -190,3 +186,27 @@ def test_dense_lu_of_a_singular_block_gives_a_zero_det_and_no_exception():
 def test_parity_is_the_determinant_of_the_permutation_matrix(order):
     P = np.eye(len(order))[order]
     assert _parity(order) == round(np.linalg.det(P))
+
+
+@pytest.mark.parametrize("name", sorted(CATALOGUE))
+def test_plan_factors_at_random_poses_are_numpys(name):
+    """Every catalogue mechanism far from its sketch: the block solves give numpy's solution of
+    the square system, the blocks' det signs multiply to numpy's det sign (up to the one sign
+    of the matching's permutation), and the singularity is the smallest normalised |det|."""
+    model = CATALOGUE[name]().compile()
+    p = plan(model)
+    rng = np.random.default_rng(8)
+    q = model.q0 + 0.3 * rng.normal(size=(N, model.n)) * model.col_scale
+    u = model.u0 + 0.3 * rng.normal(size=(N, model.u0.size))
+    _, _, Jv = p.evaluate(q, u)
+    lu = p.factor(Jv)
+    _, J = model.system.evaluate(q, u)
+    A = J[:, p.rows][:, :, p.cols]
+    b = rng.normal(size=(N, p.rows.size))
+    np.testing.assert_allclose(lu.solve(b)[:, p.cols], np.linalg.solve(A, b[..., None])[..., 0], rtol=1e-8,
+                               atol=1e-8 * model.L)
+    flip = np.prod(lu.signs, axis=1) * np.sign(np.linalg.det(A))
+    assert np.all(flip == flip[0]) and flip[0] in (-1, 1)
+    np.testing.assert_array_equal(lu.signs, np.sign(lu.dets))
+    np.testing.assert_array_equal(lu.sing, np.abs(lu.dets).min(axis=1))
+    assert np.all((lu.sing > 0) & (lu.sing <= 1))
