@@ -3,8 +3,9 @@
 Blocks are made up here, any pattern of structural zeros, constants and variables: the program
 (constant columns eliminated first, the Schur complement with partial pivoting) must give
 numpy's solution, the sign of numpy's determinant and the normalised determinant (Hadamard's
-ratio) computed from its definition. Then the dense kernels on their own, and a catalogue
-mechanism at a limit position, where the measure must read singular.
+ratio) computed from its definition. Then the plans of the catalogue mechanisms at poses far
+from their sketches, a four-bar at its limit position (where the measure must read singular)
+and the dense kernels on their own.
 """
 
 from types import SimpleNamespace
