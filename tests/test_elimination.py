@@ -152,7 +152,7 @@ def test_a_limit_position_reads_singular():
     assert far.max() > 0.1
 
 
-@pytest.mark.parametrize("k", [0, 1, 2, 3, 5])
+@pytest.mark.parametrize("k", [0, 1, 2, 3, 5, 8])
 def test_dense_lu_and_solve_are_numpys(k):
     rng = np.random.default_rng(k)
     G = 3
@@ -165,6 +165,8 @@ def test_dense_lu_and_solve_are_numpys(k):
     np.testing.assert_allclose(det, np.linalg.det(M) if k else np.ones((G, N)), rtol=1e-10, atol=1e-12)
     if k == 0:
         return
+    lower = np.tril(np.ones((k, k), bool), -1)
+    assert np.all(np.abs(fac[lower]) <= 1.0)  # partial pivoting: no multiplier above 1 in size
     x = _lu_solve(fac, perm, b)
     want = np.linalg.solve(M, np.moveaxis(b, 0, -1)[..., None])[..., 0]
     np.testing.assert_allclose(np.moveaxis(x, 0, -1), want, rtol=1e-9, atol=1e-9)
