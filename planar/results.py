@@ -39,7 +39,8 @@ class Status(IntEnum):
         return self.name
 
     def __format__(self, spec: str) -> str:
-        return format(self.name, spec)
+        # a numeric format (f"{s:d}", f"{s:3d}") gives the code, any other the name
+        return format(int(self), spec) if spec[-1:] in ("d", "x", "o", "b", "n") else format(self.name, spec)
 
     @property
     def valid(self) -> bool:

@@ -37,6 +37,7 @@ def test_install_hints_name_the_distribution():
 def test_status_prints_its_name():
     assert str(planar.Status.SOLVED) == "SOLVED"
     assert f"{planar.Status.NOT_CONVERGED}" == "NOT_CONVERGED"
+    assert f"{planar.Status.NOT_CONVERGED:d}" == "5" and f"{planar.Status.LIMIT:>6}" == " LIMIT"
     assert planar.Status.SOLVED == 0 and planar.Status(7) is planar.Status.LIMIT
 
 
