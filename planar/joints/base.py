@@ -239,5 +239,25 @@ def wrap(a):
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
+def line_params(joint, sketch):
+    """The parameters of a line fixed in body a (through ``origin``, along ``direction``) and
+    the point ``at`` of body b: for sliders, slots and travel inputs."""
+    a, b = joint.bodies
+    d = joint.data
+    return {
+        "s": np.stack((sketch.local_point(a, d["origin"]), sketch.local_point(b, d["at"]))),
+        "u": sketch.local_direction(a, d["direction"]),
+    }
+
+
+def line_of(P, F, rates=False):
+    """The :class:`Line` of a slider's parameters at poses F."""
+    return Line(F, P["s"], P["u"], rates=rates)
+
+
+# the locked relative angle phi_b - phi_a: its constant gradient row (6, 1, 1)
+LOCK = np.array([0.0, 0.0, -1.0, 0.0, 0.0, 1.0])[:, None, None]
+
+
 __all__ = ["Joint", "SketchFrames", "Line", "kernel_params", "point_pair", "pair_rates", "pair_blocks",
-           "pair_row", "wrap"]
+           "pair_row", "wrap", "line_params", "line_of", "LOCK"]

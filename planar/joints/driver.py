@@ -7,8 +7,7 @@ driver row is the input rate, and its gamma gets the input acceleration added.
 import numpy as np
 
 from planar.geometry import cross_cf, dot_cf
-from planar.joints.base import Joint
-from planar.joints.prismatic import _LOCK, _line, _line_params
+from planar.joints.base import LOCK, Joint, line_of, line_params
 
 
 class AngleDriver(Joint):
@@ -30,7 +29,7 @@ class AngleDriver(Joint):
     def Phi_q(cls, P, F, out=None, constants=True):
         out = cls.block(F, out)
         if constants:
-            out[0] = _LOCK
+            out[0] = LOCK
         return out
 
     @staticmethod
@@ -46,21 +45,21 @@ class TravelDriver(Joint):
     length_rows = (True,)
     is_driver = True
 
-    local_params = _line_params
+    local_params = line_params
 
     @staticmethod
     def Phi(P, F):
-        return _line(P, F).t - P["c"]
+        return line_of(P, F).t - P["c"]
 
     @classmethod
     def Phi_q(cls, P, F, out=None, constants=True):
         out = cls.block(F, out)
-        _line(P, F).t_grad(out[0])
+        line_of(P, F).t_grad(out[0])
         return out
 
     @staticmethod
     def gamma(P, F):
-        return _line(P, F, rates=True).t_gamma()[None]
+        return line_of(P, F, rates=True).t_gamma()[None]
 
 
 class CoordinateDriver(Joint):

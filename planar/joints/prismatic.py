@@ -4,24 +4,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from planar.joints.base import Joint, Line
-
-
-def _line_params(joint, sketch):
-    a, b = joint.bodies
-    d = joint.data
-    return {
-        "s": np.stack((sketch.local_point(a, d["origin"]), sketch.local_point(b, d["at"]))),
-        "u": sketch.local_direction(a, d["direction"]),
-    }
-
-
-def _line(P, F, rates=False):
-    return Line(F, P["s"], P["u"], rates=rates)
-
-
-# the locked relative angle phi_b - phi_a: its constant gradient row (6, 1, 1)
-_LOCK = np.array([0.0, 0.0, -1.0, 0.0, 0.0, 1.0])[:, None, None]
+from planar.joints.base import LOCK, Joint, line_of, line_params
+from planar.joints.driver import TravelDriver
 
 
 class Slot(Joint):
@@ -34,21 +18,21 @@ class Slot(Joint):
     n_bodies = 2
     length_rows: ClassVar[tuple] = (True,)
 
-    local_params = _line_params
+    local_params = line_params
 
     @staticmethod
     def Phi(P, F):
-        return _line(P, F).h - P["c"]
+        return line_of(P, F).h - P["c"]
 
     @classmethod
     def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
-        ln, out = _line(P, F), cls.block(F, out)
+        ln, out = line_of(P, F), cls.block(F, out)
         ln.h_grad(out[0])
         return ln.h - P["c"], out
 
     @staticmethod
     def gamma(P, F):
-        return _line(P, F, rates=True).h_gamma()[None]
+        return line_of(P, F, rates=True).h_gamma()[None]
 
     @classmethod
     def reaction(cls, P, F, lam):
@@ -62,8 +46,6 @@ class Slot(Joint):
         return self.bodies[1], self.data["at"]
 
     def coordinate(self):
-        from planar.joints.driver import TravelDriver
-
         return TravelDriver(self.name, self.bodies, **self.data)
 
 
@@ -77,19 +59,19 @@ class Prismatic(Slot):
 
     @staticmethod
     def Phi(P, F):
-        return np.stack((_line(P, F).h, F.phi[1] - F.phi[0])) - P["c"]
+        return np.stack((line_of(P, F).h, F.phi[1] - F.phi[0])) - P["c"]
 
     @classmethod
     def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
-        ln, out = _line(P, F), cls.block(F, out)
+        ln, out = line_of(P, F), cls.block(F, out)
         ln.h_grad(out[0])
         if constants:
-            out[1] = _LOCK
+            out[1] = LOCK
         return np.stack((ln.h, F.phi[1] - F.phi[0])) - P["c"], out
 
     @staticmethod
     def gamma(P, F):
-        h = _line(P, F, rates=True).h_gamma()
+        h = line_of(P, F, rates=True).h_gamma()
         return np.stack((h, np.zeros_like(h)))
 
     @classmethod

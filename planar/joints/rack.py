@@ -2,8 +2,7 @@
 
 import numpy as np
 
-from planar.joints.base import Joint
-from planar.joints.prismatic import _line
+from planar.joints.base import Joint, line_of
 
 
 class RackPinion(Joint):
@@ -34,12 +33,12 @@ class RackPinion(Joint):
 
     @staticmethod
     def Phi(P, F):
-        ln = _line(P, F)
+        ln = line_of(P, F)
         return np.stack((ln.h, ln.t + P["sR"] * (F.phi[1] - F.phi[0]))) - P["c"]
 
     @classmethod
     def Phi_and_Phi_q(cls, P, F, out=None, constants=True):
-        ln, out = _line(P, F), cls.block(F, out)
+        ln, out = line_of(P, F), cls.block(F, out)
         ln.h_grad(out[0])
         ln.t_grad(out[1])
         out[1, 2] -= P["sR"]
@@ -48,7 +47,7 @@ class RackPinion(Joint):
 
     @staticmethod
     def gamma(P, F):
-        ln = _line(P, F, rates=True)
+        ln = line_of(P, F, rates=True)
         return np.stack((ln.h_gamma(), ln.t_gamma()))
 
     @classmethod
