@@ -719,8 +719,9 @@ class Model:
         return a
 
 
-def _compile(name, sk):
-    """The Model of an assembled :class:`Sketch` (body angles in radians)."""
+def _compile(name, sk, plan=True):
+    """The Model of an assembled :class:`Sketch` (body angles in radians); without ``plan``,
+    not yet checked drivable (a study of designs plans one of each structure)."""
     joints = list(sk.joints)
     drivers = list(sk.drivers)
     bodies = list(sk.bodies)
@@ -789,7 +790,7 @@ def _compile(name, sk):
         input_lengths=np.array([d.length_rows[0] for d in drivers], bool), rank=rank,
         grubler=n - joint_rows.size, redundant_joints=redundant_joints,
         **compile_mass(sk.mass or {}, sk.loads, sk.gravity, sketch, bodies))
-    if drivers:
+    if drivers and plan:
         block_plan(model)  # a model the drivers cannot drive is refused here, not at sweep time
     return model
 
