@@ -30,7 +30,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from planar import arguments
-from planar.blocks import VAR, _kinds, _samples
 from planar.blocks import plan as block_plan
 from planar.errors import InputError, PlanarError
 from planar.events import NEAR_CURVE
@@ -172,24 +171,18 @@ def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
     D = len(models)
     U = out.U[rows]
     N, n = U.shape[1], ref.n
-    p0 = block_plan(ref, _output_columns(ref, outputs))
-    p = replace(p0, system=p0.system.over_designs([m.system for m in models]))
-    br = _Branch(ref, p, tol)
+    q = np.stack([m.q0 for m in models])
+    u = np.stack([m.u0 for m in models])
+    every = np.arange(D)
     ids = np.arange(D, dtype=float)[:, None]
 
     def at(u, d):  # inputs with the design index of each configuration in a last column
         return np.concatenate([u, ids[d]], axis=1)
 
-    q = np.stack([m.q0 for m in models])
-    u = np.stack([m.u0 for m in models])
-    every = np.arange(D)
-    # the plan's elimination holds the reference's constant Jacobian entries: a design with
-    # other ones (a gear ratio, a slider's fixed direction) is swept alone
-    kinds, values = _kinds(_samples(ref, p0.system))
-    fixed = kinds != VAR
+    p, ok = block_plan(ref, _output_columns(ref, outputs)).over_designs([m.system for m in models], q, at(u, every),
+                                                                         ref.col_scale)
+    br = _Branch(ref, p, tol)
     with np.errstate(all="ignore"):
-        Jv = p.system.values(q, at(u, every))[1]
-        ok = np.all(Jv[fixed] == values[fixed][:, None], axis=0)
         ref_signs, sing = br.modes(q, at(u, every))
     ok &= sing >= NEAR_CURVE
     scale = np.array([np.where(m.input_lengths, 1.0 / m.L, 1.0) for m in models])
