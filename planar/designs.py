@@ -67,51 +67,111 @@ def _plain(v):
     return v.item() if isinstance(v, np.generic) else v
 
 
-def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fixed=None, **options):
+BATCH = 1024  # designs swept together: the batch's temporaries stay ~BATCH * N * 1 kB
+
+
+def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fixed=None, batch=BATCH, **options):
     """Sweep each design ``build(**fixed, **design)`` over ``values`` with the input rates
     ``velocity`` and ``acceleration``, as :meth:`planar.Model.sweep` does (``options``: ``tol``,
     ``max_step``, ``outputs``, ``branch``). ``designs`` is a dict of parameter columns
     (equal lengths, or scalars) or a sequence of dicts; ``values`` may also be a function of
-    the design dict, for inputs that depend on the design (its start, its range). Returns a
-    :class:`DesignSweep`.
+    the design dict, for inputs that depend on the design (its start, its range). Designs are
+    swept ``batch`` at a time (the batch's first design sets the scales: results agree with
+    other batchings to rounding, and are bit-identical for the same ``batch``, as
+    :func:`planar.cluster.sweep_designs_to_store` computes them). Returns a :class:`DesignSweep`.
     """
     table = design_table(designs)
-    fixed = {} if fixed is None else dict(fixed)
+    options = study_options(batch, options)
+    parts = [sweep_part(build, table, lo, min(lo + batch, len(table)), values, velocity, acceleration, fixed, options)
+             for lo in range(0, len(table), batch)]
+    return join(table, parts)
+
+
+def join(designs, parts, dims=None):
+    """The :class:`DesignSweep` of ``designs`` from its batches ``parts`` (``dims``: the
+    (values, coordinates, inputs) of the study, when no part may have built a design)."""
+    built = [p for p in parts if p.out is not None]
+    if not built and dims is None:
+        raise InputError("no design could be built: " + "; ".join(e for p in parts for e in p.errors))
+    found = {p.out.q.shape[1:] + p.out.U.shape[2:] for p in built} | ({tuple(dims)} if dims is not None else set())
+    if len(found) > 1:
+        raise InputError(f"designs give different (values, coordinates, inputs) {sorted(found)}: a study sweeps "
+                         "designs of one structure over one number of values")
+    N, n, f = found.pop()
+    for p in parts:
+        if p.out is None:
+            p.out = _Results(len(p.errors), N, f, n)
+    keys = parts[0].out.arrays()
+    arrays = {k: np.concatenate([p.out.arrays()[k] for p in parts]) for k in keys}
+    rates = built[0] if built else None
+    return DesignSweep(tuple(designs), sum((p.models for p in parts), ()), sum((p.errors for p in parts), ()),
+                       np.concatenate([p.batched for p in parts]), sum((p.events for p in parts), ()),
+                       rates and rates.Ud, rates and rates.Udd, **arrays)
+
+
+def study_options(batch, options):
+    """The sweep ``options`` of a study, checked (and ``batch``, its designs per batch)."""
+    if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
+        raise InputError(f"batch must be a positive whole number of designs, got {batch!r}")
     options = arguments.sweep_options(options, run_sweep)
     if set(options) - {"tol", "max_step", "outputs", "branch"}:
         raise InputError(f"sweep_designs takes the options tol, max_step, outputs and branch, got {sorted(options)}")
-    models, errors, U = [], [], [None] * len(table)
-    for d, design in enumerate(table):
+    return options
+
+
+@dataclass(eq=False)
+class _Part:
+    """One batch of a study: designs lo.. of the table, their models (None where ``errors``
+    says why), ``batched`` and ``events`` per design, the input rates and the arrays
+    (:class:`_Results`, None when no design of the batch could be built)."""
+
+    lo: int
+    models: tuple
+    errors: tuple
+    batched: np.ndarray
+    events: tuple
+    Ud: np.ndarray
+    Udd: np.ndarray
+    out: object
+
+
+def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, options):
+    """Designs lo..hi of ``table`` swept as one batch (``options`` as :func:`study_options`
+    returns them): a :class:`_Part`."""
+    fixed = {} if fixed is None else dict(fixed)
+    models, errors, U = [], [], {}
+    for d in range(lo, hi):
         try:
-            model = _compile_unplanned(build(**fixed, **design))
-            U[d] = model._inputs(values(design) if callable(values) else values, "values")
-            arguments.values(model, U[d], options["max_step"])
+            model = _compile_unplanned(build(**fixed, **table[d]))
+            U[d - lo] = model._inputs(values(table[d]) if callable(values) else values, "values")
+            arguments.values(model, U[d - lo], options["max_step"])
             models.append(model)
             errors.append(None)
         except InputError:
             raise  # the call is wrong for every design: say so once
         except PlanarError as e:
             models.append(None)
-            errors.append(f"design {d} {design}: {e}")
-    good = [d for d, m in enumerate(models) if m is not None]
+            errors.append(f"design {d} {table[d]}: {e}")
+    good = sorted(U)
+    D = hi - lo
     if not good:
-        raise InputError("no design could be built: " + "; ".join(errors))
+        return _Part(lo, tuple(models), tuple(errors), np.zeros(D, bool), ((),) * D, None, None, None)
     ref = models[good[0]]
     shapes = {U[d].shape for d in good}
     if len(shapes) > 1:
         raise InputError(f"values give designs different numbers of points {sorted(shapes)}: a study needs one N")
     for d in good:
         if models[d].n != ref.n:
-            raise InputError(f"design {d} {table[d]} has {models[d].n} coordinates, design {good[0]} {ref.n}: "
-                             "a study sweeps designs of one structure")
+            raise InputError(f"design {lo + d} {table[lo + d]} has {models[d].n} coordinates, design "
+                             f"{lo + good[0]} {ref.n}: a study sweeps designs of one structure")
     N, f = shapes.pop()
     Ud, Udd = ref._inputs(velocity, "velocity", N), ref._inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
-    out = _Results(len(table), N, f, ref.n)
+    out = _Results(D, N, f, ref.n)
     for d in good:
         out.U[d] = U[d]
     same = [d for d in good if _structure(models[d]) == _structure(ref)]
-    batched = np.zeros(len(table), bool)
+    batched = np.zeros(D, bool)
     try:
         block_plan(ref)  # the structure is drivable (else each design is swept alone, and refused)
     except PlanarError:
@@ -119,18 +179,18 @@ def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fix
     if same:
         batched[same] = _batch([models[d] for d in same], out, np.array(same), Ud, Udd,
                                options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
-    events = [()] * len(table)
+    events = [()] * D
     for d in good:
         if batched[d]:
             continue
         try:  # swept alone: its events located, each value its status
             s = models[d].sweep(U[d], Ud, Udd, **options)
         except PlanarError as e:
-            models[d], errors[d] = None, f"design {d} {table[d]}: {e}"
+            models[d], errors[d] = None, f"design {lo + d} {table[lo + d]}: {e}"
             continue
         out.put(d, s)
         events[d] = s.events
-    return DesignSweep(table, tuple(models), tuple(errors), batched, tuple(events), Ud, Udd, **out.arrays())
+    return _Part(lo, tuple(models), tuple(errors), batched, tuple(events), Ud, Udd, out)
 
 
 def _compile_unplanned(mechanism):
