@@ -121,21 +121,22 @@ class Plan:
     values: np.ndarray  # the slots' values at a sample pose (those of the CONST slots held by the stages)
 
     def over_designs(self, systems, q, u, col_scale):
-        """(plan, same): this plan for designs of the same structure (``systems``, one per
-        design, :meth:`planar.system.System.over_designs`; u carries the design index in its
-        last column), the entries constant in this plan but not the same in every design's
-        sketch ``q`` (D, n) left variable (``col_scale``: the model's column scales) (a ground pivot's place in the Jacobian varies with
-        the ground length); ``same`` (D,) False for a design with a non-zero where this plan
-        has a structural zero (it needs a plan of its own)."""
+        """(plan, same): this plan for designs of its structure (``systems``, one per design:
+        :meth:`planar.system.System.over_designs`; ``u`` carries the design index in its last
+        column; ``col_scale``: the model's column scales). Entries constant in this plan but not
+        the same in every design are left variable (a ground pivot's place in the Jacobian
+        varies with the ground length); ``same`` (D,) is False for a design with a non-zero
+        where this plan has a structural zero (it needs a plan of its own). Both are read at
+        the designs' sketches ``q`` (D, n) and at poses off them."""
         system = self.system.over_designs(systems)
+        # at the sketches and at poses off them, as the plan's kinds were sampled
+        off = q + np.random.default_rng(1).normal(size=q.shape[1]) * col_scale
         with np.errstate(all="ignore"):
-            Jv = system.values(q, u)[1]
+            Jv = np.concatenate([system.values(q, u)[1], system.values(off, u)[1]], axis=1).reshape(-1, 2, len(q))
         zero = self.kinds == ZERO
-        read = np.zeros(zero.size, bool)  # the slots the blocks read (the others: ground columns, ...)
-        for blk in self.blocks:
-            read[blk.diag] = read[blk.coup] = True
-        same = np.all(Jv[zero & read] == 0.0, axis=0)
-        kinds = np.where(np.any(Jv != self.values[:, None], axis=1) & ~zero, VAR, self.kinds)
+        real = np.r_[self.system.entries[1] < self.n, False]  # (not the ground's dump column)
+        same = np.all(Jv[zero & real] == 0.0, axis=(0, 1))
+        kinds = np.where(np.any(Jv != self.values[:, None, None], axis=(1, 2)) & ~zero, VAR, self.kinds)
         stages = _stages(self.blocks, self.n, self.kinds.size - 1, col_scale, kinds, self.values)
         return replace(self, system=system, stages=stages, kinds=kinds), same
 

@@ -170,15 +170,21 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     out = _Results(D, N, f, ref.n)
     for d in good:
         out.U[d] = U[d]
-    same = [d for d in good if _structure(models[d]) == _structure(ref)]
     batched = np.zeros(D, bool)
-    try:
-        block_plan(ref)  # the structure is drivable (else each design is swept alone, and refused)
-    except PlanarError:
-        same = []
-    if same:
-        batched[same] = _batch([models[d] for d in same], out, np.array(same), Ud, Udd,
-                               options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
+    left = good
+    while left:  # the designs that share the first one's structure and plan, then the others
+        first = models[left[0]]
+        group = [d for d in left if _structure(models[d]) == _structure(first)]
+        retry = []
+        try:
+            block_plan(first)  # the structure is drivable (else each design is swept alone, and refused)
+        except PlanarError:
+            pass
+        else:
+            batched[group], fits = _batch([models[d] for d in group], out, np.array(group), Ud, Udd,
+                                          options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
+            retry = [d for d, f in zip(group[1:], fits[1:]) if not f]  # (the first fits its own plan)
+        left = sorted(set(left) - set(group) | set(retry))
     events = [()] * D
     for d in good:
         if batched[d]:
@@ -225,8 +231,10 @@ class _Results:
 
 
 def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
-    """Sweep the designs ``models`` (one structure) together, writing rows ``rows`` of
-    ``out``; returns (D,) True for the designs every value of which was certified regular."""
+    """Sweep the designs ``models`` (one structure) together on the first one's plan, writing
+    rows ``rows`` of ``out``. Returns (ok, fits), each (D,): ``ok`` for the designs every value
+    of which was certified regular, ``fits`` for those the plan holds (a design with a non-zero
+    where the first has a structural zero, as a slider along x, needs another)."""
     ref = models[0]
     D = len(models)
     U = out.U[rows]
@@ -239,12 +247,12 @@ def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
     def at(u, d):  # inputs with the design index of each configuration in a last column
         return np.concatenate([u, ids[d]], axis=1)
 
-    p, ok = block_plan(ref, _output_columns(ref, outputs)).over_designs([m.system for m in models], q, at(u, every),
+    p, fits = block_plan(ref, _output_columns(ref, outputs)).over_designs([m.system for m in models], q, at(u, every),
                                                                          ref.col_scale)
     br = _Branch(ref, p, tol)
     with np.errstate(all="ignore"):
         ref_signs, sing = br.modes(q, at(u, every))
-    ok &= sing >= NEAR_CURVE
+    ok = fits & (sing >= NEAR_CURVE)
     scale = np.array([np.where(m.input_lengths, 1.0 / m.L, 1.0) for m in models])
 
     # 1. the walk over the anchors of every design, all designs a step at a time
@@ -290,7 +298,7 @@ def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
         drop = np.setdiff1d(np.arange(n), p.cols)
         for a in (out.q, out.qd, out.qdd):
             a[np.ix_(rows[ok], np.arange(N), drop)] = np.nan
-    return ok
+    return ok, fits
 
 
 @dataclass(frozen=True, eq=False)

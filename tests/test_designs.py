@@ -7,7 +7,8 @@ from hypothesis import strategies as st
 
 import planar
 from planar.designs import DesignSweep, sweep_designs
-from planar.mechanisms import four_bar, slider_crank
+from planar.mechanisms import (four_bar, gear_train, geared_five_bar, inverted_slider_crank, open_chain,
+                               planetary_gear_train, rack_and_pinion, rolling_wheel, slider_crank, watt_six_bar)
 from tests import oracles
 
 TH = np.radians(np.arange(0.0, 360.0, 10.0))
@@ -177,3 +178,38 @@ def test_any_batch_of_four_bars_is_each_design_swept_alone(rows):
         ok = alone.ok
         np.testing.assert_allclose(study.q[d][ok], alone.q[ok], rtol=0, atol=1e-11)
         np.testing.assert_allclose(study.qd[d][ok], alone.qd[ok], rtol=0, atol=1e-8)
+
+
+CATALOGUE = {
+    # sliders along x and at an angle: the first plan has structural zeros the others fill
+    "slider_crank": (slider_crank, [dict(crank=1.0, offset=0.0, slide_angle=0.0), dict(crank=1.5, offset=0.5,
+                     slide_angle=0.3), dict(crank=2.0, offset=1.0, slide_angle=0.6)], TH),
+    "gear_train": (gear_train, [dict(radii=(1, 2, 1.5)), dict(radii=(1, 3, 2)), dict(radii=(2, 1, 1.5))], TH),
+    "geared_five_bar": (geared_five_bar, [dict(), dict(gear_radius_2=3.2)], np.linspace(0.0, 1.0, 11)),
+    "rack_and_pinion": (rack_and_pinion, [dict(radius=1.0), dict(radius=2.0, rack_angle=0.3)], TH),
+    "open_chain": (open_chain, [dict(lengths=(5, 8, 9)), dict(lengths=(4, 7, 9))], np.stack([TH, TH / 2, TH / 3], 1)),
+    "watt_six_bar": (watt_six_bar, [dict(crank=1.5), dict(crank=1.4), dict(crank=1.6, link_5=3.2)], TH),
+    "inverted_slider_crank": (inverted_slider_crank, [dict(), dict(crank=7.0)], TH),
+    "planetary_gear_train": (planetary_gear_train, [dict(), dict(sun=1.2)], TH),
+    "rolling_wheel": (rolling_wheel, [dict(), dict(radius=1.5)], np.linspace(0.0, 3.0, 21)),
+}
+
+
+@pytest.mark.parametrize("name", sorted(CATALOGUE))
+def test_designs_of_every_joint_type_are_batched_and_each_is_its_sweep_alone(name):
+    build, designs, U = CATALOGUE[name]
+    study = sweep_designs(build, designs, U, 1.3, 0.2)
+    assert study.batched.all()
+    for d, design in enumerate(designs):
+        alone = _alone(build, design, U, 1.3, 0.2)
+        np.testing.assert_array_equal(study.status[d], alone.status)
+        np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(study.qdd[d], alone.qdd, rtol=0, atol=1e-9)
+
+
+def test_outputs_restrict_the_batch_to_the_blocks_they_need():
+    study = sweep_designs(watt_six_bar, {"crank": [1.4, 1.5]}, TH, outputs=("rocker",))
+    alone = watt_six_bar(crank=1.4).sweep(TH, outputs=("rocker",))
+    assert study.batched.all() and np.isnan(alone.q).any()
+    np.testing.assert_array_equal(np.isnan(study.q[0]), np.isnan(alone.q))
+    np.testing.assert_allclose(study.q[0], alone.q, rtol=0, atol=1e-12)
