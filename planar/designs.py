@@ -101,8 +101,8 @@ def join(designs, parts, dims=None):
     for p in parts:
         if p.out is None:
             p.out = _Results(len(p.errors), N, f, n)
-    keys = parts[0].out.arrays()
-    arrays = {k: np.concatenate([p.out.arrays()[k] for p in parts]) for k in keys}
+    arrays = [p.out.arrays() for p in parts]
+    arrays = {k: np.concatenate([a[k] for a in arrays]) if len(arrays) > 1 else v for k, v in arrays[0].items()}
     rates = built[0] if built else None
     return DesignSweep(tuple(designs), sum((p.models for p in parts), ()), sum((p.errors for p in parts), ()),
                        np.concatenate([p.batched for p in parts]), sum((p.events for p in parts), ()),
@@ -256,7 +256,12 @@ def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
     scale = np.array([np.where(m.input_lengths, 1.0 / m.L, 1.0) for m in models])
 
     # 1. the walk over the anchors of every design, all designs a step at a time
-    anchors = np.unique(np.concatenate([_anchors(m, U[d], max_step) for d, m in enumerate(models)]))
+    found = {}  # the anchors depend on the values and the input scales only: once per pair
+    for d, m in enumerate(models):
+        key = (U[d].tobytes(), scale[d].tobytes())
+        if key not in found:
+            found[key] = _anchors(m, U[d], max_step)
+    anchors = np.unique(np.concatenate(list(found.values())))
     Qa = np.empty((anchors.size, D, n))
     act = np.flatnonzero(ok)
     for k, a in enumerate(anchors):
