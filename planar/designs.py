@@ -290,7 +290,11 @@ def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
         r = flat[lo : lo + CHUNK]
         d, i = r // N, r % N
         qa, ua = Qa[k_of[i], d], U[d, anchors[k_of[i]]]
-        q_pred, _ = br.predict(qa, at(ua, d), U[d, i] - ua)
+        du = U[d, i] - ua
+        q_pred = qa.copy()  # (an anchor's value is its pose)
+        move = np.flatnonzero(np.any(du != 0.0, axis=1))
+        if move.size:
+            q_pred[move] = br.predict(qa[move], at(ua[move], d[move]), du[move])[0]
         f = _final(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
         good = br.accept(f["q"], q_pred, lambda s: qa[s], f["conv"], f["signs"], ref_signs[d], f["sing"], off=f["off"])
         good &= (f["status"] == Status.SOLVED) & (f["sing"] >= NEAR_CURVE)
