@@ -98,7 +98,7 @@ def _batch_record(build, designs, lo, values, velocity, acceleration, fixed, opt
     record = {"failed": {str(lo + k): e for k, e in enumerate(part.errors) if e is not None}}
     if part.out is None:
         return lo, record
-    study = join([designs[d] for d in range(lo, hi)], [part])
+    study = join([designs[d] for d in range(lo, hi)], [part], lo)
     record.update({k: getattr(study, k) for k in ARRAYS})
     record["batched"] = study.batched
     record["events"] = np.array([len(e) for e in study.events])

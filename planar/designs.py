@@ -82,31 +82,35 @@ def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fix
     """
     table = design_table(designs)
     options = study_options(batch, options)
-    parts = [sweep_part(build, table, lo, min(lo + batch, len(table)), values, velocity, acceleration, fixed, options)
-             for lo in range(0, len(table), batch)]
+    parts = (sweep_part(build, table, lo, min(lo + batch, len(table)), values, velocity, acceleration, fixed, options)
+             for lo in range(0, len(table), batch))
     return join(table, parts)
 
 
-def join(designs, parts, dims=None):
-    """The :class:`DesignSweep` of ``designs`` from its batches ``parts`` (``dims``: the
-    (values, coordinates, inputs) of the study, when no part may have built a design)."""
-    built = [p for p in parts if p.out is not None]
-    if not built and dims is None:
-        raise InputError("no design could be built: " + "; ".join(e for p in parts for e in p.errors))
-    found = {p.out.q.shape[1:] + p.out.U.shape[2:] for p in built} | ({tuple(dims)} if dims is not None else set())
-    if len(found) > 1:
-        raise InputError(f"designs give different (values, coordinates, inputs) {sorted(found)}: a study sweeps "
-                         "designs of one structure over one number of values")
-    N, n, f = found.pop()
+def join(designs, parts, first=0):
+    """The :class:`DesignSweep` of ``designs`` (the table's from index ``first`` on) from its
+    batches ``parts`` (an iterable: each batch's arrays are copied into the study's as it
+    comes, then let go)."""
+    out, kept, errors, rates = None, [], [], None
     for p in parts:
+        kept.append(p)
+        errors.extend(e for e in p.errors if e is not None)
         if p.out is None:
-            p.out = _Results(len(p.errors), N, f, n)
-    arrays = [p.out.arrays() for p in parts]
-    arrays = {k: np.concatenate([a[k] for a in arrays]) if len(arrays) > 1 else v for k, v in arrays[0].items()}
-    rates = built[0] if built else None
-    return DesignSweep(tuple(designs), sum((p.models for p in parts), ()), sum((p.errors for p in parts), ()),
-                       np.concatenate([p.batched for p in parts]), sum((p.events for p in parts), ()),
-                       rates and rates.Ud, rates and rates.Udd, **arrays)
+            continue
+        dims = p.out.q.shape[1:] + p.out.U.shape[2:]
+        if out is None:
+            out, rates = _Results(len(designs), *dims), (p.Ud, p.Udd)
+        elif dims != out.q.shape[1:] + out.U.shape[2:]:
+            raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
+                             f"{out.q.shape[1:] + out.U.shape[2:]}: a study sweeps designs of one structure over "
+                             "one number of values")
+        out.put(slice(p.lo - first, p.lo - first + len(p.errors)), p.out)
+        p.out = None
+    if out is None:
+        raise InputError("no design could be built: " + "; ".join(errors))
+    return DesignSweep(tuple(designs), sum((p.models for p in kept), ()), sum((p.errors for p in kept), ()),
+                       np.concatenate([p.batched for p in kept]), sum((p.events for p in kept), ()), *rates,
+                       **out.arrays())
 
 
 def study_options(batch, options):
@@ -167,7 +171,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     N, f = shapes.pop()
     Ud, Udd = ref._inputs(velocity, "velocity", N), ref._inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
-    out = _Results(D, N, f, ref.n)
+    out = _Results(D, N, ref.n, f)
     for d in good:
         out.U[d] = U[d]
     batched = np.zeros(D, bool)
@@ -215,7 +219,7 @@ def _structure(model):
 class _Results:
     """The (D, N, ...) arrays of a study, NaN and NOT_ASSEMBLABLE until a design is put."""
 
-    def __init__(self, D, N, f, n):
+    def __init__(self, D, N, n, f):
         self.U = np.full((D, N, f), np.nan)
         self.q, self.qd, self.qdd = (np.full((D, N, n), np.nan) for _ in range(3))
         self.residual, self.singularity, self.branch, self.gap = (np.full((D, N), np.nan) for _ in range(4))
@@ -223,8 +227,11 @@ class _Results:
         self.status = np.full((D, N), Status.NOT_ASSEMBLABLE, np.int8)
 
     def put(self, d, s):
+        """Rows d from a :class:`planar.Sweep` or a :class:`_Results` of those rows."""
         for k in ("q", "qd", "qdd", "residual", "singularity", "branch", "gap", "iterations", "status"):
             getattr(self, k)[d] = getattr(s, k)
+        if isinstance(s, _Results):
+            self.U[d] = s.U
 
     def arrays(self):
         return {k: v for k, v in vars(self).items() if k != "U"} | {"inputs": self.U}
