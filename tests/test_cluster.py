@@ -7,6 +7,8 @@ import pytest
 pytest.importorskip("dask.distributed")
 pytest.importorskip("zarr")
 
+from dask.distributed import LocalCluster  # noqa: E402
+
 import planar  # noqa: E402
 from planar import cluster  # noqa: E402
 from planar.mechanisms import four_bar  # noqa: E402
@@ -48,8 +50,12 @@ def test_a_study_on_two_workers_is_the_in_memory_study_and_resumes_after_an_inte
         cluster.load(store)
     written = cluster.zarr.open_group(str(store)).attrs["done"]
     assert len(written) == 2 and seen == [(1, 4), (2, 4)]
-    computed = cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, 1.5, store=store, points=("C",), fixed=FIXED,
-                                              batch=2, progress=lambda done, total: seen.append((done, total)))
+    # resumed on a running cluster given by its scheduler's address
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None) as running:
+        computed = cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, 1.5, store=store, points=("C",),
+                                                  fixed=FIXED, batch=2, cluster=running.scheduler_address,
+                                                  progress=lambda done, total: seen.append((done, total)))
     assert sorted(computed) == sorted(set([0, 2, 4, 6]) - set(written))
     assert seen[-1] == (4, 4)
     _compare(cluster.load(store), study)
