@@ -1063,7 +1063,9 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         rank = int(np.sum(diag > 1e-9 * max(diag[0], 1e-300))) if diag.size else 0
         if best is None or rank > best[0]:
             best = (rank, np.sort(rows[piv[:rank]]))
-        if rank == min(system.n, rows.size) or trial == 2:  # (no pose has more)
+        if rank == system.n or trial == 2:
+            break
+        if rank == rows.size:  # every joint row independent: no pose has more
             break
         # move along the free motion and reassemble, to leave a possibly singular sketch
         _, s, Vt = np.linalg.svd(Js)
