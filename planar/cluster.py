@@ -4,12 +4,12 @@ designs on a dask cluster, each batch written to a Zarr store as it finishes.
 Needs the ``dask`` extra (dask.distributed and zarr), imported only here. The cluster is a
 LocalCluster on this machine (127.0.0.1, worker processes) made for the call, or any running
 dask cluster given by its scheduler's address (or a ``distributed.Client``). Each batch is one
-task: its designs are built, compiled and swept on a worker, exactly as the in-memory call
+task: its designs are built, compiled and swept on a worker exactly as the in-memory call
 sweeps that batch (so the store is bit-identical to ``sweep_designs(..., batch=batch)``), and
 the client writes it to the store when it arrives. The store records the batches written; a
 call on a store that holds some batches of the same study computes only the missing ones, so
-an interrupted run resumes where it stopped. Memory: a worker holds one batch, the client one
-batch's results.
+an interrupted run resumes where it stopped. Memory: two batches are in flight per worker
+thread (submitted as others finish), and the client holds one batch's results at a time.
 
 Store layout (a Zarr group): the :class:`planar.DesignSweep` arrays ``inputs`` (D, N, f),
 ``q``, ``qd``, ``qdd`` (D, N, n), ``status``, ``residual``, ``iterations``, ``singularity``,
@@ -17,6 +17,8 @@ Store layout (a Zarr group): the :class:`planar.DesignSweep` arrays ``inputs`` (
 ``position/NAME`` (D, N, 2) for each of ``points``; and in its attributes the study (D, batch,
 points), the batches written, and the designs that could not be built, with why.
 """
+
+import itertools
 
 import numpy as np
 import zarr
@@ -58,12 +60,20 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
     if not todo:
         return []
     with _client(cluster, workers) as client:
-        jobs = [client.submit(_batch_record, build, {d: table[d] for d in range(lo, min(lo + batch, D))}, lo,
-                              values, velocity, acceleration, fixed, options, points, pure=False) for lo in todo]
-        for job in as_completed(jobs):
+        def submit(lo):
+            return client.submit(_batch_record, build, {d: table[d] for d in range(lo, min(lo + batch, D))}, lo,
+                                 values, velocity, acceleration, fixed, options, points, pure=False)
+
+        # two batches in flight per worker thread: the cluster holds no more results than that
+        waiting = iter(todo)
+        running = as_completed([submit(lo) for lo in itertools.islice(waiting, 2 * sum(client.nthreads().values()))])
+        for job in running:
             lo, record = job.result()
+            job.release()
             _write(group, lo, record, D, batch)
             report(len(group.attrs["done"]), total)
+            for lo in itertools.islice(waiting, 1):
+                running.add(submit(lo))
     return todo
 
 
