@@ -14,6 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
+from planar.errors import ModelError
 from planar.geometry import Frames, cos_sin
 from planar.joints.base import kernel_params
 
@@ -180,7 +181,8 @@ class System:
             for s in systems:
                 h = next((h for h in s.groups if h.kind is g.kind and np.isin(g.members, h.members).all()), None)
                 if h is None or h.P.keys() != g.P.keys():
-                    raise ValueError(f"a design has no {g.kind.__name__} joints {g.members.tolist()}")
+                    raise ModelError(f"a design has no {g.kind.__name__} joints {g.members.tolist()} with the "
+                                     f"parameters {sorted(g.P)}: designs swept together share one structure")
                 at = np.searchsorted(h.members, g.members)
                 tables.append({k: v[at] for k, v in h.P.items()})
             P = {k: np.stack([t[k] for t in tables]) for k in g.P}
