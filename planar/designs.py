@@ -74,8 +74,10 @@ def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fix
     """Sweep each design ``build(**fixed, **design)`` over ``values`` with the input rates
     ``velocity`` and ``acceleration``, as :meth:`planar.Model.sweep` does (``options``: ``tol``,
     ``max_step``, ``outputs``, ``branch``). ``designs`` is a dict of parameter columns
-    (equal lengths, or scalars) or a sequence of dicts; ``values`` may also be a function of
-    the design dict, for inputs that depend on the design (its start, its range). Designs are
+    (equal lengths, or scalars) or a sequence of dicts. ``values`` is what every design
+    sweeps ((N,), or (N, f) for f inputs), or one row per design ((D, N), or (D, N, f)), or a
+    function of the design dict, for inputs that depend on the design (its start, its range):
+    the function is what a study on a cluster should get (an array goes to every task). Designs are
     swept ``batch`` at a time (the batch's first design sets the scales: results agree with
     other batchings to rounding, and are bit-identical for the same ``batch``, as
     :func:`planar.cluster.sweep_designs_to_store` computes them). Returns a :class:`DesignSweep`.
@@ -147,7 +149,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     for d in range(lo, hi):
         try:
             model = _compile_unplanned(build(**fixed, **table[d]))
-            U[d - lo] = model._inputs(values(table[d]) if callable(values) else values, "values")
+            U[d - lo] = model._inputs(_values_of(values, table[d], d, len(model.drivers)), "values")
             arguments.values(model, U[d - lo], options["max_step"])
             models.append(model)
             errors.append(None)
@@ -201,6 +203,20 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
         out.put(d, s)
         events[d] = s.events
     return _Part(lo, tuple(models), tuple(errors), batched, tuple(events), Ud, Udd, out)
+
+
+def _values_of(values, design, d, f):
+    """Design d's input values: ``values(design)`` for a function; row d of an array of one
+    row per design, (D, N) for one input (f = 1) or (D, N, f); else ``values`` itself."""
+    if callable(values):
+        return values(design)
+    a = np.asarray(values) if isinstance(values, (list, tuple, np.ndarray)) else None
+    if a is not None and a.dtype != object and (a.ndim == 3 or (a.ndim == 2 and f == 1 and a.shape[1] != 1)):
+        if d >= a.shape[0]:
+            raise InputError(f"values of shape {a.shape} give {a.shape[0]} designs their values (one row each), "
+                             f"not design {d}: give one row per design")
+        return a[d]
+    return values
 
 
 def _compile_unplanned(mechanism):
