@@ -19,7 +19,7 @@ kept: asking for the first loop of a Watt six-bar does not solve the second.
 """
 
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import networkx as nx
 import numpy as np
@@ -117,6 +117,28 @@ class Plan:
     blocks: tuple
     n: int
     stages: tuple
+    kinds: np.ndarray  # ZERO, CONST or VAR per Jacobian value slot of ``system``
+    values: np.ndarray  # the slots' values at a sample pose (those of the CONST slots held by the stages)
+
+    def over_designs(self, systems, q, u, col_scale):
+        """(plan, same): this plan for designs of its structure (``systems``, one per design:
+        :meth:`planar.system.System.over_designs`; ``u`` carries the design index in its last
+        column; ``col_scale``: the model's column scales). Entries constant in this plan but not
+        the same in every design are left variable (a ground pivot's place in the Jacobian
+        varies with the ground length); ``same`` (D,) is False for a design with a non-zero
+        where this plan has a structural zero (it needs a plan of its own). Both are read at
+        the designs' sketches ``q`` (D, n) and at poses off them."""
+        system = self.system.over_designs(systems)
+        # at the sketches and at poses off them, as the plan's kinds were sampled
+        off = q + np.random.default_rng(1).normal(size=q.shape[1]) * col_scale
+        with np.errstate(all="ignore"):
+            Jv = np.concatenate([system.values(q, u)[1], system.values(off, u)[1]], axis=1).reshape(-1, 2, len(q))
+        zero = self.kinds == ZERO
+        real = np.r_[self.system.entries[1] < self.n, False]  # (not the ground's dump column)
+        same = np.all(Jv[zero & real] == 0.0, axis=(0, 1))
+        kinds = np.where(np.any(Jv != self.values[:, None, None], axis=(1, 2)) & ~zero, VAR, self.kinds)
+        stages = _stages(self.blocks, self.n, self.kinds.size - 1, col_scale, kinds, self.values)
+        return replace(self, system=system, stages=stages, kinds=kinds), same
 
     def evaluate(self, q, u):
         """Phi of the kept rows (N, len(rows)), all rows (N, m) and the Jacobian values that
@@ -272,4 +294,5 @@ def _build(model, key):
     cols = np.sort(np.concatenate([blk.cols for blk in blocks])) if blocks else np.zeros(0, int)
     kinds, values = _kinds(_samples(model, sub))
     kinds[~np.r_[snz, False]] = ZERO  # (the last slot is the structural zero)
-    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n, _stages(blocks, n, zero, cs, kinds, values))
+    return Plan(sub, rows, drivers, driver_inputs, cols, tuple(blocks), n, _stages(blocks, n, zero, cs, kinds, values),
+                kinds, values)

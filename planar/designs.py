@@ -1,29 +1,42 @@
-"""Parameter studies: the same sweep over many designs (dimension sets), with a leading axis.
+"""Parameter studies: one sweep over many designs (dimension sets) of one structure, as a batch.
 
 A *design* is one set of keyword arguments to a builder (a catalogue function such as
 :func:`planar.mechanisms.four_bar`, or any function of yours returning a
-:class:`planar.Mechanism`). :func:`sweep_designs` builds, compiles and sweeps each design and
-stacks the named outputs as (D, N, ...) arrays. Each design follows its own branch from its
-own sketch, with its own events; a design that cannot be built or assembled is kept, with
-NaN outputs, status NOT_ASSEMBLABLE and the error's message in ``errors``, so one bad row
-never loses a study.
+:class:`planar.Mechanism`: lengths, points, starts, the numbers of ``Mechanism.distance``).
+:func:`sweep_designs` builds and compiles each design, then sweeps all of them at once: the
+design axis is folded into the solver's batch axis (each configuration reads its own design's
+joint parameters, :meth:`planar.system.System.over_designs`), so one continuation and one
+Newton loop serve every design. The results are (D, N, ...) arrays.
+
+The batch takes the *regular* designs: every step of the walk and every value certified as
+the per-design sweep certifies them, no value near a singular position. A design it cannot
+certify (a limit, a branch event, a value out of range) is swept alone by
+:meth:`planar.Model.sweep`, which locates its events and gives each value its status; a
+design that cannot be built or assembled is kept, with NaN outputs, status NOT_ASSEMBLABLE
+and the error's message in ``errors``. One bad design never loses a study.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
 >>> study = sweep_designs(four_bar, {"crank": [1.0, 1.5, 2.0]}, np.radians(np.arange(0, 360, 45)),
 ...                       fixed=dict(ground=4.0, coupler=3.5, rocker=3.0))
->>> study.position("B").shape, study.ok.all()
-((3, 8, 2), np.True_)
+>>> study.position("B").shape, study.ok.all(), study.batched.tolist()
+((3, 8, 2), np.True_, [True, True, True])
 >>> study.designs[1]
 {'crank': 1.5}
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from planar import arguments
+from planar.blocks import plan as block_plan
 from planar.errors import InputError, PlanarError
-from planar.results import Status
+from planar.events import NEAR_CURVE
+from planar.geometry import perp
+from planar.model import _compile, _resolve
+from planar.results import POSED, VALID, Status, Sweep
+from planar.sweep import CHUNK, _anchors, _Branch, _final, _output_columns, run_sweep
 
 
 def design_table(designs):
@@ -49,112 +62,390 @@ def design_table(designs):
 
 
 def _plain(v):
+    if isinstance(v, np.ndarray):
+        return tuple(x.item() for x in v)
     return v.item() if isinstance(v, np.generic) else v
 
 
-def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fixed=None, **options):
+BATCH = 1024  # designs swept together: the batch's temporaries stay ~BATCH * N * 1 kB
+
+
+def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fixed=None, batch=BATCH, **options):
     """Sweep each design ``build(**fixed, **design)`` over ``values`` with the input rates
     ``velocity`` and ``acceleration``, as :meth:`planar.Model.sweep` does (``options``: ``tol``,
     ``max_step``, ``outputs``, ``branch``). ``designs`` is a dict of parameter columns
-    (equal lengths, or scalars) or a sequence of dicts; ``values`` may also be a function of
-    the design dict, for inputs that depend on the design. Returns a :class:`DesignSweep`.
+    (equal lengths, or scalars) or a sequence of dicts. ``values`` is what every design
+    sweeps ((N,), or (N, f) for f inputs), or one row per design ((D, N), or (D, N, f)), or a
+    function of the design dict, for inputs that depend on the design (its start, its range):
+    the function is what a study on a cluster should get (an array goes to every task). Designs are
+    swept ``batch`` at a time (the batch's first design sets the scales: results agree with
+    other batchings to rounding, and are bit-identical for the same ``batch``, as
+    :func:`planar.cluster.sweep_designs_to_store` computes them). Returns a :class:`DesignSweep`.
     """
     table = design_table(designs)
+    options = study_options(batch, options)
+    parts = (sweep_part(build, table, lo, min(lo + batch, len(table)), values, velocity, acceleration, fixed, options)
+             for lo in range(0, len(table), batch))
+    return join(table, parts)
+
+
+def join(designs, parts, first=0):
+    """The :class:`DesignSweep` of ``designs`` (the table's from index ``first`` on) from its
+    batches ``parts`` (an iterable: each batch's arrays are copied into the study's as it
+    comes, then let go)."""
+    out, kept, errors, rates = None, [], [], None
+    for p in parts:
+        kept.append(p)
+        errors.extend(e for e in p.errors if e is not None)
+        if p.out is None:
+            continue
+        dims = p.out.q.shape[1:] + p.out.U.shape[2:]
+        if out is None:
+            out, rates = _Results(len(designs), *dims), (p.Ud, p.Udd)
+        elif dims != out.q.shape[1:] + out.U.shape[2:]:
+            raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
+                             f"{out.q.shape[1:] + out.U.shape[2:]}: a study sweeps designs of one structure over "
+                             "one number of values")
+        out.put(slice(p.lo - first, p.lo - first + len(p.errors)), p.out)
+        p.out = None
+    if out is None:
+        raise InputError("no design could be built: " + "; ".join(errors))
+    return DesignSweep(tuple(designs), sum((p.models for p in kept), ()), sum((p.errors for p in kept), ()),
+                       np.concatenate([p.batched for p in kept]), sum((p.events for p in kept), ()), *rates,
+                       **out.arrays())
+
+
+def study_options(batch, options):
+    """The sweep ``options`` of a study, checked (and ``batch``, its designs per batch)."""
+    if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
+        raise InputError(f"batch must be a positive whole number of designs, got {batch!r}")
+    options = arguments.sweep_options(options, run_sweep)
+    if set(options) - {"tol", "max_step", "outputs", "branch"}:
+        raise InputError(f"sweep_designs takes the options tol, max_step, outputs and branch, got {sorted(options)}")
+    return options
+
+
+@dataclass(eq=False)
+class _Part:
+    """One batch of a study: designs lo.. of the table, their models (None where ``errors``
+    says why), ``batched`` and ``events`` per design, the input rates and the arrays
+    (:class:`_Results`, None when no design of the batch could be built)."""
+
+    lo: int
+    models: tuple
+    errors: tuple
+    batched: np.ndarray
+    events: tuple
+    Ud: np.ndarray
+    Udd: np.ndarray
+    out: object
+
+
+def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, options):
+    """Designs lo..hi of ``table`` swept as one batch (``options`` as :func:`study_options`
+    returns them): a :class:`_Part`."""
     fixed = {} if fixed is None else dict(fixed)
-    sweeps, errors = [], []
-    for d, design in enumerate(table):
+    models, errors, U = [], [], {}
+    for d in range(lo, hi):
         try:
-            model = build(**fixed, **design).compile()
-            U = values(design) if callable(values) else values
-            sweeps.append(model.sweep(U, velocity, acceleration, **options))
+            model = _compile_unplanned(build(**fixed, **table[d]))
+            U[d - lo] = model._inputs(_values_of(values, table[d], d, len(model.drivers)), "values")
+            arguments.values(model, U[d - lo], options["max_step"])
+            models.append(model)
             errors.append(None)
         except InputError:
             raise  # the call is wrong for every design: say so once
         except PlanarError as e:
-            sweeps.append(None)
-            errors.append(f"design {d} {design}: {e}")
-    lengths = {len(s) for s in sweeps if s is not None}
-    if not lengths:
-        raise InputError("no design could be built: " + "; ".join(errors))
-    if len(lengths) > 1:
-        raise InputError(f"values give designs different numbers of points {sorted(lengths)}: a study needs one N")
-    return DesignSweep(table, tuple(sweeps), tuple(errors), lengths.pop())
+            models.append(None)
+            errors.append(f"design {d} {table[d]}: {e}")
+    good = sorted(U)
+    D = hi - lo
+    if not good:
+        return _Part(lo, tuple(models), tuple(errors), np.zeros(D, bool), ((),) * D, None, None, None)
+    ref = models[good[0]]
+    shapes = {U[d].shape for d in good}
+    if len(shapes) > 1:
+        raise InputError(f"values give designs different numbers of points {sorted(shapes)}: a study needs one N")
+    for d in good:
+        if models[d].n != ref.n:
+            raise InputError(f"design {lo + d} {table[lo + d]} has {models[d].n} coordinates, design "
+                             f"{lo + good[0]} {ref.n}: a study sweeps designs of one structure")
+    N, f = shapes.pop()
+    Ud, Udd = ref._inputs(velocity, "velocity", N), ref._inputs(acceleration, "acceleration", N)
+    arguments.rates(ref, Ud, Udd)
+    out = _Results(D, N, ref.n, f)
+    for d in good:
+        out.U[d] = U[d]
+    batched = np.zeros(D, bool)
+    left = good
+    while left:  # the designs that share the first one's structure and plan, then the others
+        first = models[left[0]]
+        group = [d for d in left if _structure(models[d]) == _structure(first)]
+        retry = []
+        try:
+            block_plan(first)  # the structure is drivable (else each design is swept alone, and refused)
+        except PlanarError:
+            pass
+        else:
+            batched[group], fits = _batch([models[d] for d in group], out, np.array(group), Ud, Udd,
+                                          options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
+            retry = [d for d, f in zip(group[1:], fits[1:]) if not f]  # (the first fits its own plan)
+        left = sorted(set(left) - set(group) | set(retry))
+    events = [()] * D
+    for d in good:
+        if batched[d]:
+            continue
+        try:  # swept alone: its events located, each value its status
+            s = models[d].sweep(U[d], Ud, Udd, **options)
+        except PlanarError as e:
+            models[d], errors[d] = None, f"design {lo + d} {table[lo + d]}: {e}"
+            continue
+        out.put(d, s)
+        events[d] = s.events
+    return _Part(lo, tuple(models), tuple(errors), batched, tuple(events), Ud, Udd, out)
+
+
+def _values_of(values, design, d, f):
+    """Design d's input values: ``values(design)`` for a function; row d of an array of one
+    row per design, (D, N) for one input (f = 1) or (D, N, f); else ``values`` itself."""
+    if callable(values):
+        return values(design)
+    a = np.asarray(values) if isinstance(values, (list, tuple, np.ndarray)) else None
+    if a is not None and a.dtype != object and (a.ndim == 3 or (a.ndim == 2 and f == 1 and a.shape[1] != 1)):
+        if d >= a.shape[0]:
+            raise InputError(f"values of shape {a.shape} give {a.shape[0]} designs their values (one row each), "
+                             f"not design {d}: give one row per design")
+        return a[d]
+    return values
+
+
+def _compile_unplanned(mechanism):
+    """``mechanism.compile()`` but for its block plan: designs of one structure share one."""
+    return _compile(mechanism.name, _resolve(mechanism), plan=False)
+
+
+def _structure(model):
+    """What designs swept in one batch share: bodies, rows, joint classes and their places."""
+    return (len(model.body_names), model.m,
+            tuple((g.kind, g.members.tobytes(), g.bodies.tobytes(), g.rows.tobytes(), g.inputs.tobytes())
+                  for g in model.system.groups),
+            model.active_rows.tobytes(), model.redundant_rows.tobytes(), model.input_lengths.tobytes())
+
+
+class _Results:
+    """The (D, N, ...) arrays of a study, NaN and NOT_ASSEMBLABLE until a design is put."""
+
+    def __init__(self, D, N, n, f):
+        self.U = np.full((D, N, f), np.nan)
+        self.q, self.qd, self.qdd = (np.full((D, N, n), np.nan) for _ in range(3))
+        self.residual, self.singularity, self.branch, self.gap = (np.full((D, N), np.nan) for _ in range(4))
+        self.iterations = np.zeros((D, N), int)
+        self.status = np.full((D, N), Status.NOT_ASSEMBLABLE, np.int8)
+
+    def put(self, d, s):
+        """Rows d from a :class:`planar.Sweep` or a :class:`_Results` of those rows."""
+        for k in ("q", "qd", "qdd", "residual", "singularity", "branch", "gap", "iterations", "status"):
+            getattr(self, k)[d] = getattr(s, k)
+        if isinstance(s, _Results):
+            self.U[d] = s.U
+
+    def arrays(self):
+        return {k: v for k, v in vars(self).items() if k != "U"} | {"inputs": self.U}
+
+
+def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
+    """Sweep the designs ``models`` (one structure) together on the first one's plan, writing
+    rows ``rows`` of ``out``. Returns (ok, fits), each (D,): ``ok`` for the designs every value
+    of which was certified regular, ``fits`` for those the plan holds (a design with a non-zero
+    where the first has a structural zero, as a slider along x, needs another)."""
+    ref = models[0]
+    D = len(models)
+    U = out.U[rows]
+    N, n = U.shape[1], ref.n
+    q = np.stack([m.q0 for m in models])
+    u = np.stack([m.u0 for m in models])
+    every = np.arange(D)
+    ids = np.arange(D, dtype=float)[:, None]
+
+    def at(u, d):  # inputs with the design index of each configuration in a last column
+        return np.concatenate([u, ids[d]], axis=1)
+
+    p, fits = block_plan(ref, _output_columns(ref, outputs)).over_designs([m.system for m in models], q, at(u, every),
+                                                                         ref.col_scale)
+    br = _Branch(ref, p, tol)
+    with np.errstate(all="ignore"):
+        ref_signs, sing = br.modes(q, at(u, every))
+    ok = fits & (sing >= NEAR_CURVE)
+    scale = np.array([np.where(m.input_lengths, 1.0 / m.L, 1.0) for m in models])
+
+    # 1. the walk over the anchors of every design, all designs a step at a time
+    found = {}  # the anchors depend on the values and the input scales only: once per pair
+    for d, m in enumerate(models):
+        key = (U[d].tobytes(), scale[d].tobytes())
+        if key not in found:
+            found[key] = _anchors(m, U[d], max_step)
+    anchors = np.unique(np.concatenate(list(found.values())))
+    Qa = np.empty((anchors.size, D, n))
+    act = np.flatnonzero(ok)
+    for k, a in enumerate(anchors):
+        target = U[:, a]
+        span = np.max(np.abs(target - u)[act] * scale[act], initial=0.0)
+        parts = max(1, int(np.ceil(span / max_step)))
+        for j in range(parts):
+            if not act.size:
+                break
+            nxt = u[act] + (target[act] - u[act]) / (parts - j)
+            q_pred, _ = br.predict(q[act], at(u[act], act), nxt - u[act])
+            qn, conv, _, _ = br.solve(q_pred, at(nxt, act))
+            sn, sg = br.modes(qn, at(nxt, act))
+            start = q[act]
+            good = br.accept(qn, q_pred, lambda r: start[r], conv, sn, ref_signs[act], sg) & (sg >= NEAR_CURVE)
+            q[act[good]], u[act[good]] = qn[good], nxt[good]
+            ok[act[~good]] = False
+            act = act[good]
+        Qa[k] = q
+
+    # 2. every value from the anchor before it (a Taylor predictor), its final Newton step,
+    # certificate and rates in one pass over (design, value) rows
+    k_of = np.searchsorted(anchors, np.arange(N), side="right") - 1
+    flat = (act[:, None] * N + np.arange(N)[None]).ravel()
+    for lo in range(0, flat.size, CHUNK):
+        r = flat[lo : lo + CHUNK]
+        d, i = r // N, r % N
+        qa, ua = Qa[k_of[i], d], U[d, anchors[k_of[i]]]
+        du = U[d, i] - ua
+        q_pred = qa.copy()  # (an anchor's value is its pose)
+        move = np.flatnonzero(np.any(du != 0.0, axis=1))
+        if move.size:
+            q_pred[move] = br.predict(qa[move], at(ua[move], d[move]), du[move])[0]
+        f = _final(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
+        good = br.accept(f["q"], q_pred, lambda s: qa[s], f["conv"], f["signs"], ref_signs[d], f["sing"], off=f["off"])
+        good &= (f["status"] == Status.SOLVED) & (f["sing"] >= NEAR_CURVE)
+        ok[np.unique(d[~good])] = False
+        g = rows[d]
+        out.q[g, i], out.qd[g, i], out.qdd[g, i] = f["q"], f["qd"], f["qdd"]
+        out.residual[g, i], out.singularity[g, i], out.branch[g, i] = f["res"], f["sing"], f["branch"]
+        out.iterations[g, i], out.status[g, i] = f["iters"], f["status"]
+    if p.cols.size < n:  # coordinates the outputs do not need: not solved
+        drop = np.setdiff1d(np.arange(n), p.cols)
+        for a in (out.q, out.qd, out.qdd):
+            a[np.ix_(rows[ok], np.arange(N), drop)] = np.nan
+    return ok, fits
 
 
 @dataclass(frozen=True, eq=False)
 class DesignSweep:
-    """Results of :func:`sweep_designs`: one :class:`planar.Sweep` per design (``sweeps``,
-    None where ``errors`` says why the design could not be built or assembled), and the named
-    outputs stacked with a leading design axis: ``position(name)`` (D, N, 2), ``angle(body)``
-    (D, N), ``status`` (D, N), ... NaN, with status NOT_ASSEMBLABLE, for designs that failed.
+    """Results of :func:`sweep_designs`, all arrays with a leading design axis: ``inputs``
+    (D, N, f), ``q``, ``qd``, ``qdd`` (D, N, n), ``status``, ``residual``, ``iterations``,
+    ``singularity``, ``branch``, ``gap`` (D, N), as :class:`planar.Sweep` holds them for one
+    design; ``models`` (None where ``errors`` says why the design could not be built or
+    assembled: NaN, status NOT_ASSEMBLABLE), ``batched`` (D,) True for the designs swept in
+    the batch, ``events`` per design. ``position(name)`` (D, N, 2), ``angle(body)`` (D, N),
+    ... name the outputs; ``study[d]`` is design d's :class:`planar.Sweep`.
     """
 
     designs: tuple
-    sweeps: tuple
+    models: tuple
     errors: tuple
-    N: int
+    batched: np.ndarray
+    events: tuple
+    input_rates: np.ndarray
+    input_accelerations: np.ndarray
+    inputs: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    status: np.ndarray
+    residual: np.ndarray
+    iterations: np.ndarray
+    singularity: np.ndarray
+    branch: np.ndarray
+    gap: np.ndarray
+
+    def __post_init__(self):
+        for v in vars(self).values():
+            if isinstance(v, np.ndarray):
+                v.flags.writeable = False
+
+    @property
+    def N(self):
+        return self.status.shape[1]
 
     def __len__(self):
         return len(self.designs)
 
     def __getitem__(self, d):
-        return self.sweeps[d]
+        """Design d's :class:`planar.Sweep` (None for a design that could not be built)."""
+        if self.models[d] is None:
+            return None
+        return Sweep(self.models[d], self.inputs[d], self.input_rates, self.input_accelerations, self.q[d],
+                     self.qd[d], self.qdd[d], self.status[d], self.residual[d], self.iterations[d],
+                     self.singularity[d], self.branch[d], self.gap[d], self.events[d])
+
+    @property
+    def sweeps(self):
+        return tuple(self[d] for d in range(len(self)))
 
     def __repr__(self):
         bad = sum(e is not None for e in self.errors)
-        return f"DesignSweep(D={len(self)}, N={self.N}, failed designs={bad})"
-
-    def _stack(self, get, tail=()):
-        out = np.full((len(self), self.N) + tail, np.nan)
-        for d, s in enumerate(self.sweeps):
-            if s is not None:
-                out[d] = get(s)
-        out.flags.writeable = False
-        return out
-
-    @property
-    def status(self):
-        out = np.full((len(self), self.N), Status.NOT_ASSEMBLABLE, dtype=np.int8)
-        for d, s in enumerate(self.sweeps):
-            if s is not None:
-                out[d] = s.status
-        out.flags.writeable = False
-        return out
+        return f"DesignSweep(D={len(self)}, N={self.N}, batched={int(self.batched.sum())}, failed designs={bad})"
 
     @property
     def ok(self):
         """(D, N) True where positions, velocities and accelerations are valid."""
-        return np.array([s.ok if s is not None else np.zeros(self.N, bool) for s in self.sweeps])
+        return VALID[self.status]
 
     @property
-    def events(self):
-        """Per design, the singular positions its sweep met (empty for failed designs)."""
-        return tuple(s.events if s is not None else () for s in self.sweeps)
+    def posed(self):
+        """(D, N) True where positions are valid."""
+        return POSED[self.status]
 
-    @property
-    def inputs(self):
-        return self._stack(lambda s: s.inputs, (self._width("inputs"),))
+    def _body(self, body, arr):
+        """(x, y, phi) of ``body`` in ``arr`` (D, N, n): the body is found in the first model."""
+        m = next(m for m in self.models if m is not None)
+        b = m.body_id(body)
+        if b == 0:
+            return (np.zeros(arr.shape[:2]),) * 3
+        return arr[..., 3 * b - 3], arr[..., 3 * b - 2], arr[..., 3 * b - 1]
 
-    def _width(self, attr):
-        return next(getattr(s, attr).shape[1] for s in self.sweeps if s is not None)
+    def _point(self, name):
+        """(body name, S): the point's world offset from its body's frame (D, N, 2)."""
+        found = [m.point(name) if m is not None else None for m in self.models]
+        b = next(f[0] for f in found if f is not None)
+        s = np.array([f[1] if f is not None else (np.nan, np.nan) for f in found])[:, None, :]
+        body = next(m for m in self.models if m is not None).body_names[b]
+        phi = self._body(body, self.q)[2]
+        c, sn = np.cos(phi), np.sin(phi)
+        return body, np.stack((c * s[..., 0] - sn * s[..., 1], sn * s[..., 0] + c * s[..., 1]), axis=-1)
 
     def position(self, name):
-        return self._stack(lambda s: s.position(name), (2,))
+        body, S = self._point(name)
+        x, y, _ = self._body(body, self.q)
+        return np.stack((x, y), axis=-1) + S
 
     def velocity(self, name):
-        return self._stack(lambda s: s.velocity(name), (2,))
+        body, S = self._point(name)
+        xd, yd, w = self._body(body, self.qd)
+        return np.stack((xd, yd), axis=-1) + perp(S) * w[..., None]
 
     def acceleration(self, name):
-        return self._stack(lambda s: s.acceleration(name), (2,))
+        body, S = self._point(name)
+        _, _, w = self._body(body, self.qd)
+        xdd, ydd, a = self._body(body, self.qdd)
+        return np.stack((xdd, ydd), axis=-1) + perp(S) * a[..., None] - S * (w**2)[..., None]
 
     def angle(self, body):
-        return self._stack(lambda s: s.angle(body))
+        return self._body(body, self.q)[2]
 
     def omega(self, body):
-        return self._stack(lambda s: s.omega(body))
+        return self._body(body, self.qd)[2]
 
     def alpha(self, body):
-        return self._stack(lambda s: s.alpha(body))
+        return self._body(body, self.qdd)[2]
 
     def coordinate(self, joint, derivative=0):
-        return self._stack(lambda s: s.coordinate(joint, derivative))
+        out = np.full((len(self), self.N), np.nan)
+        for d in range(len(self)):
+            if self.models[d] is not None:
+                out[d] = self[d].coordinate(joint, derivative)
+        return out

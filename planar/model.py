@@ -718,8 +718,9 @@ class Model:
         return a
 
 
-def _compile(name, sk):
-    """The Model of an assembled :class:`Sketch` (body angles in radians)."""
+def _compile(name, sk, plan=True):
+    """The Model of an assembled :class:`Sketch` (body angles in radians); without ``plan``,
+    not yet checked drivable (a study of designs plans one of each structure)."""
     joints = list(sk.joints)
     drivers = list(sk.drivers)
     bodies = list(sk.bodies)
@@ -788,7 +789,7 @@ def _compile(name, sk):
         input_lengths=np.array([d.length_rows[0] for d in drivers], bool), rank=rank,
         grubler=n - joint_rows.size, redundant_joints=redundant_joints,
         **compile_mass(sk.mass or {}, sk.loads, sk.gravity, sketch, bodies))
-    if drivers:
+    if drivers and plan:
         block_plan(model)  # a model the drivers cannot drive is refused here, not at sweep time
     return model
 
@@ -1062,6 +1063,8 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         if best is None or rank > best[0]:
             best = (rank, _first_independent(Js, rows, rank, 1e-9 * max(diag[0], 1e-300), piv))
         if rank == min(len(rows), system.n) or trial == 2:  # every row independent: no higher rank
+            break
+        if rank == rows.size:  # every joint row independent: no pose has more
             break
         # move along the free motion and reassemble, to leave a possibly singular sketch
         _, s, Vt = np.linalg.svd(Js)

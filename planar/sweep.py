@@ -89,17 +89,16 @@ class _Branch:
         self._last = (None, None)
 
     def _at(self, q, u):
-        """The factored blocks (:class:`planar.blocks.Factors`) at poses q. The walk asks
-        twice at each accepted pose (its modes, then the next prediction): for a batch of one
-        the last answer is kept."""
-        key = (q.tobytes(), u.tobytes()) if q.shape[0] == 1 else None
-        if key is not None and self._last[0] == key:
+        """The factored blocks (:class:`planar.blocks.Factors`) at poses q. A walk asks twice
+        at each accepted pose (its modes, then the next prediction; a walk of one pose, or of
+        many designs at once): the last answer is kept."""
+        last = self._last[0]
+        if last is not None and last[0].shape == q.shape and np.array_equal(last[0], q) and np.array_equal(last[1], u):
             return self._last[1]
         with np.errstate(all="ignore"):  # poses of failed solves read non-finite: rejected later
             _, _, Jv = self.p.evaluate(q, u)
             lu = self.p.factor(Jv)
-        if key is not None:
-            self._last = (key, lu)
+        self._last = ((q.copy(), u.copy()), lu)
         return lu
 
     def state(self, q, u, ud, udd=None):

@@ -14,6 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
+from planar.errors import ModelError
 from planar.geometry import Frames, cos_sin
 from planar.joints.base import kernel_params
 
@@ -27,11 +28,15 @@ class Group:
     rows: np.ndarray  # (K, n_rows) global row ids
     cols: np.ndarray  # (K, 3 nb) global column ids, ground columns -> n (dumped)
     inputs: np.ndarray  # (K,) input column of each driver, -1 for joints
+    # P holds (D, K, ...) tables, one per design: each configuration reads the parameters of
+    # the design in the last column of its inputs u (see :meth:`System.over_designs`)
+    per_design: bool = False
 
     @cached_property
     def kernel_P(self):
-        """``P`` as the kernels take it (views: the model's sketch constants reach them)."""
-        return kernel_params(self.P)
+        """``P`` as the kernels take it (views: the model's sketch constants reach them); per
+        design (D, K, a, b) -> (b, a, K, D), the design axis where the configurations go."""
+        return {key: v.T for key, v in self.P.items()} if self.per_design else kernel_params(self.P)
 
     @cached_property
     def slots(self):
@@ -40,10 +45,14 @@ class Group:
 
     def params(self, u, sl=slice(None)):
         """Kernel parameters at the configurations ``sl`` of the inputs ``u`` (N, f)."""
+        P = self.kernel_P
+        if self.per_design:
+            d = u[sl, -1].astype(np.intp)
+            P = {key: v[..., d] for key, v in P.items()}
         if self.inputs[0] < 0 or u is None:
-            return self.kernel_P
+            return P
         # a driver row is g(q) - u: the input values (1, K, N) stand in the constant c
-        return dict(self.kernel_P, c=u[sl, self.inputs].T[None])
+        return dict(P, c=u[sl, self.inputs].T[None])
 
     def frames(self, full):
         """The group's :class:`Frames` from the bodies' (x, y, phi, cos, sin[, rates]) rows."""
@@ -147,8 +156,37 @@ class System:
         for g in self.groups:
             sel = keep[g.rows].any(axis=1)
             if sel.any():
-                groups.append(Group(g.kind, g.members[sel], g.bodies[sel], {k: v[sel] for k, v in g.P.items()},
-                                    g.rows[sel], g.cols[sel], g.inputs[sel]))
+                at = (slice(None), sel) if g.per_design else sel
+                groups.append(Group(g.kind, g.members[sel], g.bodies[sel], {k: v[at] for k, v in g.P.items()},
+                                    g.rows[sel], g.cols[sel], g.inputs[sel], g.per_design))
+        return System(self.n_bodies, self.m, tuple(groups))
+
+    def over_designs(self, systems):
+        """This system with the parameters of ``systems`` (D of the same structure: each of
+        its groups' members among theirs) stacked per design: the configurations (N, n) then
+        take inputs u (N, f + 1) whose last column is the design index of each. One batch of
+        configurations thus spans many designs, and one Newton loop serves them all.
+
+        >>> from planar.mechanisms import four_bar
+        >>> a, b = four_bar(crank=1.0).compile(), four_bar(crank=1.5).compile()
+        >>> both = a.system.over_designs([a.system, b.system])
+        >>> q = np.stack([a.q0, b.q0])
+        >>> u = np.array([[a.u0[0], 0.0], [b.u0[0], 1.0]])
+        >>> bool(np.abs(both.evaluate(q, u, jacobian=False)[0]).max() < 1e-12)
+        True
+        """
+        groups = []
+        for g in self.groups:
+            tables = []
+            for s in systems:
+                h = next((h for h in s.groups if h.kind is g.kind and np.isin(g.members, h.members).all()), None)
+                if h is None or h.P.keys() != g.P.keys():
+                    raise ModelError(f"a design has no {g.kind.__name__} joints {g.members.tolist()} with the "
+                                     f"parameters {sorted(g.P)}: designs swept together share one structure")
+                at = np.searchsorted(h.members, g.members)
+                tables.append({k: v[at] for k, v in h.P.items()})
+            P = {k: np.stack([t[k] for t in tables]) for k in g.P}
+            groups.append(Group(g.kind, g.members, g.bodies, P, g.rows, g.cols, g.inputs, True))
         return System(self.n_bodies, self.m, tuple(groups))
 
     def gamma(self, q, qd, u=None):

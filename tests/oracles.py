@@ -126,6 +126,31 @@ def four_bar(r1, r2, r3, r4, th2, w2=1.0, a2=0.0, th1=0.0, sigma=1, p=None, q=No
     return out
 
 
+def freudenstein(r1, r2, r3, r4, th2, p=0.0, q=0.0, sigma=1):
+    """Crank-driven four-bar (O2 = 0, O4 = (r1, 0)) by Freudenstein's equation
+    K1 cos th4 - K2 cos th2 + K3 = cos(th2 - th4), solved as a quadratic in tan(th4 / 2);
+    vectorised over everything (lengths (D, 1) and th2 (N,) give (D, N) designs x angles).
+    sigma = +1: B left of the directed line A -> O4 (the root taken per element by that
+    side). Returns th3, th4 and the coupler point C = A + (p + i q) e^{i th3} (..., 2)."""
+    r1, r2, r3, r4, th2 = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (r1, r2, r3, r4, th2)))
+    K1, K2, K3 = r1 / r2, r1 / r4, (r2**2 - r3**2 + r4**2 + r1**2) / (2 * r2 * r4)
+    c, s = np.cos(th2), np.sin(th2)
+    A_, B_, C_ = c - K1 - K2 * c + K3, -2 * s, K1 - (K2 + 1) * c + K3
+    with np.errstate(all="ignore"):
+        root = np.sqrt(B_**2 - 4 * A_ * C_)
+        A = r2 * _e(th2)
+        best = None
+        for sign in (1.0, -1.0):
+            th4 = 2 * np.arctan2(-B_ + sign * root, 2 * A_)
+            B = r1 + r4 * _e(th4)
+            side = np.imag(np.conj(r1 - A) * (B - A)) * sigma > 0
+            best = (th4, B) if best is None else (np.where(side, th4, best[0]), np.where(side, B, best[1]))
+    th4, B = best
+    th3 = np.angle(B - A)
+    C = A + ((p + 1j * q) * np.ones_like(th2)) * _e(th3)
+    return dict(th3=th3, th4=th4, C=_xy(C))
+
+
 def four_bar_transmission_angle(r1, r2, r3, r4, th2, th1=0.0, sigma=1):
     """Angle between coupler and rocker, in [0, pi] (same for both assembly modes, so sigma is
     accepted only for a uniform call signature). NaN where the four-bar does not assemble."""

@@ -2,10 +2,13 @@
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import planar
 from planar.designs import DesignSweep, sweep_designs
-from planar.mechanisms import four_bar, slider_crank
+from planar.mechanisms import (four_bar, gear_train, geared_five_bar, inverted_slider_crank, open_chain,
+                               planetary_gear_train, rack_and_pinion, rolling_wheel, slider_crank, watt_six_bar)
 from tests import oracles
 
 TH = np.radians(np.arange(0.0, 360.0, 10.0))
@@ -32,7 +35,7 @@ def test_each_design_row_is_that_design_swept_alone():
                           fixed=dict(coupler=5.0))
     for d, design in enumerate(study.designs):
         alone = slider_crank(coupler=5.0, **design).sweep(TH)
-        np.testing.assert_array_equal(study.position("B")[d], alone.position("B"))
+        np.testing.assert_allclose(study.position("B")[d], alone.position("B"), rtol=0, atol=1e-12)
         np.testing.assert_array_equal(study.status[d], alone.status)
         assert study[d].model.name == alone.model.name
 
@@ -67,3 +70,160 @@ def test_wrong_calls_are_named():
         sweep_designs(four_bar, {"coupler": [0.1, 0.2]}, TH, fixed=dict(ground=4.0, crank=2.0, rocker=3.0))
     with pytest.raises(planar.InputError, match="designs"):
         sweep_designs(four_bar, [], TH)
+
+
+# ---- the batch: designs folded into the solver's batch axis -----------------------------------
+
+def _crank_rockers(rng, D):
+    """D Grashof crank-rockers (crank shortest, s + l < p + q by a margin) with coupler points
+    and starts."""
+    out = []
+    while len(out) < D:
+        r1, r3, r4 = rng.uniform(2.5, 5.0, 3)
+        r2 = rng.uniform(0.3, 1.5)
+        s, p_, q_, l = sorted([r1, r2, r3, r4])
+        if r2 == s and s + l < 0.9 * (p_ + q_):
+            out.append(dict(ground=r1, crank=r2, coupler=r3, rocker=r4,
+                            coupler_point=tuple(rng.uniform(-1.5, 1.5, 2)), start=rng.uniform(-np.pi, np.pi)))
+    return out
+
+
+def _alone(build, design, values, *rates):
+    return build(**design).compile().sweep(values, *rates)
+
+
+def test_a_batch_of_designs_is_each_design_swept_alone_and_freudensteins_closed_form():
+    rng = np.random.default_rng(5)
+    designs = _crank_rockers(rng, 16)
+    study = sweep_designs(four_bar, designs, lambda d: d["start"] + TH, 1.3, 0.4)
+    assert study.batched.all() and study.ok.all() and all(e is None for e in study.errors)
+    col = lambda k: np.array([d[k] for d in designs])[:, None]  # noqa: E731
+    pq = np.array([d["coupler_point"] for d in designs])
+    cf = oracles.freudenstein(col("ground"), col("crank"), col("coupler"), col("rocker"), col("start") + TH,
+                              pq[:, :1], pq[:, 1:])
+    np.testing.assert_allclose(study.position("C"), cf["C"], rtol=0, atol=1e-12)
+    dth = study.angle("rocker") - cf["th4"]
+    np.testing.assert_allclose(np.angle(np.exp(1j * dth)), 0.0, atol=1e-12)
+    for d, design in enumerate(designs):
+        alone = _alone(four_bar, design, design["start"] + TH, 1.3, 0.4)
+        np.testing.assert_array_equal(study.status[d], alone.status)
+        np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(study.qd[d], alone.qd, rtol=0, atol=1e-10)
+        np.testing.assert_allclose(study.qdd[d], alone.qdd, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(study.velocity("C")[d], alone.velocity("C"), rtol=0, atol=1e-10)
+        np.testing.assert_allclose(study[d].acceleration("C"), alone.acceleration("C"), rtol=0, atol=1e-9)
+
+
+def test_failing_designs_keep_their_statuses_and_reasons_and_the_others_are_batched():
+    fixed = dict(ground=4.0, rocker=3.0, coupler_point=(1.0, 0.5))
+    designs = [dict(crank=1.0, coupler=3.5),  # crank-rocker: regular all round
+               dict(crank=3.0, coupler=3.0),  # triple rocker: limits, values out of range
+               dict(crank=2.0, coupler=0.5),  # does not assemble
+               dict(crank=1.2, coupler=3.2)]
+    study = sweep_designs(four_bar, designs, TH, fixed=fixed)
+    assert study.batched.tolist() == [True, False, False, True]
+    assert study.errors[2] is not None and "design 2" in study.errors[2] and study[2] is None
+    assert np.all(study.status[2] == planar.Status.NOT_ASSEMBLABLE) and np.isnan(study.q[2]).all()
+    alone = _alone(four_bar, dict(fixed, **designs[1]), TH)
+    np.testing.assert_array_equal(study.status[1], alone.status)
+    assert {e.kind for e in study.events[1]} == {"limit"} and not study.ok[1].all() and study.ok[1].any()
+    np.testing.assert_array_equal(study.position("C")[1], alone.position("C"))
+    np.testing.assert_array_equal(study.gap[1], alone.gap)
+    assert study.ok[[0, 3]].all() and study.events[0] == study.events[3] == ()
+
+
+def _dimensioned_four_bar(crank, coupler, rocker):
+    """A four-bar drawn roughly once, its lengths stated with Mechanism.distance."""
+    m = planar.Mechanism("dimensioned")
+    for b in ("crank", "coupler", "rocker"):
+        m.add_body(b)
+    m.add_revolute("O2", m.ground, "crank", at=(0.0, 0.0))
+    m.add_revolute("A", "crank", "coupler", at=(1.0, 0.3))
+    m.add_revolute("B", "coupler", "rocker", at=(3.5, 2.5))
+    m.add_revolute("O4", "rocker", m.ground, at=(4.0, 0.0))
+    for a, b, r in (("O2", "O4", 4.0), ("O2", "A", crank), ("A", "B", coupler), ("O4", "B", rocker)):
+        m.distance(a, b, r)
+    m.drive(body="crank", start=0.0)
+    return m
+
+
+def test_designs_vary_by_the_numbers_of_stated_distances():
+    cranks, couplers = np.array([0.8, 1.0, 1.3]), np.array([3.6, 3.4, 3.9])
+    study = sweep_designs(_dimensioned_four_bar, {"crank": cranks, "coupler": couplers, "rocker": 3.0}, TH)
+    assert study.batched.all() and study.ok.all()
+    cf = oracles.freudenstein(4.0, cranks[:, None], couplers[:, None], 3.0, TH)
+    B = cf["C"] + np.stack([couplers[:, None] * np.cos(cf["th3"]), couplers[:, None] * np.sin(cf["th3"])], -1)
+    np.testing.assert_allclose(study.position("B"), B, rtol=0, atol=1e-12)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.floats(0.3, 5.0), st.floats(0.3, 5.0), st.floats(0.3, 5.0), st.floats(-np.pi, np.pi)),
+                min_size=1, max_size=6))
+def test_any_batch_of_four_bars_is_each_design_swept_alone(rows):
+    """Random designs, regular or not: the batch reports what each design swept alone does."""
+    designs = [dict(crank=a, coupler=b, rocker=c, start=s) for a, b, c, s in rows]
+    U = np.linspace(-1.0, 1.0, 25)
+    try:
+        study = sweep_designs(four_bar, designs, lambda d: d["start"] + U, fixed=dict(ground=4.0))
+    except planar.InputError as e:  # no design assembles
+        assert "no design could be built" in str(e)
+        return
+    for d, design in enumerate(designs):
+        try:
+            alone = _alone(four_bar, dict(design, ground=4.0), design["start"] + U)
+        except planar.PlanarError:
+            assert study[d] is None and study.errors[d] is not None
+            continue
+        np.testing.assert_array_equal(study.status[d], alone.status)
+        ok = alone.ok
+        np.testing.assert_allclose(study.q[d][ok], alone.q[ok], rtol=0, atol=1e-11)
+        np.testing.assert_allclose(study.qd[d][ok], alone.qd[ok], rtol=0, atol=1e-8)
+
+
+CATALOGUE = {
+    # sliders along x and at an angle: the first plan has structural zeros the others fill
+    "slider_crank": (slider_crank, [dict(crank=1.0, offset=0.0, slide_angle=0.0), dict(crank=1.5, offset=0.5,
+                     slide_angle=0.3), dict(crank=2.0, offset=1.0, slide_angle=0.6)], TH),
+    "gear_train": (gear_train, [dict(radii=(1, 2, 1.5)), dict(radii=(1, 3, 2)), dict(radii=(2, 1, 1.5))], TH),
+    "geared_five_bar": (geared_five_bar, [dict(), dict(gear_radius_2=3.2)], np.linspace(0.0, 1.0, 11)),
+    "rack_and_pinion": (rack_and_pinion, [dict(radius=1.0), dict(radius=2.0, rack_angle=0.3)], TH),
+    "open_chain": (open_chain, [dict(lengths=(5, 8, 9)), dict(lengths=(4, 7, 9))], np.stack([TH, TH / 2, TH / 3], 1)),
+    "watt_six_bar": (watt_six_bar, [dict(crank=1.5), dict(crank=1.4), dict(crank=1.6, link_5=3.2)], TH),
+    "inverted_slider_crank": (inverted_slider_crank, [dict(), dict(crank=7.0)], TH),
+    "planetary_gear_train": (planetary_gear_train, [dict(), dict(sun=1.2)], TH),
+    "rolling_wheel": (rolling_wheel, [dict(), dict(radius=1.5)], np.linspace(0.0, 3.0, 21)),
+}
+
+
+@pytest.mark.parametrize("name", sorted(CATALOGUE))
+def test_designs_of_every_joint_type_are_batched_and_each_is_its_sweep_alone(name):
+    build, designs, U = CATALOGUE[name]
+    study = sweep_designs(build, designs, U, 1.3, 0.2)
+    assert study.batched.all()
+    for d, design in enumerate(designs):
+        alone = _alone(build, design, U, 1.3, 0.2)
+        np.testing.assert_array_equal(study.status[d], alone.status)
+        np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(study.qdd[d], alone.qdd, rtol=0, atol=1e-9)
+
+
+def test_outputs_restrict_the_batch_to_the_blocks_they_need():
+    study = sweep_designs(watt_six_bar, {"crank": [1.4, 1.5]}, TH, outputs=("rocker",))
+    alone = watt_six_bar(crank=1.4).sweep(TH, outputs=("rocker",))
+    assert study.batched.all() and np.isnan(alone.q).any()
+    np.testing.assert_array_equal(np.isnan(study.q[0]), np.isnan(alone.q))
+    np.testing.assert_allclose(study.q[0], alone.q, rtol=0, atol=1e-12)
+
+
+def test_values_may_be_one_row_per_design():
+    starts = np.array([0.3, -1.0, 2.0])
+    U = starts[:, None] + TH[None]  # (D, N): each design from its own start
+    fixed = dict(ground=4.0, crank=1.0, coupler=3.5, rocker=3.0, coupler_point=(1.0, 0.5))
+    study = sweep_designs(four_bar, {"start": starts}, U, fixed=fixed)
+    assert study.batched.all() and study.inputs.shape == (3, TH.size, 1)
+    cf = oracles.freudenstein(4.0, 1.0, 3.5, 3.0, U, 1.0, 0.5)
+    np.testing.assert_allclose(study.position("C"), cf["C"], rtol=0, atol=1e-12)
+    same = sweep_designs(four_bar, {"start": starts}, U[:, :, None], fixed=fixed)  # (D, N, f)
+    np.testing.assert_array_equal(same.q, study.q)
+    with pytest.raises(planar.InputError, match="one row per design"):
+        sweep_designs(four_bar, {"start": starts}, U[:2], fixed=fixed)

@@ -1,0 +1,152 @@
+"""Studies beyond memory and beyond one machine: :func:`planar.sweep_designs` in batches of
+designs on a dask cluster, each batch written to a Zarr store as it finishes.
+
+Needs the ``dask`` extra (dask.distributed and zarr), imported only here. The cluster is a
+LocalCluster on this machine (127.0.0.1, worker processes) made for the call, or any running
+dask cluster given by its scheduler's address (or a ``distributed.Client``). Each batch is one
+task: its designs are built, compiled and swept on a worker exactly as the in-memory call
+sweeps that batch (so the store is bit-identical to ``sweep_designs(..., batch=batch)``), and
+the client writes it to the store when it arrives. The store records the batches written; a
+call on a store that holds some batches of the same study computes only the missing ones, so
+an interrupted run resumes where it stopped. Memory: two batches are in flight per worker
+thread (submitted as others finish), and the client holds one batch's results at a time.
+
+Store layout (a Zarr group): the :class:`planar.DesignSweep` arrays ``inputs`` (D, N, f),
+``q``, ``qd``, ``qdd`` (D, N, n), ``status``, ``residual``, ``iterations``, ``singularity``,
+``branch``, ``gap`` (D, N); ``batched`` and ``events`` (the number of events met) per design;
+``position/NAME`` (D, N, 2) for each of ``points``; and in its attributes the study (D, batch,
+points), the batches written, and the designs that could not be built, with why.
+"""
+
+import itertools
+
+import numpy as np
+import zarr
+from dask.distributed import Client, LocalCluster, as_completed
+
+from planar.designs import BATCH, design_table, join, study_options, sweep_part
+from planar.errors import InputError
+from planar.progress import Progress
+from planar.results import Status
+
+ARRAYS = ("inputs", "q", "qd", "qdd", "status", "residual", "iterations", "singularity", "branch", "gap")
+# what a design that could not be built holds: NaN, status NOT_ASSEMBLABLE, no iterations or events
+FILL = {"status": int(Status.NOT_ASSEMBLABLE)}
+
+
+def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.0, *, store, points=(),
+                           fixed=None, batch=BATCH, cluster=None, workers=2, progress=None, **options):
+    """Sweep the designs as :func:`planar.sweep_designs` does, ``batch`` designs per dask task,
+    writing each batch to the Zarr ``store`` (a path) as it finishes; batches the store holds
+    already are not computed again. ``points``: names of points whose positions are stored.
+    ``cluster``: None (a LocalCluster of ``workers`` processes on 127.0.0.1 for this call), the
+    address of a running scheduler, or a ``distributed.Client``. ``progress(done, total)`` is
+    called after each batch written (default: a bar on a terminal). Returns the batches'
+    first design indices computed by this call.
+    """
+    table = design_table(designs)
+    options = study_options(batch, options)
+    points = tuple(points)
+    D = len(table)
+    study = dict(D=D, batch=int(batch), points=list(points))
+    group = zarr.open_group(str(store), mode="a")
+    if "study" in group.attrs and group.attrs["study"] != study:
+        raise InputError(f"store {store} holds another study {group.attrs['study']}, not {study}: give a new "
+                         "store, or delete this one")
+    group.attrs.update(study=study, done=sorted(group.attrs.get("done", [])), failed=group.attrs.get("failed", {}))
+    todo = [lo for lo in range(0, D, batch) if lo not in set(group.attrs["done"])]
+    total = -(-D // batch)
+    report = progress or Progress("design batches")
+    if not todo:
+        return []
+    with _client(cluster, workers) as client:
+        def submit(lo):
+            return client.submit(_batch_record, build, {d: table[d] for d in range(lo, min(lo + batch, D))}, lo,
+                                 values, velocity, acceleration, fixed, options, points, pure=False)
+
+        # two batches in flight per worker thread: the cluster holds no more results than that
+        waiting = iter(todo)
+        running = as_completed([submit(lo) for lo in itertools.islice(waiting, 2 * sum(client.nthreads().values()))])
+        for job in running:
+            lo, record = job.result()
+            job.release()
+            _write(group, lo, record, D, batch)
+            report(len(group.attrs["done"]), total)
+            for lo in itertools.islice(waiting, 1):
+                running.add(submit(lo))
+    return todo
+
+
+class _client:
+    """The dask client of a call: a LocalCluster made for it, or the cluster given."""
+
+    def __init__(self, cluster, workers):
+        self.cluster, self.workers, self.own = cluster, workers, []
+
+    def __enter__(self):
+        if isinstance(self.cluster, Client):
+            return self.cluster
+        if self.cluster is None:
+            local = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                 dashboard_address=None)
+            self.own.append(local)
+            self.cluster = local
+        client = Client(self.cluster)
+        self.own.insert(0, client)
+        return client
+
+    def __exit__(self, *exc):
+        for thing in self.own:
+            thing.close()
+
+
+def _batch_record(build, designs, lo, values, velocity, acceleration, fixed, options, points):
+    """(lo, arrays) of one batch, computed on a worker: the study's arrays, point positions,
+    per design ``batched``, the number of ``events`` and the ``failed`` designs' reasons."""
+    hi = lo + len(designs)
+    part = sweep_part(build, designs, lo, hi, values, velocity, acceleration, fixed, options)
+    record = {"failed": {str(lo + k): e for k, e in enumerate(part.errors) if e is not None}}
+    if part.out is None:
+        return lo, record
+    study = join([designs[d] for d in range(lo, hi)], [part], lo)
+    record.update({k: getattr(study, k) for k in ARRAYS})
+    record["batched"] = study.batched
+    record["events"] = np.array([len(e) for e in study.events])
+    for name in points:
+        record[f"position/{name}"] = study.position(name)
+    return lo, record
+
+
+def _write(group, lo, record, D, batch):
+    """Write one batch's arrays (creating the store's arrays at the first), then mark it done."""
+    for key, a in record.items():
+        if key == "failed":
+            continue
+        if key not in group:
+            fill = FILL.get(key, np.nan if a.dtype.kind == "f" else a.dtype.type(0))
+            group.create_array(key, shape=(D,) + a.shape[1:], chunks=(batch,) + a.shape[1:], dtype=a.dtype,
+                               fill_value=fill)
+        group[key][lo : lo + len(a)] = a
+    group.attrs.update(failed=dict(group.attrs["failed"], **record["failed"]),
+                       done=sorted(group.attrs["done"] + [lo]))
+
+
+def load(store):
+    """The study in ``store``: a dict of numpy arrays (the names of the layout above),
+    ``failed`` {design index: why} and ``done`` (the first design of each batch written).
+    Raises :class:`planar.InputError` while batches are missing."""
+    try:
+        group = zarr.open_group(str(store), mode="r")
+    except FileNotFoundError:
+        raise InputError(f"no store at {store}: give the path a study was written to") from None
+    study = group.attrs.get("study")
+    if study is None:
+        raise InputError(f"{store} is no store of a design study (no 'study' attribute)")
+    missing = sorted(set(range(0, study["D"], study["batch"])) - set(group.attrs["done"]))
+    if missing:
+        raise InputError(f"store {store} misses the batches of designs {missing}: run the study again on it to "
+                         "compute them")
+    out = {k: group[k][:] for k in group.array_keys()}
+    out.update({f"position/{k}": group["position"][k][:] for k in study["points"]})
+    out.update(failed={int(k): v for k, v in group.attrs["failed"].items()}, done=list(group.attrs["done"]))
+    return out

@@ -1,0 +1,85 @@
+"""Design studies on dask: batches on a LocalCluster of two worker processes written to a Zarr
+store, bit-identical to the in-memory call, and an interrupted run resumed."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dask.distributed")
+pytest.importorskip("zarr")
+
+from dask.distributed import LocalCluster  # noqa: E402
+
+import planar  # noqa: E402
+from planar import cluster  # noqa: E402
+from planar.mechanisms import four_bar  # noqa: E402
+
+TH = np.radians(np.arange(0.0, 360.0, 15.0))
+FIXED = dict(ground=4.0, rocker=3.0, coupler_point=(1.0, 0.5))
+# regular crank-rockers, a triple rocker (limits: swept alone) and one that does not assemble
+DESIGNS = {"crank": [1.0, 1.1, 3.0, 1.2, 2.0, 0.9, 1.3], "coupler": [3.5, 3.4, 3.0, 3.6, 0.5, 3.5, 3.3]}
+
+
+class Stop(Exception):
+    pass
+
+
+def _compare(stored, study):
+    for k in cluster.ARRAYS:
+        np.testing.assert_array_equal(stored[k], getattr(study, k), err_msg=k)
+    np.testing.assert_array_equal(stored["position/C"], study.position("C"))
+    np.testing.assert_array_equal(stored["batched"], study.batched)
+    assert stored["events"].tolist() == [len(e) for e in study.events]
+    assert stored["failed"] == {d: e for d, e in enumerate(study.errors) if e is not None}
+
+
+def test_a_study_on_two_workers_is_the_in_memory_study_and_resumes_after_an_interruption(tmp_path):
+    study = planar.sweep_designs(four_bar, DESIGNS, TH, 1.5, fixed=FIXED, batch=2)
+    assert study.batched.tolist() == [True, True, False, True, False, True, True]
+    store = tmp_path / "study.zarr"
+    seen = []
+
+    def interrupt(done, total):
+        seen.append((done, total))
+        if done == 2:
+            raise Stop  # as a run killed after two batches were written
+
+    with pytest.raises(Stop):
+        cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, 1.5, store=store, points=("C",), fixed=FIXED, batch=2,
+                                       progress=interrupt)
+    with pytest.raises(planar.InputError, match="misses the batches"):
+        cluster.load(store)
+    written = cluster.zarr.open_group(str(store)).attrs["done"]
+    assert len(written) == 2 and seen == [(1, 4), (2, 4)]
+    # resumed on a running cluster given by its scheduler's address
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None) as running:
+        computed = cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, 1.5, store=store, points=("C",),
+                                                  fixed=FIXED, batch=2, cluster=running.scheduler_address,
+                                                  progress=lambda done, total: seen.append((done, total)))
+    assert sorted(computed) == sorted(set([0, 2, 4, 6]) - set(written))
+    assert seen[-1] == (4, 4)
+    _compare(cluster.load(store), study)
+    # all written: nothing left to compute
+    assert cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, 1.5, store=store, points=("C",), fixed=FIXED,
+                                          batch=2) == []
+
+
+def test_a_store_of_another_study_is_refused(tmp_path):
+    store = tmp_path / "study.zarr"
+    cluster.zarr.open_group(str(store), mode="a").attrs["study"] = dict(D=3, batch=2, points=[])
+    with pytest.raises(planar.InputError, match="holds another study"):
+        cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, store=store, fixed=FIXED, batch=2)
+    cluster.zarr.open_group(str(tmp_path / "empty.zarr"), mode="a")
+    with pytest.raises(planar.InputError, match="no store of a design study"):
+        cluster.load(tmp_path / "empty.zarr")
+    with pytest.raises(planar.InputError, match="no store at"):
+        cluster.load(tmp_path / "none.zarr")
+
+
+def test_batches_agree_with_one_batch_to_rounding():
+    one = planar.sweep_designs(four_bar, DESIGNS, TH, fixed=FIXED)
+    two = planar.sweep_designs(four_bar, DESIGNS, TH, fixed=FIXED, batch=2)
+    np.testing.assert_array_equal(one.status, two.status)
+    np.testing.assert_allclose(one.q, two.q, rtol=0, atol=1e-12)
+    with pytest.raises(planar.InputError, match="batch must be"):
+        planar.sweep_designs(four_bar, DESIGNS, TH, fixed=FIXED, batch=0)
