@@ -1064,8 +1064,6 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
             best = (rank, _first_independent(Js, rows, rank, 1e-9 * max(diag[0], 1e-300), piv))
         if rank == min(len(rows), system.n) or trial == 2:  # every row independent: no higher rank
             break
-        if rank == rows.size:  # every joint row independent: no pose has more
-            break
         # move along the free motion and reassemble, to leave a possibly singular sketch
         _, s, Vt = np.linalg.svd(Js)
         null = Vt[rank:]
