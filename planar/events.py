@@ -361,6 +361,13 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
             if pt is None:
                 return out
             ys = pt[0]
+            if ys[-1] >= tr.d:
+                # the step passed the target before it turned back: the target is on this side
+                c = float(t @ (ys - y))
+                at = tr.locate(y, t, c, lambda yy, tt, dd: yy[-1] - tr.d)
+                if at is not None:
+                    out.q = tr.q_of(at[0])
+                    break
             qs, us = tr.q_of(ys), tr.u_of(ys)
             out.limit = Event("limit", _scalar(us), index, qs, singularity=0.0,
                               note="the input cannot go further on this branch: reverse it to continue")

@@ -7,6 +7,9 @@ singular position is refused; a jump across a pair of limits inside one step is 
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 from planar import AssemblyError, Status
 from planar.mechanisms import (four_bar, gear_train, geared_five_bar, inverted_slider_crank, planetary_gear_train,
                                rack_and_pinion, rolling_wheel, slider_crank, stephenson_six_bar, two_loop_six_bar,
@@ -135,3 +138,74 @@ def test_values_between_a_pair_of_limits_are_not_assemblable():
     inside = (res.inputs[:, 0] > lo) & (res.inputs[:, 0] < hi)
     assert inside.sum() == 14 and np.all(res.status[inside] == Status.NOT_ASSEMBLABLE)
     assert np.all(VALID[res.status[~inside]] | (res.status[~inside] == Status.LIMIT))
+# ---- property: a coarse sweep agrees with a 10x finer one, or an event says where they part ------
+
+rel = st.floats(1e-9, 1e-3).flatmap(lambda x: st.sampled_from([x, -x]))
+
+
+@st.composite
+def near_singular_four_bars(draw):
+    """A four-bar whose Grashof sum s + l - p - q is a relative perturbation away from zero (a
+    change point: avoided crossing, or a pair of close limits), or a perturbed parallelogram."""
+    kind = draw(st.sampled_from(["grashof", "parallelogram", "deltoid"]))
+    eps = draw(rel)
+    g, a = draw(st.floats(2.0, 5.0)), draw(st.floats(0.5, 1.8))
+    if kind == "grashof":  # crank shortest, s + l = p + q: b + c = g + a
+        b = draw(st.floats(max(a, g) - a + 0.2, g + a - 0.2))  # with c = g + a - b both longer than the crank
+        c = (g + a - b) * (1 + eps)
+        lengths = (g, a, b, c)
+    elif kind == "parallelogram":
+        lengths = (g, a, g * (1 + eps), a)
+    else:  # a kite: ground = crank, coupler = rocker
+        c = draw(st.floats(0.6 * g, 1.5 * g))
+        lengths = (g, g * (1 + eps), c, c)
+    start = draw(st.floats(0.2, 2 * np.pi - 0.2))
+    return lengths, start, draw(st.booleans())
+
+
+def _parts(coarse, fine, stride):
+    """Index of the first coarse value where the two sweeps part (valid in one and not the
+    other, or apart by more than 1e-9 scaled), else None."""
+    qa, qb = coarse.q, fine.q[::stride]
+    va, vb = VALID[coarse.status], VALID[fine.status[::stride]]
+    scale = np.where(np.arange(qa.shape[1]) % 3 == 2, 1.0, 1.0 / coarse.model.L)
+    with np.errstate(invalid="ignore"):
+        off = np.max(np.abs(qa - qb) * scale, axis=1)
+    bad = (va != vb) | (va & vb & ~(off <= 1e-9))
+    return int(np.argmax(bad)) if bad.any() else None
+
+
+def _event_near(res, lo, hi):
+    u = [float(np.ravel(e.input)[0]) for e in res.events]
+    return any(lo - 1e-9 <= x <= hi + 1e-9 for x in u) or bool(np.any(res.status == Status.JUMPED))
+
+
+def _property(case, N, engine):
+    (g, a, b, c), start, crossed = case
+    try:
+        m = four_bar(g, a, b, c, start=start, crossed=crossed)
+        coarse = m.sweep(start + np.linspace(0, 2 * np.pi, N), engine=engine)
+    except AssemblyError:
+        return  # drawn where it does not assemble, or on a singular position: refused, named
+    fine = m.sweep(start + np.linspace(0, 2 * np.pi, 10 * (N - 1) + 1), engine=engine)
+    for r in (coarse, fine):
+        assert not np.any(r.status == Status.NOT_CONVERGED)
+        assert np.all(r.residual[VALID[r.status]] <= 1e-9)
+    k = _parts(coarse, fine, 10)
+    if k is not None:
+        u = coarse.inputs[:, 0]
+        lo, hi = u[max(k - 1, 0)], u[k]
+        assert _event_near(coarse, lo, hi) or _event_near(fine, lo, hi), (k, u[k], coarse.events, fine.events)
+
+
+@settings(max_examples=max(10, settings().max_examples // 4))
+@given(near_singular_four_bars(), st.integers(13, 200))
+def test_coarse_agrees_with_finer_near_change_points_folds_and_limits(case, N):
+    _property(case, N, "numpy")
+
+
+@settings(max_examples=max(5, settings().max_examples // 10))
+@given(near_singular_four_bars(), st.integers(13, 200))
+def test_coarse_agrees_with_finer_on_the_compiled_engine(case, N):
+    pytest.importorskip("numba")
+    _property(case, N, "numba")
