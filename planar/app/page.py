@@ -126,7 +126,8 @@ class Page:
         self.file = start  # a FileDesign opened with the page (planar app FILE)
         self.TextInput = TextInput
         names = list(FORMS) + ([FILE] if start else [])
-        self.choice = Select(title="mechanism", value=FILE if start else "four_bar", options=names, width=200)
+        self.choice = Select(title="mechanism", value=FILE if start else "four_bar", options=names, width=200,
+                             css_classes=["planar-choice"])
         self.opener = FileInput(accept=".json", title="open a mechanism file", width=200)
         self.length = Select(title="length", value="cm", options=list(LENGTH_UNITS), width=70)
         self.angle = Select(title="angle", value="deg", options=list(ANGLE_UNITS), width=70)

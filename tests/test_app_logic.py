@@ -1,0 +1,200 @@
+"""The app's logic without a browser: typed fields and their refusals, units, the circuit laid
+out for drawing, the single-value query, the exports, and the page's document driven from Python
+(Bokeh needed for the last ones only)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planar import io
+from planar.app.forms import FORMS, Design, FileDesign, grashof_line, slider_line
+from planar.app.frames import csv_text, outputs, pose_lines, solve
+from planar.errors import AssemblyError, InputError
+from planar.mechanisms import four_bar, slider_crank, watt_six_bar
+from planar.units import Units
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("abc", "crank: 'abc' is not a number"),
+    ("", "crank: '' is not a number"),
+    ("inf", "is not a finite number"),
+    ("-4", "crank: -4 cm is refused: a length must be positive"),
+    ("0", "a length must be positive"),
+])
+def test_a_length_that_is_not_a_positive_number_is_refused_by_name(text, fragment):
+    with pytest.raises(InputError, match="^crank: ") as e:
+        FORMS["four_bar"].read({"crank": text}, "cm")
+    assert fragment in str(e.value)
+
+
+def test_signed_fields_take_negative_numbers_and_defaults_fill_the_rest():
+    v = FORMS["slider_crank"].read({"offset": "-1.5", "coupler point q (left)": " -0.25 "})
+    assert v["offset"] == -1.5 and v["coupler point q (left)"] == -0.25 and v["crank"] == 2.0
+
+
+def test_grashof_and_slider_lines():
+    assert grashof_line((4, 2, 3, 4)) == "Grashof class: crank-rocker (s + l - p - q = -1): the crank turns fully"
+    assert "triple-rocker" in grashof_line((4, 3, 3, 3)) and "cannot turn fully" in grashof_line((4, 3, 3, 3))
+    assert slider_line(2, 5, 1).startswith("the crank turns fully")
+    assert slider_line(2, 3, 2).startswith("the crank cannot turn fully")
+    assert slider_line(2, 3, 6).startswith("cannot be assembled")
+
+
+def test_design_converts_the_start_angle_and_builds_the_catalogue_mechanism():
+    form = FORMS["four_bar"]
+    d = Design(form, form.read({"start": "60"}), Units("cm", "deg"))
+    assert d.kwargs()["start"] == pytest.approx(math.pi / 3)
+    assert d.kwargs()["coupler_point"] == (1.732, 1.0)
+    ref = four_bar(4, 2, 3, 4, coupler_point=(1.732, 1.0), start=math.pi / 3).compile()
+    assert np.allclose(d.build().compile().q0, ref.q0, atol=1e-12)
+    assert d.checks() == [grashof_line((4, 2, 3, 4))]
+
+
+def test_restating_lengths_in_another_unit_scales_the_numbers_not_the_mechanism():
+    form = FORMS["watt_six_bar"]
+    d = Design(form, form.read({}), Units("cm"))
+    mm = d.restated("mm")
+    assert mm.units.length == "mm" and mm.values["crank"] == pytest.approx(15.0)
+    assert mm.values["start"] == d.values["start"]  # an angle
+    a, b = d.build().compile(), mm.build().compile()
+    assert np.allclose(b.sketch.position("E"), 10 * a.sketch.position("E"))
+    inch = Design(form, form.read({}), Units("in")).restated("cm")
+    assert inch.values["ground"] == pytest.approx(4 * 2.54)
+
+
+def test_an_unassemblable_set_raises_the_library_error():
+    form = FORMS["four_bar"]
+    d = Design(form, form.read({"rocker": "10"}), Units("cm"))
+    assert "triple-rocker" in d.checks()[0]
+    with pytest.raises(AssemblyError, match="circles of radii 3 and 10"):
+        d.build()
+
+
+def test_a_file_design_edits_the_files_stated_lengths():
+    data = io.to_dict(four_bar(), Units("mm"))
+    f = FileDesign(data, "fb.json")
+    assert [x.name for x in f.fields] == ["O2-O4", "O2-A", "A-B", "O4-B"]
+    assert f.units.length == "mm"
+    g = f.with_values(f.read({"O4-B": "3.5"}))
+    assert g.data["dimensions"][3]["length"] == 3.5 and f.data["dimensions"][3]["length"] == 4.0
+    B = g.build().compile().sketch.position("B")
+    assert np.hypot(*(B - g.build().compile().sketch.position("O4"))) == pytest.approx(3.5)
+    with pytest.raises(InputError, match="O2-A: 'x' is not a number"):
+        f.read({"O2-A": "x"})
+    with pytest.raises(AssemblyError, match="distance O4-B = 40 cannot hold"):
+        f.with_values(f.read({"O4-B": "40"})).build().compile()
+    cm = f.restated("cm")
+    assert cm.fields[0].default == pytest.approx(0.4) and cm.units.length == "cm"
+
+
+def test_the_circuit_layout_holds_every_pose_and_arrow():
+    model = four_bar(coupler_point=(1.732, 1.0)).compile()
+    c = solve(model, Units("cm", "deg", "rpm"), rate=60.0, samples=97)
+    res = c.res
+    assert c.X.shape == (97, c.X.shape[1]) and np.all(np.isfinite(c.X))
+    # the pins are where the sweep puts the joints
+    for name in ("A", "B"):
+        assert any(np.allclose(np.c_[c.X[:, i], c.Y[:, i]], res.position(name)) for i in c.pins)
+    # one crank turn at 60 rpm takes one second; the input runs 0 .. 360 deg
+    assert c.time[-1] == pytest.approx(1.0) and np.all(np.diff(c.time) > 0)
+    assert c.x[0] == pytest.approx(0.0) and c.x[-1] == pytest.approx(360.0)
+    name, base, vel, acc = next(a for a in c.arrows if a[0] == "C")
+    V = np.c_[c.X[:, vel] - c.X[:, base], c.Y[:, vel] - c.Y[:, base]]
+    assert np.allclose(V, c.scales[0] * res.velocity("C"))
+    assert np.allclose(res.omega("crank"), 2 * np.pi)  # 60 rpm in rad/s
+    assert list(c.paths) == ["C"] and c.event_lines() == []
+    assert "angle:rocker" in outputs(model) and "speed:C" in outputs(model)
+
+
+def test_a_triple_rockers_circuit_marks_its_limit_positions():
+    c = solve(four_bar(4, 3, 3, 3).compile(), Units("cm"), rate=1.0, samples=73)
+    lines = c.event_lines()
+    assert len(lines) == 2 and lines[0].startswith("limit position at crank = 117.2796 deg")
+    marks = c.event_marks()
+    assert [m[0] for m in marks] == ["limit", "limit"]
+    for kind, i, u, pts in marks:
+        assert c.x[i] == pytest.approx(u, abs=1e-6)
+
+
+def test_a_slider_cranks_layout_has_its_guide_and_block():
+    c = solve(slider_crank().compile(), Units("mm"), rate=10.0, samples=37)
+    assert len(c.guides) == 1 and len(c.blocks) == 1
+    assert np.allclose(np.c_[c.X[:, c.blocks[0]], c.Y[:, c.blocks[0]]], c.res.position("B"))
+
+
+def test_the_query_solves_one_value_as_the_library_does():
+    model = watt_six_bar().compile()
+    lines = pose_lines(model, Units("cm", "deg", "deg/s"), 75.0, 90.0)
+    res = model.sweep([math.radians(75.0)], velocity=math.radians(90.0))
+    assert lines[0] == "crank = 75 deg: SOLVED"
+    line = next(s for s in lines if s.startswith("link6:"))
+    assert f"angle {math.degrees(res.angle('link6')[0]):.9g} deg" in line
+    assert f"rate {math.degrees(res.omega('link6')[0]):.9g} deg/s" in line
+
+
+def test_the_csv_export_is_the_run_table():
+    c = solve(four_bar().compile(), Units("cm"), rate=1.0, samples=19)
+    text = csv_text(c.res, c.units).splitlines()
+    assert text[0].startswith("input:crank [deg],status,angle:crank [deg]")
+    assert len(text) == 20 and text[1].split(",")[1] == "SOLVED"
+
+
+# ---- the page's document, driven from Python (no browser) --------------------------------
+
+
+@pytest.fixture
+def page():
+    pytest.importorskip("bokeh")
+    from bokeh.document import Document
+
+    from planar.app.page import Page
+
+    return Page(Document())
+
+
+def _field(page, name):
+    return next(w for w in page.fields.children if w.title == name)
+
+
+def test_the_page_shows_the_library_messages_as_fields_change(page):
+    assert "assembles: 721 poses" in page.message.text and "crank-rocker" in page.checks.text
+    _field(page, "rocker").value_input = "10"
+    assert "circles of radii 3 and 10 with centres 2 apart do not meet" in page.message.text
+    assert "triple-rocker" in page.checks.text
+    _field(page, "rocker").value_input = "-1"
+    assert "rocker: -1 cm is refused: a length must be positive" in page.message.text
+    page.rate.value_input = "0"
+    _field(page, "rocker").value_input = "4"
+    assert "input rate: 0 rad/s does not move the mechanism" in page.message.text
+    page.rate.value_input = "10"
+    assert "assembles" in page.message.text
+
+
+def test_the_page_restates_units_and_sends_one_circuit(page):
+    page.length.value = "mm"
+    assert _field(page, "crank").value_input == "20"
+    assert "assembles" in page.message.text
+    N, P = len(page.track.data["x"]), page.track.data["P"][0]
+    assert len(page.frames.data["x"]) == N * P == 721 * P
+    page.rate_unit.value = "rpm"
+    assert float(page.rate.value_input) == pytest.approx(10 * 60 / (2 * math.pi))
+    page.angle.value = "rad"
+    assert page.track.data["x"][-1] == pytest.approx(2 * math.pi)
+    page.choice.value = "slider_crank"
+    assert [w.title for w in page.fields.children][:3] == ["crank", "coupler", "offset"]
+    assert "the crank turns fully" in page.checks.text and "assembles" in page.message.text
+
+
+def test_the_page_answers_a_query_and_exports(page):
+    page.query.value = "60"
+    assert "coupler: angle 46.0802514 deg, rate -5.43745617 rad/s" in page.answer.text
+    page.query.value = "sixty"
+    assert "'sixty' is not a number" in page.answer.text
+    page.export("csv")
+    assert page.download.data["name"] == ["four_bar.csv"]
+    page.export("json")
+    import base64
+
+    doc = io.loads(base64.b64decode(page.download.data["content"][0]).decode())
+    assert doc.units.length == "cm" and [d["length"] for d in doc.data["dimensions"]][:4] == [4.0, 2.0, 3.0, 4.0]
