@@ -198,3 +198,14 @@ def test_the_page_answers_a_query_and_exports(page):
 
     doc = io.loads(base64.b64decode(page.download.data["content"][0]).decode())
     assert doc.units.length == "cm" and [d["length"] for d in doc.data["dimensions"]][:4] == [4.0, 2.0, 3.0, 4.0]
+
+
+def test_the_page_opens_a_file_in_its_units_and_refuses_a_bad_one(page):
+    page.open_text(io.dumps(four_bar(4, 3, 3, 3), Units("mm")), "triple.json")
+    assert page.choice.value == "mechanism file" and page.length.value == "mm"
+    assert [w.title for w in page.fields.children] == ["O2-O4", "O2-A", "A-B", "O4-B"]
+    assert "limit position at crank = 117.2796 deg" in page.message.text and "triple-rocker" in page.checks.text
+    _field(page, "O4-B").value_input = "30"
+    assert "distance O4-B = 30 cannot hold" in page.message.text
+    page.open_text('{"version": 1, "bodies": 3}', "bad.json")
+    assert "bad.json" in page.message.text and "planar-error" in page.message.text

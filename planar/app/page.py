@@ -128,7 +128,7 @@ class Page:
         names = list(FORMS) + ([FILE] if start else [])
         self.choice = Select(title="mechanism", value=FILE if start else "four_bar", options=names, width=200,
                              css_classes=["planar-choice"])
-        self.opener = FileInput(accept=".json", title="open a mechanism file", width=200)
+        self.opener = FileInput(accept=".json", title="open a mechanism file", width=200, css_classes=["planar-open"])
         self.length = Select(title="length", value="cm", options=list(LENGTH_UNITS), width=70)
         self.angle = Select(title="angle", value="deg", options=list(ANGLE_UNITS), width=70)
         self.rate_unit = Select(title="rate unit", value="rad/s", options=list(RATE_UNITS), width=80)
@@ -215,7 +215,7 @@ class Page:
         buttons = [Button(label=label, width=110, css_classes=[f"planar-export-{kind}"])
                    for label, kind in (("CSV table", "csv"), ("mechanism file", "json"), ("GIF", "gif"))]
         for b, kind in zip(buttons, ("csv", "json", "gif")):
-            b.on_click(lambda kind=kind: self.export(kind))
+            b.on_click(lambda event, kind=kind: self.export(kind))
 
         left = column(Div(text="<h2 style='margin:0'>planar</h2>"), row(self.choice), self.opener,
                       row(self.length, self.angle, self.rate_unit), self.rate, self.fields, self.modes, self.checks,
@@ -224,10 +224,12 @@ class Page:
         right = column(row(self.output, self.axis), self.plot, row(self.query), self.answer,
                        Div(text="export (PNG: the save tool of each figure)"), row(*buttons))
         doc.add_root(row(left, middle, right))
+        doc.add_root(self.download)  # drawn by no figure: a root of its own, so that its changes reach the page
         doc.title = "planar app"
 
         self.choice.on_change("value", lambda a, o, n: self.pick())
-        self.opener.on_change("value", lambda a, o, n: self.open_file())
+        # the page sends the file's content before its name: read both on the next tick
+        self.opener.on_change("value", lambda a, o, n: doc.add_next_tick_callback(self.open_file))
         self.length.on_change("value", lambda a, o, n: self.restate(o, n))
         self.angle.on_change("value", lambda a, o, n: self.reangle(o, n))
         self.rate_unit.on_change("value", lambda a, o, n: self.rerate(o, n))
@@ -277,15 +279,20 @@ class Page:
         self.refresh()
 
     def open_file(self):
-        from planar.io import loads
-
         name = self.opener.filename or "mechanism.json"
         try:
             text = base64.b64decode(self.opener.value).decode("utf-8")
-            mf = loads(text, name)
         except UnicodeDecodeError:
             self.message.text = _message([f"{name}: not a text file (a mechanism file is UTF-8 JSON)"], "error")
             return
+        self.open_text(text, name)
+
+    def open_text(self, text, name):
+        """Open the mechanism file ``text`` (named ``name``) in its own units."""
+        from planar.io import loads
+
+        try:
+            mf = loads(text, name)
         except PlanarError as e:
             self.message.text = _message([str(e)], "error")
             return
@@ -503,8 +510,11 @@ def _loop_checks(design, model):
 def serve(port=5006, open_browser=True, start=None):
     """Serve the app on 127.0.0.1:``port`` until interrupted (Ctrl-C); ``start`` is a
     :class:`planar.app.forms.FileDesign` to open with each page."""
+    import logging
+
     from bokeh.server.server import Server
 
+    logging.basicConfig(level=logging.WARNING)  # a failing callback is reported in the terminal
     server = Server({"/": lambda doc: Page(doc, start)}, port=port, address="127.0.0.1",
                     allow_websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"])
     server.start()
