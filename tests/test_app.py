@@ -5,6 +5,7 @@ input, reads the plotted values back from the page and checks them against the l
 Skipped where Bokeh, Playwright or /usr/bin/chromium is missing (``.ci/run`` installs them).
 """
 
+import contextlib
 import math
 import os
 import re
@@ -34,11 +35,12 @@ def _free_port():
         return s.getsockname()[1]
 
 
-@pytest.fixture(scope="module")
-def server():
+@contextlib.contextmanager
+def running_app(*args):
+    """``planar app`` in a subprocess on a free 127.0.0.1 port: yields its address; stopped on exit."""
     port = _free_port()
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    proc = subprocess.Popen([sys.executable, "-m", "planar.cli", "app", "--port", str(port), "--no-browser"],
+    proc = subprocess.Popen([sys.executable, "-m", "planar.cli", "app", *args, "--port", str(port), "--no-browser"],
                             cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         deadline = time.monotonic() + 60
@@ -48,7 +50,7 @@ def server():
                 break
             except OSError:
                 if proc.poll() is not None or time.monotonic() > deadline:
-                    pytest.fail(f"planar app did not start: {proc.stdout.read() if proc.poll() is not None else ''}")
+                    raise RuntimeError(f"planar app did not start: {proc.stdout.read() if proc.poll() is not None else ''}")
                 time.sleep(0.2)
         yield f"http://127.0.0.1:{port}/"
     finally:
@@ -58,6 +60,12 @@ def server():
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait()
+
+
+@pytest.fixture(scope="module")
+def server():
+    with running_app() as url:
+        yield url
 
 
 @pytest.fixture(scope="module")

@@ -189,7 +189,9 @@ class Page:
                              width=640, show_value=False, css_classes=["planar-scrub"])
         self.play = Toggle(label="Play / pause", active=False, width=120, css_classes=["planar-play"])
         self.speed = Slider(start=0.05, end=4, value=1.0, step=0.05, title="speed (x real time)", width=240)
-        self.readout = Div(text="", width=640, css_classes=["planar-readout"])
+        self.readout = Div(text="", width=640, css_classes=["planar-readout"], name="planar-readout")
+        # the pose shown is the page's business: no message to the server per frame
+        self.slider.syncable = self.readout.syncable = False
         show = CustomJS(args=dict(track=self.track, frames=self.frames, slider=self.slider, readout=self.readout,
                                   marker=self.marker, lines=[self.bars, self.plates, self.wheels, self.guides],
                                   dots=[self.pins, self.grounds, self.blocks, self.labels], arrows=[self.vel, self.acc]),
@@ -413,8 +415,7 @@ class Page:
         pad = 0.08 * max(hi - lo) + 1e-9
         self.bounds.data = dict(x=[lo[0] - pad, hi[0] + pad], y=[lo[1] - pad, hi[1] + pad])
         self.view.title.text = f"{c.model.name}: {len(c.x)} poses, solved once"
-        value = min(self.slider.value, len(c.x) - 1)
-        self.slider.update(end=len(c.x) - 1, value=value)
+        self.slider.end = len(c.x) - 1  # the page keeps its pose index (clamped when it draws)
         self.replot(send_frames=True)
 
     def replot(self, send_frames=False):
