@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from planar import io
+from planar.analysis import instant_centre
 from planar.app.forms import FORMS, Design, FileDesign, grashof_line, slider_line
 from planar.app.frames import csv_text, outputs, pose_lines, solve
 from planar.errors import AssemblyError, InputError
@@ -92,7 +93,12 @@ def test_the_circuit_layout_holds_every_pose_and_arrow():
     model = four_bar(coupler_point=(1.732, 1.0)).compile()
     c = solve(model, Units("cm", "deg", "rpm"), rate=60.0, samples=97)
     res = c.res
-    assert c.X.shape == (97, c.X.shape[1]) and np.all(np.isfinite(c.X))
+    drawn = [k for k in range(c.X.shape[1]) if k not in {i for _, i in c.centres}]
+    assert c.X.shape[0] == 97 and np.all(np.isfinite(c.X[:, drawn]))
+    # instant centres numbered as textbooks number bodies: I13 is where O2A and O4B meet
+    i13 = dict(c.centres)["I13"]
+    assert np.allclose(np.c_[c.X[:, i13], c.Y[:, i13]], instant_centre(res, "ground", "coupler"), equal_nan=True)
+    assert len(c.centres) == 6
     # the pins are where the sweep puts the joints
     for name in ("A", "B"):
         assert any(np.allclose(np.c_[c.X[:, i], c.Y[:, i]], res.position(name)) for i in c.pins)
@@ -154,7 +160,7 @@ def page():
 
 
 def _field(page, name):
-    return next(w for w in page.fields.children if w.title == name)
+    return next(w for w in page.field_widgets if w.title == name)
 
 
 def test_the_page_shows_the_library_messages_as_fields_change(page):
@@ -182,7 +188,7 @@ def test_the_page_restates_units_and_sends_one_circuit(page):
     page.angle.value = "rad"
     assert page.track.data["x"][-1] == pytest.approx(2 * math.pi)
     page.choice.value = "slider_crank"
-    assert [w.title for w in page.fields.children][:3] == ["crank", "coupler", "offset"]
+    assert [w.title for w in page.field_widgets][:3] == ["crank", "coupler", "offset"]
     assert "the crank turns fully" in page.checks.text and "assembles" in page.message.text
 
 
@@ -203,9 +209,34 @@ def test_the_page_answers_a_query_and_exports(page):
 def test_the_page_opens_a_file_in_its_units_and_refuses_a_bad_one(page):
     page.open_text(io.dumps(four_bar(4, 3, 3, 3), Units("mm")), "triple.json")
     assert page.choice.value == "mechanism file" and page.length.value == "mm"
-    assert [w.title for w in page.fields.children] == ["O2-O4", "O2-A", "A-B", "O4-B"]
+    assert [w.title for w in page.field_widgets] == ["O2-O4", "O2-A", "A-B", "O4-B"]
     assert "limit position at crank = 117.2796 deg" in page.message.text and "triple-rocker" in page.checks.text
     _field(page, "O4-B").value_input = "30"
     assert "distance O4-B = 30 cannot hold" in page.message.text
     page.open_text('{"version": 1, "bodies": 3}', "bad.json")
     assert "bad.json" in page.message.text and "planar-error" in page.message.text
+
+
+def test_forces_are_offered_for_a_mechanism_with_masses_and_match_the_library():
+    m = slider_crank(2.0, 5.0, offset=1.0)
+    m.set_mass("slider", 3.0, com=m.sketch().points["B"][1])
+    m.gravity = (0.0, -9.81)
+    model = m.compile()
+    assert "effort:crank" in outputs(model) and "reaction:B" in outputs(model)
+    assert "effort:crank" not in outputs(slider_crank().compile())
+    c = solve(model, Units("m"), rate=4 * np.pi, samples=37)
+    f = c.res.forces()
+    assert np.allclose(c.series("effort:crank"), f.driver_effort("crank"), equal_nan=True)
+    assert np.allclose(c.series("reaction:B"), np.hypot(*f.reaction("B").T), equal_nan=True)
+    from planar.app.frames import output_label
+
+    assert output_label("effort:crank", c.units, model) == "driving effort of crank [N m]"
+    assert output_label("reaction:B", Units("mm"), model) == "reaction force of B [kg mm/s^2]"
+
+
+def test_the_page_exports_a_gif(page):
+    import base64
+
+    page.export("gif")
+    assert page.download.data["name"] == ["four_bar.gif"] and page.download.data["mime"] == ["image/gif"]
+    assert base64.b64decode(page.download.data["content"][0]).startswith(b"GIF89a")

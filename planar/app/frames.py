@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planar.analysis import instant_centres
 from planar.draw import (FILLS, OUTPUTS, Scene, _arrow_scale, _gear_centres, _joint_params, _local, _path_points,
                          _world, output_values, part_of)
 from planar.joints import CarrierGear, Gear, Prismatic, Revolute, Slot
@@ -30,7 +31,7 @@ class Circuit:
     outline (``bodies``, with ``colours``), gear circle (``wheels``), guide line (``guides``),
     pin (``pins``; ``grounds`` the pivots on the ground), slider block (``blocks``), named
     point (``points``, ``labels``) and arrow (``arrows``: point, velocity tip, acceleration
-    tip). ``x`` is the input in the page's units and ``time`` the time since the first pose
+    tip), ``centres`` the instant centres (label, point). ``x`` is the input in the page's units and ``time`` the time since the first pose
     at the input's rate; ``paths`` the traced points' paths."""
 
     res: object
@@ -50,12 +51,24 @@ class Circuit:
     points: list
     labels: list
     arrows: list
+    centres: list
     paths: dict
     scales: tuple
+    _forces: object = None
 
     @property
     def model(self):
         return self.res.model
+
+    def series(self, spec):
+        """(N,) values of output ``spec`` (see :func:`outputs`) in the page's units."""
+        kind, _, name = spec.partition(":")
+        if kind in FORCES:
+            if self._forces is None:  # one linear solve per pose: only when a force is asked for
+                self._forces = self.res.forces()
+            f = self._forces
+            return f.driver_effort(name) if kind == "effort" else np.hypot(*f.reaction(name).T)
+        return output_values(self.res, spec, self.units)
 
     def input_label(self):
         m = self.model
@@ -87,19 +100,34 @@ class Circuit:
         return out
 
 
+# forces the page plots when the mechanism carries masses, gravity or loads (planar.kinetostatics)
+FORCES = {"effort": "driving effort", "reaction": "reaction force"}
+
+
+def _loaded(model):
+    return bool(np.any(model.mass > 0) or np.any(model.gravity != 0) or model.loads)
+
+
 def outputs(model):
     """Output specs the page offers, "kind:name" (:data:`planar.draw.OUTPUTS`): each body's
     angle, rate and acceleration, each slider's travel and rates, each moving point's x, y and
-    speed."""
+    speed; with masses, gravity or loads, each driver's effort and each joint's reaction (its
+    size)."""
     specs = [f"{k}:{b}" for b in model.body_names[1:] for k in ("angle", "omega", "alpha")]
     specs += [f"{k}:{j}" for j in model.coordinates if isinstance(model.joint(j), Slot)
               for k in ("travel", "travel_rate", "travel_accel")]
     specs += [f"{k}:{p}" for p, (b, _) in model.points.items() if b != 0 for k in ("x", "y", "speed", "accel")]
+    if _loaded(model):
+        specs += [f"effort:{d}" for d in model.input_names] + [f"reaction:{j.name}" for j in model.joints]
     return specs
 
 
-def output_label(spec, units):
+def output_label(spec, units, model=None):
+    """The axis label of output ``spec``, with its unit (``model`` names a driver's kind)."""
     kind, _, name = spec.partition(":")
+    if kind in FORCES:
+        moment = kind == "effort" and model is not None and not model.input_lengths[model.input_names.index(name)]
+        return f"{FORCES[kind]} of {name} [{units.label('moment' if moment else 'force')}]"
     title, unit_kind = OUTPUTS[kind][:2]
     unit = units.label(unit_kind)
     return f"{title} of {name}" + (f" [{unit}]" if unit else "")
@@ -159,9 +187,14 @@ def solve(model, units, rate=1.0, samples=721):
     for k, n in enumerate(moving):
         p = res.position(n)
         arrows.append((n, add(p), add(p + sv * V[:, k]), add(p + sa * A[:, k])))
+    # instant centres, numbered as the textbooks number bodies (the ground is 1)
+    ids = {b: str(k + 1) for k, b in enumerate(model.body_names)}
+    sep = "," if len(model.body_names) > 9 else ""
+    centres = [(f"I{ids[a]}{sep}{ids[b]}", add(np.where(np.isfinite(P), P, np.nan)))
+               for (a, b), P in instant_centres(res).items()]
     XY = np.stack(cols, 1) if cols else np.zeros((len(res), 0, 2))
     return Circuit(res, units, rate, x, time, XY[..., 0], XY[..., 1], bodies, colours, wheels, guides, pins,
-                   grounds, blocks, points, labels, arrows, {n: res.position(n) for n in traced}, (sv, sa))
+                   grounds, blocks, points, labels, arrows, centres, {n: res.position(n) for n in traced}, (sv, sa))
 
 
 def pose_lines(model, units, value, rate=1.0):

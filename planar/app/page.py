@@ -97,7 +97,7 @@ a.remove();
 """
 
 FILE = "mechanism file"
-FIELD_WIDTH = 150
+FIELD_WIDTH = 160
 
 
 def _fmt(v):
@@ -136,6 +136,7 @@ class Page:
                               css_classes=["planar-field-rate"])
         self.modes = CheckboxGroup(labels=["crossed (other assembly mode)", "second loop crossed"], active=[])
         self.fields = column()
+        self.field_widgets = []
         self.checks = Div(text="", width=330)
         self.message = Div(text="", width=330)
 
@@ -143,8 +144,8 @@ class Page:
         self.track = ColumnDataSource(dict(x=[], px=[], time=[], out=[], status=[], input_name=[], out_name=[], P=[]))
         self.bars, self.plates, self.wheels, self.guides = (ColumnDataSource(dict(idx=[], xs=[], ys=[], colour=[]))
                                                             for _ in range(4))
-        self.pins, self.grounds, self.blocks, self.labels = (ColumnDataSource(dict(idx=[], x=[], y=[], name=[]))
-                                                             for _ in range(4))
+        self.pins, self.grounds, self.blocks, self.labels, self.centres = (
+            ColumnDataSource(dict(idx=[], x=[], y=[], name=[])) for _ in range(5))
         self.vel, self.acc = (ColumnDataSource(dict(i0=[], i1=[], x0=[], y0=[], x1=[], y1=[])) for _ in range(2))
         self.paths = ColumnDataSource(dict(xs=[], ys=[], colour=[], name=[]))
         self.marks = ColumnDataSource(dict(x=[], y=[], colour=[], kind=[]))
@@ -169,6 +170,10 @@ class Page:
         box = v.scatter("x", "y", source=self.bounds, alpha=0.0)
         v.x_range.renderers = v.y_range.renderers = [box]
         marks = v.scatter("x", "y", source=self.marks, marker="square", size=10, fill_color="colour", line_color="white")
+        centres = v.scatter("x", "y", source=self.centres, marker="x", size=10, line_color="#9467bd", line_width=2,
+                            visible=False)
+        centre_names = LabelSet(x="x", y="y", text="name", source=self.centres, x_offset=5, y_offset=-14,
+                                text_font_size="10px", text_color="#9467bd", visible=False)
         head = dict(size=8)
         vel = Arrow(end=VeeHead(fill_color=VELOCITY, line_color=VELOCITY, **head), source=self.vel, x_start="x0",
                     y_start="y0", x_end="x1", y_end="y1", line_color=VELOCITY, line_width=2)
@@ -177,10 +182,10 @@ class Page:
                     visible=False)
         labels = LabelSet(x="x", y="y", text="name", source=self.labels, x_offset=6, y_offset=6, text_font_size="11px",
                           text_font_style="italic")
-        for a in (vel, acc, labels):
+        for a in (vel, acc, labels, centre_names):
             v.add_layout(a)
         self.layers = {"paths": [paths], "velocity": [vel], "acceleration": [acc], "labels": [labels],
-                       "limits and branch events": [marks]}
+                       "limits and branch events": [marks], "instant centres": [centres, centre_names]}
         self.show_layers = CheckboxGroup(labels=list(self.layers), active=[0, 1, 3, 4], inline=True)
         self.show_layers.js_on_change("active", CustomJS(args=dict(groups=list(self.layers.values()), box=self.show_layers),
                                                          code="groups.forEach((g, k) => g.forEach(r => r.visible = box.active.includes(k)));"))
@@ -194,7 +199,8 @@ class Page:
         self.slider.syncable = self.readout.syncable = False
         show = CustomJS(args=dict(track=self.track, frames=self.frames, slider=self.slider, readout=self.readout,
                                   marker=self.marker, lines=[self.bars, self.plates, self.wheels, self.guides],
-                                  dots=[self.pins, self.grounds, self.blocks, self.labels], arrows=[self.vel, self.acc]),
+                                  dots=[self.pins, self.grounds, self.blocks, self.labels, self.centres],
+                                  arrows=[self.vel, self.acc]),
                         code=SHOW)
         self.slider.js_on_change("value", show)
         self.frames.js_on_change("data", show)  # a new circuit: draw its pose at the slider
@@ -263,10 +269,13 @@ class Page:
                                css_classes=[f"planar-field-{f.name.replace(' ', '-')}"])
             w.on_change("value_input", lambda a, o, n: self.refresh())
             widgets.append(w)
-        self.fields.children = widgets
+        from bokeh.layouts import row
+
+        self.field_widgets = widgets
+        self.fields.children = [row(*widgets[k:k + 2]) for k in range(0, len(widgets), 2)]  # two a row
 
     def texts(self):
-        return {w.title: w.value_input for w in self.fields.children}
+        return {w.title: w.value_input for w in self.field_widgets}
 
     def pick(self):
         """A catalogue mechanism (at its default dimensions) or the opened file."""
@@ -278,6 +287,8 @@ class Page:
             self.design = Design(form, {f.name: f.default for f in form.fields}, self.units())
             self.show_fields(form.fields, self.design.values)
         self.modes.visible = self.choice.value != FILE
+        two = self.choice.value not in (FILE, "four_bar", "slider_crank")
+        self.modes.labels = ["crossed (other assembly mode)"] + (["second loop crossed"] if two else [])
         self.refresh()
 
     def open_file(self):
@@ -326,7 +337,7 @@ class Page:
     def reangle(self, old, new):
         if getattr(self, "_quiet", False):
             return
-        for w in self.fields.children:
+        for w in self.field_widgets:
             if w.title == "start":
                 text = self._convert(w.value_input, Units(angle=old).angle_to_internal, Units(angle=new).angle_from_internal)
                 w.value = w.value_input = text
@@ -378,7 +389,7 @@ class Page:
     def send(self):
         c = self.circuit
         specs = outputs(c.model)
-        labels = [(s, output_label(s, c.units)) for s in specs]
+        labels = [(s, output_label(s, c.units, c.model)) for s in specs]
         keep = self.output.value if self.output.value in specs else next(
             (s for s in specs if s.startswith(("angle:rocker", "travel:", "angle:link6", "angle:rocker2"))), specs[0])
         self.output.options = labels
@@ -396,7 +407,8 @@ class Page:
         self.wheels.data = idx_rows(c.wheels)
         self.guides.data = idx_rows(c.guides)
         for src, idx, names in ((self.pins, c.pins, None), (self.grounds, c.grounds, None), (self.blocks, c.blocks, None),
-                                (self.labels, c.points, c.labels)):
+                                (self.labels, c.points, c.labels),
+                                (self.centres, [i for _, i in c.centres], [n for n, _ in c.centres])):
             src.data = dict(idx=idx, x=[np.nan] * len(idx), y=[np.nan] * len(idx), name=names or [""] * len(idx))
         for src, k in ((self.vel, 2), (self.acc, 3)):
             i0, i1 = [a[1] for a in c.arrows], [a[k] for a in c.arrows]
@@ -414,7 +426,10 @@ class Page:
         lo, hi = np.array([np.nanmin(px), np.nanmin(py)]), np.array([np.nanmax(px), np.nanmax(py)])
         pad = 0.08 * max(hi - lo) + 1e-9
         self.bounds.data = dict(x=[lo[0] - pad, hi[0] + pad], y=[lo[1] - pad, hi[1] + pad])
-        self.view.title.text = f"{c.model.name}: {len(c.x)} poses, solved once"
+        L = c.units.length or "length unit"
+        self.view.title.text = (f"{c.model.name}: {len(c.x)} poses, solved once; arrows: 1 {L} = "
+                                f"{1 / c.scales[0]:.3g} {c.units.label('speed')}, {1 / c.scales[1]:.3g} "
+                                f"{c.units.label('accel')}")
         self.slider.end = len(c.x) - 1  # the page keeps its pose index (clamped when it draws)
         self.replot(send_frames=True)
 
@@ -422,21 +437,20 @@ class Page:
         c = self.circuit
         if c is None:
             return
-        from planar.draw import output_values
-
         spec = self.output.value
-        y = output_values(c.res, spec, c.units)
+        label = output_label(spec, c.units, c.model)
+        y = c.series(spec)
         px = c.x if self.axis.value == "input" else c.time
         status = [Status(int(s)).name for s in c.res.status]
         name = c.input_label() if self.axis.value == "input" else "time [s]"
         self.track.data = dict(x=c.x, px=px, time=c.time, out=y, status=status, input_name=[c.input_label()] * len(y),
-                               out_name=[output_label(spec, c.units)] * len(y), P=[c.X.shape[1]] * len(y))
+                               out_name=[label] * len(y), P=[c.X.shape[1]] * len(y))
         marks = [(px[i], y[i], EVENT_MARK[kind][1], kind) for kind, i, _, _ in c.event_marks()]
         self.plot_marks.data = dict(x=[m[0] for m in marks], y=[m[1] for m in marks], colour=[m[2] for m in marks],
                                     kind=[m[3] for m in marks])
-        self.plot.title.text = output_label(spec, c.units)
+        self.plot.title.text = label
         self.plot.xaxis.axis_label = name
-        self.plot.yaxis.axis_label = output_label(spec, c.units)
+        self.plot.yaxis.axis_label = label
         if send_frames:  # after the track: the page draws once both are of this circuit
             self.frames.data = dict(x=c.X.ravel(), y=c.Y.ravel())
 
@@ -478,7 +492,7 @@ class Page:
                 from planar.animate import animate
 
                 with tempfile.TemporaryDirectory() as tmp:
-                    path = animate(c.res, Path(tmp) / f"{name}.gif", fps=20, max_frames=90, dpi=72)
+                    path = animate(c.res, Path(tmp) / f"{name}.gif", fps=20, max_frames=60, dpi=72)
                     data, mime = path.read_bytes(), "image/gif"
         except PlanarError as e:
             self.message.text = _message([str(e)], "error")
