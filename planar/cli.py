@@ -595,7 +595,11 @@ def cmd_app(args):
         mf = io.load(args.file)
         start = FileDesign(mf.data, str(args.file))
         start.build().compile()  # refuse a file that does not build before serving it
-    return serve(args.port, not args.no_browser, start)
+    try:
+        return serve(args.port, not args.no_browser, start)
+    except OSError as e:
+        raise UsageError(f"--port {args.port}: cannot serve on 127.0.0.1:{args.port}: {e.strerror or e}; "
+                         f"pick another port") from None
 
 
 def cmd_demo(args):

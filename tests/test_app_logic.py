@@ -240,3 +240,50 @@ def test_the_page_exports_a_gif(page):
     page.export("gif")
     assert page.download.data["name"] == ["four_bar.gif"] and page.download.data["mime"] == ["image/gif"]
     assert base64.b64decode(page.download.data["content"][0]).startswith(b"GIF89a")
+
+
+# ---- the command -------------------------------------------------------------------------
+
+
+def test_planar_app_refuses_a_bad_file_before_serving(tmp_path, capsys):
+    from planar.cli import main
+
+    pytest.importorskip("bokeh")
+    bad = tmp_path / "bad.json"
+    bad.write_text(io.dumps(four_bar(), Units("cm")).replace('"length": 3.0', '"length": 30.0'))
+    assert main(["app", str(bad), "--no-browser"]) == 1
+    assert "cannot hold with the others" in capsys.readouterr().err
+    assert main(["app", str(tmp_path / "none.json"), "--no-browser"]) == 1
+
+
+def test_planar_app_stops_on_ctrl_c_and_refuses_a_busy_port():
+    import signal
+    import socket
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    pytest.importorskip("bokeh")
+    root = Path(__file__).resolve().parents[1]
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        busy = s.getsockname()[1]
+        done = subprocess.run([sys.executable, "-m", "planar.cli", "app", "--port", str(busy), "--no-browser"],
+                              cwd=root, capture_output=True, text=True, timeout=120)
+        assert done.returncode == 2 and f"--port {busy}: cannot serve on 127.0.0.1:{busy}" in done.stderr
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    proc = subprocess.Popen([sys.executable, "-m", "planar.cli", "app", "--port", str(port), "--no-browser"],
+                            cwd=root, stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().startswith(f"planar app: http://127.0.0.1:{port}/")
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(30) == 0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()

@@ -120,6 +120,7 @@ class Page:
         from bokeh.plotting import figure
 
         self.doc = doc
+        self._quiet = False  # True while the page sets its unit selectors itself
         self.design = None
         self.circuit = None
         self.model = None
@@ -320,7 +321,7 @@ class Page:
 
     def restate(self, old, new):
         """Lengths restated in the new unit: the same mechanism, other numbers."""
-        if getattr(self, "_quiet", False) or self.design is None:
+        if self._quiet or self.design is None:
             return
         try:
             self.design = self.current(Units(old, self.angle.value, self.rate_unit.value)).restated(new)
@@ -335,7 +336,7 @@ class Page:
         self.refresh()
 
     def reangle(self, old, new):
-        if getattr(self, "_quiet", False):
+        if self._quiet:
             return
         for w in self.field_widgets:
             if w.title == "start":
@@ -344,7 +345,7 @@ class Page:
         self.refresh()
 
     def rerate(self, old, new):
-        if getattr(self, "_quiet", False):
+        if self._quiet:
             return
         text = self._convert(self.rate.value_input, Units(rate=old).rate_to_internal, Units(rate=new).rate_from_internal)
         self.rate.value = self.rate.value_input = text
