@@ -189,7 +189,7 @@ def test_the_page_restates_units_and_sends_one_circuit(page):
     assert page.track.data["x"][-1] == pytest.approx(2 * math.pi)
     page.choice.value = "slider_crank"
     assert [w.title for w in page.field_widgets][:3] == ["crank", "coupler", "offset"]
-    assert "the crank turns fully" in page.checks.text and "assembles" in page.message.text
+    assert "the crank turns fully" in page.checks.text and "slider_crank assembles" in page.message.text
 
 
 def test_the_page_answers_a_query_and_exports(page):

@@ -381,7 +381,8 @@ class Page:
             return
         self.model, self.circuit = model, circuit
         ok = int(np.count_nonzero(circuit.res.ok))
-        self.message.text = _message([f"assembles: {len(circuit.x)} poses on its circuit, {ok} with valid rates"]
+        self.message.text = _message([f"{model.name} assembles: {len(circuit.x)} poses on its circuit, {ok} with valid "
+                                      f"rates"]
                                      + circuit.event_lines(), "ok")
         self.send()
 
