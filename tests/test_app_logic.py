@@ -160,7 +160,7 @@ def page():
 
 
 def _field(page, name):
-    return next(w for w in page.field_widgets if w.title == name)
+    return next(w for w in page.field_widgets if w.name == name)
 
 
 def test_the_page_shows_the_library_messages_as_fields_change(page):
@@ -186,9 +186,10 @@ def test_the_page_restates_units_and_sends_one_circuit(page):
     page.rate_unit.value = "rpm"
     assert float(page.rate.value_input) == pytest.approx(10 * 60 / (2 * math.pi))
     page.angle.value = "rad"
+    assert _field(page, "start").title == "start [rad]" and page.rate.title == "input rate [rpm]"
     assert page.track.data["x"][-1] == pytest.approx(2 * math.pi)
     page.choice.value = "slider_crank"
-    assert [w.title for w in page.field_widgets][:3] == ["crank", "coupler", "offset"]
+    assert [w.name for w in page.field_widgets][:3] == ["crank", "coupler", "offset"]
     assert "the crank turns fully" in page.checks.text and "slider_crank assembles" in page.message.text
 
 
@@ -209,7 +210,7 @@ def test_the_page_answers_a_query_and_exports(page):
 def test_the_page_opens_a_file_in_its_units_and_refuses_a_bad_one(page):
     page.open_text(io.dumps(four_bar(4, 3, 3, 3), Units("mm")), "triple.json")
     assert page.choice.value == "mechanism file" and page.length.value == "mm"
-    assert [w.title for w in page.field_widgets] == ["O2-O4", "O2-A", "A-B", "O4-B"]
+    assert [w.name for w in page.field_widgets] == ["O2-O4", "O2-A", "A-B", "O4-B"]
     assert "limit position at crank = 117.2796 deg" in page.message.text and "triple-rocker" in page.checks.text
     _field(page, "O4-B").value_input = "30"
     assert "distance O4-B = 30 cannot hold" in page.message.text

@@ -133,7 +133,7 @@ class Page:
         self.length = Select(title="length", value="cm", options=list(LENGTH_UNITS), width=70)
         self.angle = Select(title="angle", value="deg", options=list(ANGLE_UNITS), width=70)
         self.rate_unit = Select(title="rate unit", value="rad/s", options=list(RATE_UNITS), width=80)
-        self.rate = TextInput(title="input rate", value="10", value_input="10", width=100,
+        self.rate = TextInput(title="input rate [rad/s]", value="10", value_input="10", width=100,
                               css_classes=["planar-field-rate"])
         self.modes = CheckboxGroup(labels=["crossed (other assembly mode)", "second loop crossed"], active=[])
         self.fields = column()
@@ -263,10 +263,12 @@ class Page:
         self._quiet = False
 
     def show_fields(self, fields, values):
+        """One text field per number, titled with its unit (the widget's name is the field's)."""
         widgets = []
         for f in fields:
             text = _fmt(values[f.name])
-            w = self.TextInput(title=f.name, value=text, value_input=text, width=FIELD_WIDTH,
+            unit = self.angle.value if f.kind == "angle" else self.length.value
+            w = self.TextInput(title=f"{f.name} [{unit}]", name=f.name, value=text, value_input=text, width=FIELD_WIDTH,
                                css_classes=[f"planar-field-{f.name.replace(' ', '-')}"])
             w.on_change("value_input", lambda a, o, n: self.refresh())
             widgets.append(w)
@@ -276,7 +278,7 @@ class Page:
         self.fields.children = [row(*widgets[k:k + 2]) for k in range(0, len(widgets), 2)]  # two a row
 
     def texts(self):
-        return {w.title: w.value_input for w in self.field_widgets}
+        return {w.name: w.value_input for w in self.field_widgets}
 
     def pick(self):
         """A catalogue mechanism (at its default dimensions) or the opened file."""
@@ -339,9 +341,9 @@ class Page:
         if self._quiet:
             return
         for w in self.field_widgets:
-            if w.title == "start":
+            if w.name == "start":
                 text = self._convert(w.value_input, Units(angle=old).angle_to_internal, Units(angle=new).angle_from_internal)
-                w.value = w.value_input = text
+                w.update(value=text, value_input=text, title=f"start [{new}]")
         self.refresh()
 
     def rerate(self, old, new):
@@ -373,6 +375,7 @@ class Page:
             self.checks.text = _message(design.checks(), "note")
             rate = _rate(self.rate.value_input, units)
             model = design.build().compile()
+            self.rate.title = f"input rate [{units.input_label(bool(model.input_lengths[0]), 1)}]"
             checks = design.checks() + _loop_checks(design, model)
             self.checks.text = _message(checks, "note")
             circuit = solve(model, units, rate, SAMPLES)
