@@ -79,14 +79,20 @@ def _header(name, unit):
     return f"{name} [{unit}]" if unit else name
 
 
+def csv_rows(cols):
+    """The header, then one row per sweep value: unsolved values empty."""
+    yield [_header(n, u) for n, u, _ in cols]
+    for row in zip(*(v for _, _, v in cols)):
+        yield [v if isinstance(v, str) else ("" if not math.isfinite(v) else repr(float(v))) for v in row]
+
+
 def write_csv(cols, path):
     progress, N = Progress(f"writing {Path(path).name}: rows"), len(cols[0][2]) if cols else 0
     with open(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
-        w.writerow([_header(n, u) for n, u, _ in cols])
-        for i, row in enumerate(zip(*(v for _, _, v in cols)), 1):
-            w.writerow([v if isinstance(v, str) else ("" if not math.isfinite(v) else repr(float(v))) for v in row])
-            if i % 4096 == 0 or i == N:
+        for i, row in enumerate(csv_rows(cols)):
+            w.writerow(row)
+            if i and (i % 4096 == 0 or i == N):
                 progress(i, N)
 
 
@@ -573,6 +579,29 @@ def cmd_example(args):
 DEMO_COUPLER_POINT = (2 * math.cos(math.radians(30)), 2 * math.sin(math.radians(30)))
 
 
+def cmd_app(args):
+    """Serve the interactive page until Ctrl-C."""
+    try:
+        import bokeh  # noqa: F401
+    except ImportError:
+        raise InputError('planar app needs Bokeh: pip install "planar-kinematics[app]"') from None
+    from planar.app.forms import FileDesign
+    from planar.app.page import serve
+
+    start = None
+    if args.file is not None:
+        from planar import io
+
+        mf = io.load(args.file)
+        start = FileDesign(mf.data, str(args.file))
+        start.build().compile()  # refuse a file that does not build before serving it
+    try:
+        return serve(args.port, not args.no_browser, start)
+    except OSError as e:
+        raise UsageError(f"--port {args.port}: cannot serve on 127.0.0.1:{args.port}: {e.strerror or e}; "
+                         f"pick another port") from None
+
+
 def cmd_demo(args):
     """The seeds' four-bar (4, 2, 3, 4) with a coupler point 2 from A at 30 deg off A->B, its crank
     turned once at 10 rad/s."""
@@ -700,6 +729,12 @@ def parser():
     e.add_argument("name", nargs="?", help="catalogue name, e.g. four_bar")
     e.add_argument("-o", "--output", help="file to write (default NAME.json)")
     e.set_defaults(func=cmd_example)
+
+    a = sub.add_parser("app", help="an interactive simulator in the browser (needs the app extra: Bokeh)")
+    a.add_argument("file", nargs="?", help="a mechanism file to open (default: pick from the catalogue in the page)")
+    a.add_argument("--port", type=_bounded(1, 65535), default=5006, help="port on 127.0.0.1 (default 5006)")
+    a.add_argument("--no-browser", action="store_true", help="do not open a browser tab")
+    a.set_defaults(func=cmd_app)
 
     from planar.synthesis.command import add_parser
 
