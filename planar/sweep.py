@@ -231,7 +231,11 @@ class _Walker:
                 n = len(self.events)
                 got = self.walk(*start, signs, target, index, periodic=False)
                 per = self.period() if got[0] == "limit" else None
+                # the other way round when the value was far (whole periods away: either way is
+                # as good) or the other way is the shorter (P / 2 >= pi): a rocking input's value in the next
+                # period's range, but not a value in the gap just past the limit met
                 rest = 0.0 if per is None or self.turns else d - k * per[0]
+                rest = rest if k or abs(rest) > np.pi else 0.0
                 other = self._shorten(q, u, signs, k + np.sign(rest)) if rest else None
                 if other is None:
                     return got
@@ -612,20 +616,18 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         u_from = _input_before(model, U, last, rest)
         rest = rest[~_on_event(model, U[rest], events) & ~past(u_from, U[rest])]
-    failed_from, newest = None, -1
+    failed, newest = (None, None), -1
     for i in rest:
         if _at_events(model, U[i : i + 1], events):
             continue
         j = max(int(last[i - 1]) if i else -1, newest)
         j = None if j < 0 else j
         start = (model.q0, model.u0, chosen) if j is None else (q[j], U[j], signs[j])
-        if (failed_from is not None and failed_from == j) or past(start[1][None], U[i][None])[0]:
-            continue  # the walk from this pose failed already, or a limit lies between
+        if _further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
+            continue  # the walk from this pose failed nearer that way already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
         if got[0] != "ok":
-            # a limit met is one of ``limits`` now, which stops only the values past it (out of
-            # order values may lie on this side); a walk lost from j is not tried again
-            failed_from = j if got[0] == "lost" else failed_from
+            failed = (j, U[i])
             continue
         q[i], solved[i], signs[i], newest = got[1], True, got[2], i
     # values still unreached past a gap in the range (re-entered further on): walked back from
@@ -634,16 +636,16 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     rest = np.flatnonzero(~solved)
     if rest.size:
         nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
-    failed_from, newest = None, N
+    failed, newest = (None, None), N
     for i in rest[::-1]:
         j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
-        if j >= N or failed_from == j or _at_events(model, U[i : i + 1], events):
+        if j >= N or _at_events(model, U[i : i + 1], events):
             continue
-        if past(U[j][None], U[i][None])[0]:
+        if _further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
             continue
         got = walk((q[j], U[j], signs[j]), i, -1, back=j)
         if got[0] != "ok":
-            failed_from = j if got[0] == "lost" else failed_from
+            failed = (j, U[i])
             continue
         q[i], solved[i], signs[i], newest = got[1], True, got[2], i
     # a limit with no value between it and the re-entered branch (a pair of limits inside one
@@ -666,6 +668,15 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         beyond[miss] = past(_input_before(model, U, last, miss), U[miss])
     return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift)
+
+
+def _further(failed, j, u_j, u):
+    """The walk from value j to ``u`` goes the way a walk from j failed (``failed``: (j, its
+    target)) and at least as far: not tried (values out of order on the near side are)."""
+    if failed[0] != j or failed[1] is None:
+        return False
+    d, f = u - u_j, failed[1] - u_j
+    return bool(np.all(d * f >= 0) and np.max(np.abs(d)) >= np.max(np.abs(f)))
 
 
 def _input_before(model, U, last, idx):
