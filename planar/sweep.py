@@ -510,8 +510,8 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             ev = replace(got[1], index=index(got[1].input))
             if not any(_same(ev, e, model) for e in events):
                 events.append(ev)
-                if back is None:
-                    stops.append(ev.index)
+            if back is None:  # (a limit met before too: value i, if re-entered, is past it all the same)
+                stops.append(ev.index)
             limits.append((ev, np.sign(U[i] - start[1])))
         return got
 
