@@ -516,8 +516,10 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         return got
 
     def past(u_from, u_to):
-        """A limit the walk met lies between u_from and u_to, periods of the input apart."""
-        return _past_limit(limits, u_from, u_to, walker.period() if limits else None)
+        """A limit the walk met lies between u_from and u_to, periods of the input apart (asked
+        only of values more than half a turn apart: nearer ones the walk goes to directly)."""
+        far = limits and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
+        return _past_limit(limits, u_from, u_to, walker.period() if far else None)
 
     # far values of an input that turns fully are solved whole periods back, nearer the sketch
     # (the pose is periodic: the same up to whole turns of its angles), and shifted back at the
