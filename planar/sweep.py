@@ -50,6 +50,10 @@ HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 CERT = 0.1  # accepted correction, as a fraction of the singularity measure at the solution
 WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
+PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
+SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
+FAR = 100.0  # radians of input from the sketch beyond which a full-turn input is solved periods back
+WALK_STEPS = 20000  # steps of one walk without a period to shorten it: farther targets are not reached
 
 
 def certified(off, sing):
@@ -159,14 +163,94 @@ class _Walker:
         self.br, self.max_step, self.other = br, max_step, other
         self.events = []
         self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
+        self._symmetry = self._period = None  # (P, D) or False, found when first asked
+        self.turns = False  # the walk went round a whole period (no limit): the input turns fully
 
-    def walk(self, q, u, signs, target, index):
-        """Follow the branch from (q, u) to ``target``. Returns ("ok", q, signs),
-        ("limit", event, (q_before, u_before)) or ("lost",)."""
+    def symmetry(self):
+        """(P, D): the input period P (whole turns of one angle input) and the pose shift D over
+        it (whole turns of the angles of the bodies that turn with the input, 0 elsewhere) where
+        the sketch shifted by D solves the constraints at its input plus P in the same assembly
+        modes: the revolute and slider rows of a pure linkage read angles through their sines
+        and cosines, while a gear or a slider's relative angle passes the input on linearly
+        (a gear pair of ratio 7/6 comes back after 7 turns). None where no pose within PERIODS
+        turns is the sketch's shifted by whole turns (a gear train of ratio pi)."""
+        if self._symmetry is None:
+            self._symmetry = _symmetry(self.br) or False
+        return self._symmetry or None
+
+    def period(self):
+        """(P, D) of :meth:`symmetry`, checked on the branch: the walk from the sketch through
+        one period comes back to the sketch up to whole turns D of its angles (a full-turn
+        crank: its coupler and rocker may turn too), or meets a limit (a rocking input: values
+        a period apart are the same pose, reached by re-entry). None otherwise (a circuit that
+        closes after more turns than the symmetry's period)."""
+        if self._period is None:
+            self._period = False
+            sym = self.symmetry()
+            if sym is not None:
+                m = self.br.m
+                P, D = sym
+                k, rounds = len(self.events), self.rounds
+                s0 = self.br.signs(m.q0[None], m.u0[None])[0]
+                got = self.walk(m.q0, m.u0, s0, m.u0 + P, 0, periodic=False)
+                del self.events[k:]  # that turn is no part of the sweep
+                self.rounds = rounds
+                if got[0] == "limit":
+                    self._period = sym
+                elif got[0] == "ok" and np.all(got[2] == s0):
+                    D = _turns(self.br, got[1] - m.q0)
+                    self._period = False if D is None else (P, D)
+                    self.turns = D is not None
+        return self._period or None
+
+    def _shorten(self, q, u, signs, k):
+        """(q, u) moved by k whole periods of the input (:meth:`period`): the pose there is
+        the pose at u shifted by whole turns. None where it does not solve there."""
+        P, D = self.period()
+        uk = u + k * P
+        qk, conv, _, _ = self.br.solve((q + k * D)[None], uk[None])
+        if conv[0] and np.all(self.br.signs(qk, uk[None])[0] == signs):
+            return qk[0], uk
+        return None
+
+    def walk(self, q, u, signs, target, index, periodic=True):
+        """Follow the branch from (q, u) to ``target``. Where the pose is periodic in the input
+        (:meth:`period`) the whole periods between them are one move, and the walk goes on
+        less than a period the same way, so a far target costs what a near one does; for a
+        rocking input that meets a limit that way, the other way round (a period less or
+        more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)) or ("lost",)
+        (also for a target more than WALK_STEPS steps away with no period to shorten the way:
+        the work is bounded and the value left unreached)."""
+        if periodic and u.size == 1:
+            d = float(target[0] - u[0])
+            per = self.period() if abs(d) >= 2 * np.pi else None
+            k = np.trunc(d / per[0]) if per is not None else 0.0
+            start = self._shorten(q, u, signs, k) if k else (q, u)
+            if start is not None:
+                n = len(self.events)
+                got = self.walk(*start, signs, target, index, periodic=False)
+                per = self.period() if got[0] == "limit" else None
+                # the other way round when the value was far (whole periods away: either way is
+                # as good) or the other way is the shorter (P / 2 >= pi): a rocking input's value in the next
+                # period's range, but not a value in the gap just past the limit met
+                rest = 0.0 if per is None or self.turns else d - k * per[0]
+                rest = rest if k or abs(rest) > np.pi else 0.0
+                other = self._shorten(q, u, signs, k + np.sign(rest)) if rest else None
+                if other is None:
+                    return got
+                kept = self.events[n:]
+                del self.events[n:]
+                again = self.walk(*other, signs, target, index, periodic=False)
+                if again[0] == "limit":
+                    self.events[n:] = kept
+                    return got
+                return again
         br, m = self.br, self.br.m
         total = float(_scaled_norm(m, target - u))
         if total <= 1e-14:  # the target is this pose up to rounding (the final Newton polishes it)
             return "ok", q, signs
+        if total > WALK_STEPS * self.max_step:
+            return ("lost",)
         h = min(1.0, self.max_step / total)
         t = 0.0
         u0 = u
@@ -247,6 +331,66 @@ class _Walker:
                 if got is not None:
                     return got
         return None
+
+
+# 2 pi = _A1 + _A2 + _B: _A1 with 27 significant bits (n _A1 is exact for |n| < 2^26 turns),
+# _B the rounding of 2 pi to a double, so that whole turns are added to angles of 1e6 rad
+# without the 1e-10 rad that n times the rounded 2 pi would carry
+_A1 = np.round(2 * np.pi * 2.0**24) / 2.0**24
+_A2 = 2 * np.pi - _A1
+_B = 2.4492935982947064e-16
+
+
+def _add_turns(x, n):
+    """x + 2 pi n (n whole turns) to the rounding of the result, for x small next to 2 pi n.
+
+    >>> x = -0.357564167085735  # 1e6 less 159155 turns (the naive 1e6 - 159155 * 2 * np.pi is 8e-11 off)
+    >>> float(x + 159155 * 2 * np.pi), float(_add_turns(x, 159155.0))
+    (999999.9999999999, 1000000.0)
+    """
+    if np.all(n == 0):
+        return x
+    return ((x + n * _B) + n * _A2) + n * _A1
+
+
+def _symmetry(br):
+    """See :meth:`_Walker.symmetry`: from the sketch, the driven angle moved by k turns and a
+    Newton solve at the input plus k turns, for k = 1 .. PERIODS."""
+    m, p = br.m, br.p
+    if m.input_lengths.size != 1 or m.input_lengths[0] or p.drivers.size != 1:
+        return None
+    q0, u0 = m.q0, m.u0
+    s0 = br.signs(q0[None], u0[None])[0]
+    with np.errstate(all="ignore"):
+        _, J = p.system.evaluate(q0[None], u0[None])
+    row = J[0][p.rows[p.drivers[0]]]
+    col = p.cols[np.argmax(np.abs(row[p.cols]))]  # the driven angle
+    for k in range(1, PERIODS + 1):
+        P = 2 * np.pi * k
+        g = q0.copy()
+        with np.errstate(all="ignore"):
+            Phi, _ = p.system.evaluate(q0[None], (u0 + P)[None])
+        g[col] -= Phi[0, p.rows[p.drivers[0]]] / row[col]
+        qn, conv, _, _ = br.solve(g[None], (u0 + P)[None], max_iter=30)
+        if not conv[0]:
+            continue
+        D = _turns(br, qn[0] - q0)
+        if D is not None and np.all(br.signs(qn, (u0 + P)[None])[0] == s0):
+            return P, D
+    return None
+
+
+def _turns(br, d):
+    """The change d (n,) of a pose rounded to whole turns of its angles, None where it is not
+    whole turns (to SAME, scaled) or moves a position."""
+    m, cols = br.m, br.p.cols
+    dc = d[cols]
+    turns = np.where(cols % 3 == 2, np.round(dc / (2 * np.pi)), 0.0)
+    if not np.max(np.abs(dc - 2 * np.pi * turns) / m.col_scale[cols]) <= SAME:
+        return None
+    D = np.zeros(m.n)
+    D[cols] = 2 * np.pi * turns
+    return D
 
 
 def _anchors(model, U, max_step):
@@ -365,10 +509,29 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             ev = replace(got[1], index=index(got[1].input))
             if not any(_same(ev, e, model) for e in events):
                 events.append(ev)
-                if back is None:
-                    stops.append(ev.index)
+            if back is None:  # (a limit met before too: value i, if re-entered, is past it all the same)
+                stops.append(ev.index)
             limits.append((ev, np.sign(U[i] - start[1])))
         return got
+
+    def past(u_from, u_to):
+        """A limit the walk met lies between u_from and u_to, periods of the input apart (asked
+        only of values more than half a turn apart: nearer ones the walk goes to directly)."""
+        far = limits and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
+        return _past_limit(limits, u_from, u_to, walker.period() if far else None)
+
+    # far values of an input that turns fully are solved whole periods back, nearer the sketch
+    # (the pose is periodic: the same up to whole turns of its angles), and shifted back at the
+    # end: angles of 1e6 rad would carry rounding of 1e-10 rad into the constraints
+    U_in, shift = U, None
+    if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
+        per = walker.period()
+        if per is not None and walker.turns:
+            block = per[0] * np.ceil(FAR / per[0])
+            k = np.trunc((U[:, 0] - model.u0[0]) / block) * (block / per[0])
+            turns = k * round(per[0] / (2 * np.pi))
+            U = (((U[:, 0] - turns * _A1) - turns * _A2) - turns * _B)[:, None]  # (the large terms first)
+            shift = (k, per)
 
     # 1. the sequential walk over anchors, from the assembled sketch
     chosen = br.signs(model.q0[None], model.u0[None])[0]
@@ -382,7 +545,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     lo, k, wave = -1, 0, WAVE
     while k < anchors.size:
         idx = anchors[k : k + wave]
-        stop = np.flatnonzero(_past_limit(limits, state[1][None], U[idx]) | _on_event(model, U[idx], events))
+        stop = np.flatnonzero(past(state[1][None], U[idx]) | _on_event(model, U[idx], events))
         tried = stop[0] if stop.size else idx.size
         a, qa, ka = _wave(br, state, U, idx[:tried], coef)
         if a:
@@ -398,7 +561,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             continue
         coef = None
         i = anchors[k]
-        got = ("lost",) if _past_limit(limits, state[1][None], U[i][None])[0] else walk(state, i, lo)
+        got = ("lost",) if past(state[1][None], U[i][None])[0] else walk(state, i, lo)
         lo = i
         if _at_events(model, U[i : i + 1], events):
             k += 1
@@ -453,19 +616,19 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     if rest.size:  # (the last solved value before each: N-sized, so only when needed)
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         u_from = _input_before(model, U, last, rest)
-        rest = rest[~_on_event(model, U[rest], events) & ~_past_limit(limits, u_from, U[rest])]
-    failed_from, newest = None, -1
+        rest = rest[~_on_event(model, U[rest], events) & ~past(u_from, U[rest])]
+    failed, newest = (None, None), -1
     for i in rest:
         if _at_events(model, U[i : i + 1], events):
             continue
         j = max(int(last[i - 1]) if i else -1, newest)
         j = None if j < 0 else j
         start = (model.q0, model.u0, chosen) if j is None else (q[j], U[j], signs[j])
-        if (failed_from is not None and failed_from == j) or _past_limit(limits, start[1][None], U[i][None])[0]:
-            continue  # the walk from this pose failed already, or a limit lies between
+        if _further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
+            continue  # the walk from this pose failed nearer that way already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
         if got[0] != "ok":
-            failed_from = j
+            failed = (j, U[i])
             continue
         q[i], solved[i], signs[i], newest = got[1], True, got[2], i
     # values still unreached past a gap in the range (re-entered further on): walked back from
@@ -474,16 +637,16 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     rest = np.flatnonzero(~solved)
     if rest.size:
         nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
-    failed_from, newest = None, N
+    failed, newest = (None, None), N
     for i in rest[::-1]:
         j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
-        if j >= N or failed_from == j or _at_events(model, U[i : i + 1], events):
+        if j >= N or _at_events(model, U[i : i + 1], events):
             continue
-        if _past_limit(limits, U[j][None], U[i][None])[0]:
+        if _further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
             continue
         got = walk((q[j], U[j], signs[j]), i, -1, back=j)
         if got[0] != "ok":
-            failed_from = j
+            failed = (j, U[i])
             continue
         q[i], solved[i], signs[i], newest = got[1], True, got[2], i
     # a limit with no value between it and the re-entered branch (a pair of limits inside one
@@ -504,8 +667,17 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     miss = np.flatnonzero(~solved)
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        beyond[miss] = _past_limit(limits, _input_before(model, U, last, miss), U[miss])
-    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops)
+        beyond[miss] = past(_input_before(model, U, last, miss), U[miss])
+    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift)
+
+
+def _further(failed, j, u_j, u):
+    """The walk from value j to ``u`` goes the way a walk from j failed (``failed``: (j, its
+    target)) and at least as far: not tried (values out of order on the near side are)."""
+    if failed[0] != j or failed[1] is None:
+        return False
+    d, f = u - u_j, failed[1] - u_j
+    return bool(np.all(d * f >= 0) and np.max(np.abs(d)) >= np.max(np.abs(f)))
 
 
 def _input_before(model, U, last, idx):
@@ -768,12 +940,28 @@ def _on_event(model, U, events):
     return on
 
 
-def _past_limit(limits, u_from, u_to):
-    """(M,) True where a limit found moving in direction d lies between u_from and u_to (M, f)."""
-    past = np.zeros(len(u_to), bool)
-    for ev, d in limits:
-        star = np.atleast_1d(ev.input)
-        past |= np.all((u_to - star) * d > 0, axis=1) & np.all((star - u_from) * d >= 0, axis=1)
+def _past_limit(limits, u_from, u_to, period=None):
+    """(M,) True where a limit found moving in direction d lies between u_from and u_to (M, f).
+    ``period`` (P, D) of a pose periodic in its one input (:meth:`_Walker.period`): as the walk
+    goes, u_to less its whole periods from u_from, then the other way round (a period more or
+    less), past a limit only where both ways are (the limits taken in the period each way)."""
+    if period is None:
+        past = np.zeros(len(u_to), bool)
+        for ev, d in limits:
+            star = np.atleast_1d(ev.input)
+            past |= np.all((u_to - star) * d > 0, axis=1) & np.all((star - u_from) * d >= 0, axis=1)
+        return past
+    P = period[0]
+    rem = u_to - u_from
+    rem = rem - P * np.trunc(rem / P)
+    past = np.ones(len(u_to), bool)
+    for way in (rem, rem - np.sign(rem) * P):
+        blocked = np.zeros(len(u_to), bool)
+        for ev, d in limits:
+            star = np.atleast_1d(ev.input)
+            s = np.where(way >= 0, np.mod(star - u_from, P), -np.mod(u_from - star, P))  # star - u_from, that way
+            blocked |= np.all((way - s) * d > 0, axis=1) & np.all(s * d >= 0, axis=1)
+        past &= blocked
     return past
 
 
@@ -894,7 +1082,9 @@ def _redundant(model, full):
     return np.max(np.abs(full[:, red] * model.row_scale[red]), axis=1)
 
 
-def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops):
+def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift):
+    """The results of the solved values; ``shift`` (k, (P, D)): value i was solved k[i]
+    periods P back (the input values ``U_in``), its pose shifted back by k[i] D."""
     N, n = q.shape
     p = br.p
     idx = np.flatnonzero(solved & ~done)
@@ -929,6 +1119,14 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
     _mark_jumps(status, stops)
     events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
+    if shift is not None:
+        k, (P, D) = shift
+        whole = np.round(D / (2 * np.pi))
+        q[:] = _add_turns(q, k[:, None] * whole)
+        at = lambda e: k[min(e.index, N - 1)]  # noqa: E731
+        events = tuple(replace(e, input=_add_turns(e.input, at(e) * round(P / (2 * np.pi))),
+                               q=None if e.q is None else _add_turns(e.q, at(e) * whole)) for e in events)
+        U = U_in
     return Sweep(model, U, Ud, Udd, q, out.qd, out.qdd, status, out.residual,
                  out.iters, out.sing, out.branch, gap, events)
 

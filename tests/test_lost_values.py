@@ -1,0 +1,187 @@
+"""No lost value, no hang: every value the branch reaches is solved whatever the start, order,
+spacing and repetition of the values, and a far input costs what a near one does (the pose of a
+full-turn crank repeats every turn). Closed forms from tests/oracles.py."""
+
+import os
+
+from unittest import mock
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings, strategies as st
+
+from planar.blocks import Plan
+from planar.mechanisms import four_bar, slider_crank
+from planar.results import POSED, Status
+from tests import oracles
+
+# a sweep with far, repeated and out-of-order values costs ~0.1-0.5 s: 40 examples in CI, the
+# profile's own count in a long run (HYPOTHESIS_PROFILE=long)
+LONG = os.environ.get("HYPOTHESIS_PROFILE", "ci") != "ci"
+PROPS = settings(max_examples=settings.default.max_examples if LONG else 40, deadline=None)
+length = st.floats(0.5, 5.0)
+
+
+def in_range(u, intervals, margin):
+    """(inside, outside): values at least ``margin`` inside one of the input intervals over a
+    turn (closed forms' limits), and at least ``margin`` outside all of them."""
+    x = np.angle(np.exp(1j * np.asarray(u)))
+    inside, near = np.zeros(x.shape, bool), np.zeros(x.shape, bool)
+    for a, b in intervals:
+        for s in (-2 * np.pi, 0.0, 2 * np.pi):
+            inside |= (x > a + s + margin) & (x < b + s - margin)
+            near |= (x > a + s - margin) & (x < b + s + margin)
+    return inside, ~near
+
+
+def assert_no_lost_value(res, intervals, th3, margin=1e-6):
+    """In range: posed, on the closed form's pose; out of range: NOT_ASSEMBLABLE; nowhere
+    NOT_CONVERGED."""
+    u, status = res.inputs[:, 0], res.status
+    inside, outside = in_range(u, intervals, margin)
+    posed = POSED[status]
+    assert not np.any(status == Status.NOT_CONVERGED), f"NOT_CONVERGED at {u[status == Status.NOT_CONVERGED][:5]}"
+    assert posed[inside].all(), f"lost: {u[inside & ~posed][:5]} {status[inside & ~posed][:5]}"
+    assert np.all(status[outside] == Status.NOT_ASSEMBLABLE), f"posed out of range: {u[outside & posed][:5]}"
+    if inside.any():
+        err = np.abs(np.angle(np.exp(1j * (res.angle("coupler")[inside] - th3[inside]))))
+        assert err.max() <= 1e-8, f"off the closed form by {err.max():.2g} rad"
+
+
+class Evaluations:
+    """Counts the constraint evaluations of the sweeps in its ``with`` block (each is one batch
+    of values): the walk's work, whatever the engine's timing."""
+
+    def __init__(self):
+        self.calls = 0
+
+    def __enter__(self):
+        real = Plan.evaluate
+
+        def counted(plan, q, u):
+            self.calls += 1
+            return real(plan, q, u)
+
+        self._patch = mock.patch.object(Plan, "evaluate", counted)
+        self._patch.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._patch.stop()
+
+
+def test_the_four_bar_reproduction_solves_every_value_in_range():
+    r = (1.228349473246219, 1.3074591228844887, 0.2107607718255605, 1.245859010662002)
+    m = four_bar(*r, start=1.222402070420413, crossed=True)
+    res = m.sweep(np.linspace(0.8387657370523275, 1.2224028021397049, 181))
+    o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1)
+    assert_no_lost_value(res, oracles.four_bar_input_limits(*r), o["th3"])
+    assert res.ok[1:-1].all()
+
+
+def test_the_slider_crank_reproduction_solves_every_value_in_range():
+    r2, r3, e = 5.474267858194692, 0.2331023228883293, 0.8351501574893155
+    m = slider_crank(r2, r3, offset=e, start=2.945191833876923)
+    res = m.sweep(np.linspace(2.9451917440775626, 3.0313919576882036, 181))
+    o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e)
+    assert_no_lost_value(res, oracles.slider_crank_limits(r2, r3, e, "crank"), o["th3"])
+    assert res.ok[1:-1].all()
+
+
+@pytest.mark.parametrize("far", [1e3, 1e6, -1e6, 12345.6789])
+def test_a_far_input_costs_what_a_near_one_does(far):
+    m = four_bar(4, 2, 3, 4)
+    with Evaluations() as count:
+        near = m.sweep([0.0, 6.0, 0.1])
+    near_calls = count.calls
+    with Evaluations() as count:
+        res = m.sweep([0.0, far, 0.1])
+    assert res.ok.all(), res
+    o = oracles.four_bar(4, 2, 3, 4, res.inputs[:, 0])
+    assert_no_lost_value(res, [(-np.pi, np.pi)], o["th3"])
+    np.testing.assert_allclose(res.angle("rocker")[[0, 2]], near.angle("rocker")[[0, 2]], atol=1e-12)
+    # one turn walked to find the period, then less than a turn each way
+    assert count.calls <= 3 * near_calls + 200, (count.calls, near_calls)
+
+
+def test_a_far_input_turns_the_coupler_of_a_drag_link_by_whole_turns():
+    r = (2.2446494252851754, 3.18098070513203, 2.812102452743045, 3.625213568033311)  # ground shortest
+    res = four_bar(*r, start=2.28).sweep([0.0, 8896.990394966295, -1633.4524182775226, 0.1])
+    o = oracles.four_bar(*r, res.inputs[:, 0])
+    assert_no_lost_value(res, [(-np.pi, np.pi)], o["th3"])
+    # the coupler and rocker turn with the crank: their unwrapped angles follow it
+    assert abs(res.angle("coupler")[1] - res.inputs[1, 0]) < 2 * np.pi + 4
+
+
+@st.composite
+def full_turn_four_bars(draw):
+    r = draw(st.tuples(length, length, length, length))
+    s, p, q, l = sorted(r)
+    assume(s + l < p + q - 0.05 * l and min(r) in (r[0], r[1]))  # crank-rocker or drag-link
+    return r
+
+
+far = st.floats(-1e5, 1e5)
+
+
+@PROPS
+@given(r=full_turn_four_bars(), crossed=st.booleans(), start=st.floats(-np.pi, np.pi),
+       values=st.lists(far, min_size=1, max_size=6), repeat=st.integers(0, 3))
+def test_far_repeated_and_shuffled_inputs_of_a_full_turn_four_bar(r, crossed, start, values, repeat):
+    m = four_bar(*r, crossed=crossed, start=start)
+    U = np.array(values + values[:repeat] + [start])
+    with Evaluations() as count:
+        res = m.sweep(U)
+    # a period walked once, then less than a period to each value (~250 evaluations)
+    assert count.calls <= 1000 + 500 * len(U), count.calls
+    o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1 if crossed else 1)
+    assert_no_lost_value(res, [(-np.pi, np.pi)], o["th3"])
+
+
+@st.composite
+def near_end_slider_cranks(draw):
+    """A crank-driven slider-crank whose crank cannot turn, sketched within 1e-9..1e-2 of an
+    end of its motion range, and that range."""
+    r2, r3, e = draw(length), draw(length), draw(st.floats(-3, 3))
+    ranges = oracles.slider_crank_limits(r2, r3, e, "crank")
+    assume(len(ranges) == 1 and ranges[0][1] - ranges[0][0] < 2 * np.pi - 0.1 and ranges[0][1] - ranges[0][0] > 0.05)
+    a, b = ranges[0]
+    d = 10 ** draw(st.floats(-9, -2))
+    start = a + d if draw(st.booleans()) else b - d
+    return r2, r3, e, start, (a, b)
+
+
+@PROPS
+@given(case=near_end_slider_cranks(), crossed=st.booleans(), over=st.floats(0.0, 0.5), n=st.integers(2, 181),
+       backwards=st.booleans())
+def test_a_slider_crank_started_next_to_a_limit_loses_no_value(case, crossed, over, n, backwards):
+    r2, r3, e, start, (a, b) = case
+    m = slider_crank(r2, r3, offset=e, crossed=crossed, start=start)
+    U = np.linspace(a - over, b + over, n)
+    res = m.sweep(U[::-1] if backwards else U)
+    o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e, sigma=-1 if crossed else 1)
+    assert_no_lost_value(res, [(a, b)], o["th3"])
+
+
+@st.composite
+def near_end_four_bars(draw):
+    r = draw(st.tuples(length, length, length, length))
+    s, p, q, l = sorted(r)
+    assume(abs(s + l - p - q) > 0.05 * l)
+    ranges = oracles.four_bar_input_limits(*r)
+    assume(len(ranges) == 1 and 0.05 < ranges[0][1] - ranges[0][0] < 2 * np.pi - 0.1)
+    a, b = ranges[0]
+    d = 10 ** draw(st.floats(-9, -2))
+    return r, (a + d if draw(st.booleans()) else b - d), (a, b)
+
+
+@PROPS
+@given(case=near_end_four_bars(), crossed=st.booleans(), over=st.floats(0.0, 0.5), n=st.integers(2, 181),
+       backwards=st.booleans())
+def test_a_four_bar_started_next_to_a_limit_loses_no_value(case, crossed, over, n, backwards):
+    r, start, (a, b) = case
+    m = four_bar(*r, crossed=crossed, start=start)
+    U = np.linspace(a - over, b + over, n)
+    res = m.sweep(U[::-1] if backwards else U)
+    o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1 if crossed else 1)
+    assert_no_lost_value(res, [(a, b)], o["th3"])
