@@ -27,7 +27,7 @@ angles of a four-bar are the textbook's theta2, theta3 and theta4. Angles are ra
 
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import networkx as nx
@@ -47,6 +47,7 @@ from planar.system import build_system
 
 if TYPE_CHECKING:
     from planar.results import Sweep
+    from planar.tracking import Tracker
 
 GROUND = "ground"
 
@@ -516,6 +517,10 @@ class Mechanism:
         :meth:`Model.sweep`."""
         return self.compile().sweep(values, velocity, acceleration, **options)
 
+    def track(self, **options: Any) -> "Tracker":
+        """A tracker for moving the input by hand; see :meth:`Model.track`."""
+        return self.compile().track(**options)
+
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0,
                 **options: Any) -> "Sweep":
         """The whole circuit through the sketch, the input reversing at each limit; see
@@ -592,6 +597,9 @@ class Model:
     inertia: np.ndarray = None  # (n_bodies,) moments of inertia about the centres of mass
     gravity: np.ndarray = None  # (2,) world gravitational acceleration
     loads: tuple = ()  # planar.mass.Load
+    # poses solved on the branch, per branch option (planar.tracking): a private mutable cache
+    # made with the model; the model's fields stay as built
+    _poses: dict = field(default_factory=dict, init=False, repr=False)
 
     def __repr__(self) -> str:
         return (f"<Model {self.name!r}: {len(self.body_names) - 1} moving bodies, {len(self.joints)} joints, "
@@ -638,8 +646,10 @@ class Model:
 
         ``values`` is (N,) for one input or (N, f); ``velocity`` and ``acceleration`` are the
         input rates (scalars, (f,), (N,) or (N, f)); the default unit velocity makes the rates
-        kinematic coefficients. The solve starts at the assembled sketch and follows the
-        branch through the values in order. Returns a frozen :class:`planar.results.Sweep`.
+        kinematic coefficients. The solve follows the branch drawn in the sketch through the
+        values in order; a one-input model starts it from the nearest pose it has solved on
+        the branch before, with the same results as from the sketch (:mod:`planar.tracking`).
+        Returns a frozen :class:`planar.results.Sweep`.
         Options: ``tol`` (scaled residual, 1e-12), ``max_step`` (largest input step between
         continuation anchors: radians, or lengths / L; 0.05), ``outputs`` (names of the
         bodies, points or joints wanted: only the blocks they need are solved), ``branch``
@@ -649,7 +659,7 @@ class Model:
         structure, 4-6x faster at large N; needs the ``fast`` extra; the first sweep of a
         structure compiles for 10-65 s, then it is cached on disk; see :mod:`planar.compiled`).
         """
-        from planar import arguments
+        from planar import arguments, tracking
         from planar.sweep import run_sweep
 
         if not self.drivers:
@@ -660,7 +670,23 @@ class Model:
         N = U.shape[0]
         Ud, Udd = self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N)
         arguments.rates(self, Ud, Udd)
-        return run_sweep(self, U, Ud, Udd, **options)
+        return tracking.sweep(self, U, Ud, Udd, **options)
+
+    def track(self, **options: Any) -> "Tracker":
+        """A :class:`planar.tracking.Tracker` for moving the input by hand: ``tracker.move(value)``
+        returns the pose at ``value`` as a one-value :class:`planar.results.Sweep`, going on from
+        the last pose; ``tracker.pose`` is the last. ``options`` are the sweep's.
+
+        >>> from planar.mechanisms import four_bar
+        >>> tracker = four_bar().track(branch="smooth")
+        >>> [tracker.move(u).status[0] for u in (0.5, 0.6, 0.7)] == [planar.Status.SOLVED] * 3
+        True
+        """
+        from planar.tracking import Tracker
+
+        if not self.drivers:
+            raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
+        return Tracker(self, **options)
 
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
                 max_step: float = 0.05) -> "Sweep":

@@ -330,9 +330,11 @@ def _output_columns(model, outputs):
     return sorted(cols) or None
 
 
-def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
+def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
               engine="numpy"):
-    """See :meth:`planar.Model.sweep`."""
+    """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
+    from instead of the sketch, reached from the sketch by continuation with no event between
+    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     cols = _output_columns(model, outputs)
@@ -374,7 +376,8 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     # 1. the sequential walk over anchors, from the assembled sketch
     chosen = br.signs(model.q0[None], model.u0[None])[0]
     _check_sketch(model, p)
-    state = (model.q0, model.u0, chosen)
+    origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
+    state = origin
     limits = []  # (limit event, direction of the input that hit it)
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
     anchors = _anchors(model, U, max_step)
@@ -453,7 +456,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     rest = np.flatnonzero(~solved)
     if rest.size:  # (the last solved value before each: N-sized, so only when needed)
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        u_from = _input_before(model, U, last, rest)
+        u_from = _input_before(origin[1], U, last, rest)
         rest = rest[~_on_event(model, U[rest], events) & ~_past_limit(limits, u_from, U[rest])]
     failed_from, newest = None, -1
     for i in rest:
@@ -461,7 +464,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             continue
         j = max(int(last[i - 1]) if i else -1, newest)
         j = None if j < 0 else j
-        start = (model.q0, model.u0, chosen) if j is None else (q[j], U[j], signs[j])
+        start = origin if j is None else (q[j], U[j], signs[j])
         if (failed_from is not None and failed_from == j) or _past_limit(limits, start[1][None], U[i][None])[0]:
             continue  # the walk from this pose failed already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
@@ -505,15 +508,15 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     miss = np.flatnonzero(~solved)
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        beyond[miss] = _past_limit(limits, _input_before(model, U, last, miss), U[miss])
+        beyond[miss] = _past_limit(limits, _input_before(origin[1], U, last, miss), U[miss])
     return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops)
 
 
-def _input_before(model, U, last, idx):
+def _input_before(u0, U, last, idx):
     """(M, f) the input of the last solved value before each of ``idx`` (``last``: the index
-    of the last solved value at or before each value, -1 for none), the sketch's where none."""
+    of the last solved value at or before each value, -1 for none), the start's ``u0`` where none."""
     prev = np.where(idx > 0, last[np.maximum(idx - 1, 0)], -1)
-    return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
+    return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], u0)
 
 
 def _mark_jumps(status, stops):
