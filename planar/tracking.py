@@ -9,9 +9,12 @@ input, around the sketch's, on which the branch is a smooth function of the inpu
 crank that turns fully, u and u + 2 pi are different inputs, and for a geared train
 different poses). A sweep walks from the remembered pose nearest its first value: inside that
 interval the pose at any input is the branch's, whichever way it is reached; outside, the
-walk from the interval's end nearest the value is the tail of the walk from the sketch. So
-the results, statuses and events are those of the sweep from the sketch, at the cost of the
-distance from the nearest known pose. Models with more inputs sweep from the sketch.
+walk from the interval's end nearest the value is the tail of the walk from the sketch. Where
+that walk meets a limit or a branch event (past which the way on depends on the whole walk:
+where the range is re-entered, which branch is taken) the sweep is done again from the sketch.
+So the results, statuses and events are those of the sweep from the sketch, at the cost of the
+distance from the nearest known pose on the branch. Models with more inputs sweep from the
+sketch.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -49,9 +52,7 @@ class Poses:
     def learn(self, res):
         """Remember the poses of a sweep (one started from a known pose) up to its first
         event that breaks the branch or its first value not reached on it."""
-        stop = [e.index for e in res.events if e.kind in BREAKS]
-        bad = np.flatnonzero(~np.isin(res.status, CLEAN))
-        end = min(stop + bad[:1].tolist() + [res.status.size])
+        end = _clean_end(res)
         if end == 0:
             return
         take = np.unique(np.linspace(0, end - 1, min(end, CAP // 2)).astype(int))
@@ -78,10 +79,27 @@ def sweep(model, U, Ud, Udd, **options):
     if U.shape[1] != 1:
         return run_sweep(model, U, Ud, Udd, **options)
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
-    res = run_sweep(model, U, Ud, Udd, poses.nearest(U[0, 0]), **options)
+    start = poses.nearest(U[0, 0])
+    res = run_sweep(model, U, Ud, Udd, start, **options)
+    if start[1][0] != poses.u0 and not _clean(res):
+        # past a limit or a branch event the way on (re-entering the range, the branch taken)
+        # depends on the whole walk: the walk from the sketch decides
+        res = run_sweep(model, U, Ud, Udd, **options)
     if options.get("outputs") is None:
         poses.learn(res)
     return res
+
+
+def _clean_end(res):
+    """The number of values of ``res`` before its first event that breaks the branch and its
+    first value not reached on it."""
+    stop = [e.index for e in res.events if e.kind in BREAKS]
+    bad = np.flatnonzero(~np.isin(res.status, CLEAN))
+    return min(stop + bad[:1].tolist() + [res.status.size])
+
+
+def _clean(res):
+    return _clean_end(res) == res.status.size and not any(e.kind in BREAKS for e in res.events)
 
 
 def _poses(model, branch, tol):

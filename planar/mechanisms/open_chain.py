@@ -63,7 +63,7 @@ def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike |
     m.add_point("tip", prev, at=P)
     for k in range(1, len(r) + 1):
         if driver == "absolute":
-            m.drive(body=f"link{k}", start=start[k - 1])
+            m.drive(body=f"link{k}", start=float(th0[k - 1]))
         else:
-            m.drive(f"J{k}", start=start[k - 1])
+            m.drive(f"J{k}", start=float(th0[k - 1]))
     return m
