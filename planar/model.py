@@ -30,9 +30,7 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-import networkx as nx
 import numpy as np
-import scipy.linalg
 from numpy.typing import ArrayLike
 
 from planar.dimensions import Dimension, Dyad, Row, assemble
@@ -833,6 +831,8 @@ def _origins(joints, points):
 
 def _ground_distance(bodies, joints):
     """Graph distance of each body from the ground (bodies linked by a joint are neighbours)."""
+    import networkx as nx  # here, not at import: ``import planar`` stays light
+
     G = nx.Graph()
     G.add_nodes_from(bodies)
     G.add_edges_from((a, b) for j in joints for a in j.bodies for b in j.bodies if a != b)
@@ -1032,6 +1032,8 @@ def _char_length(points, joints):
 
 
 def _check_connected(bodies, joints):
+    import networkx as nx  # here, not at import: ``import planar`` stays light
+
     G = nx.Graph()
     G.add_nodes_from(bodies)
     for j in joints:
@@ -1083,6 +1085,8 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         Js = J[0][rows] * rs[rows, None] * cs[None, :]
         if Js.size == 0:
             return 0, rows
+        import scipy.linalg  # here, not at import: ``import planar`` stays light
+
         _, R, piv = scipy.linalg.qr(Js.T, pivoting=True, mode="economic")
         diag = np.abs(np.diag(R))
         rank = int(np.sum(diag > 1e-9 * max(diag[0], 1e-300))) if diag.size else 0

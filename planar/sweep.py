@@ -49,6 +49,7 @@ FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 CERT = 0.1  # accepted correction, as a fraction of the singularity measure at the solution
+FAR = 4  # anchors further apart than FAR * max_step are walked to, not tried in a wave
 WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
 
 
@@ -172,7 +173,19 @@ class _Walker:
         t = 0.0
         u0 = u
         halvings = 0
+        wave = WAVE
         while t < 1.0:
+            if halvings == 0 and 1.0 - t > h:
+                # the full steps ahead in one batch, as the anchors are: the walk's own steps
+                # while each is accepted (a batch costs about one step); the rest one by one
+                ts = np.minimum(t + h * np.arange(1, wave + 1), 1.0)
+                ts = ts[: int(np.searchsorted(ts, 1.0)) + 1]
+                a, qa, _ = _wave(self.br, (q, u, signs), u0 + ts[:, None] * (target - u0), np.arange(ts.size))
+                if a:
+                    q, u, t = qa[-1], u0 + ts[a - 1] * (target - u0), ts[a - 1]
+                wave = min(2 * wave, MAX_WAVE) if a == ts.size else max(a, WAVE)
+                if a:
+                    continue
             dt = min(h, 1.0 - t)
             u_next = u0 + (t + dt) * (target - u0)
             q_pred, _ = br.predict(q[None], u[None], (u_next - u)[None])
@@ -375,7 +388,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
 
     # 1. the sequential walk over anchors, from the assembled sketch
     chosen = br.signs(model.q0[None], model.u0[None])[0]
-    _check_sketch(model, p)
+    if start is None:  # (a known pose was reached from the sketch: it passed)
+        _check_sketch(model, p)
     origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
     state = origin
     limits = []  # (limit event, direction of the input that hit it)
@@ -388,6 +402,11 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         idx = anchors[k : k + wave]
         stop = np.flatnonzero(_past_limit(limits, state[1][None], U[idx]) | _on_event(model, U[idx], events))
         tried = stop[0] if stop.size else idx.size
+        # an anchor several steps from the one before (sparse values) is walked to: a wave
+        # would not reach it
+        far = np.flatnonzero(_scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
+                             > FAR * max_step)
+        tried = far[0] if far.size else tried
         a, qa, ka = _wave(br, state, U, idx[:tried], coef)
         if a:
             q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]

@@ -56,9 +56,9 @@ class Poses:
         if end == 0:
             return
         take = np.unique(np.linspace(0, end - 1, min(end, CAP // 2)).astype(int))
-        u = np.r_[res.inputs[take, 0], self.u]
-        q = np.vstack((res.q[take], self.q))
-        # the newest first, so that np.unique keeps them at inputs known already
+        u = np.r_[self.u, res.inputs[take, 0]]
+        q = np.vstack((self.q, res.q[take]))
+        # at an input known already the known pose stays (the sketch's, at the sketch's input)
         u, first = np.unique(u, return_index=True)
         q = q[first]
         if u.size > CAP:
