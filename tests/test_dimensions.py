@@ -228,7 +228,7 @@ def test_distance_built_four_bar_equals_coordinate_built(r1, r2, r3, r4, th2, le
     u = th2 + np.linspace(0, 0.2, 3)
     r_got, r_want = got.sweep(u), want.sweep(u)
     np.testing.assert_array_equal(r_got.status, r_want.status)
-    d = r_got.q - r_want.q
+    d = (r_got.q - r_want.q)[r_want.ok]  # (the values may run past a limit: NaN in both)
     d[:, 2::3] = turn(d[:, 2::3])
     np.testing.assert_allclose(d, 0, atol=1e-9 * max(r1, r2, r3, r4))
 
