@@ -80,8 +80,10 @@ def sweep(model, U, Ud, Udd, **options):
         return run_sweep(model, U, Ud, Udd, **options)
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     start = poses.nearest(U[0, 0])
+    if start[1][0] == poses.u0:
+        start = None  # the sketch itself (the sweep from it checks it)
     res = run_sweep(model, U, Ud, Udd, start, **options)
-    if start[1][0] != poses.u0 and not _clean(res):
+    if start is not None and not _clean(res):
         # past a limit or a branch event the way on (re-entering the range, the branch taken)
         # depends on the whole walk: the walk from the sketch decides
         res = run_sweep(model, U, Ud, Udd, **options)
