@@ -14,6 +14,7 @@ Traceback (most recent call last):
 planar.errors.InputError: the walk through these sweep values is 2e+301 continuation steps of max_step = 0.05, more than the limit of 1e+08: sweep a shorter span of the input, with fewer jumps between far values
 """
 
+import functools
 import inspect
 import math
 import os
@@ -55,11 +56,17 @@ def max_step(step):
     return float(step)
 
 
+@functools.cache
+def _options(run):
+    """{name: default} of ``run``'s keyword-only parameters (read once: a tracker asks per move)."""
+    return {k: p.default for k, p in inspect.signature(run).parameters.items() if p.kind == p.KEYWORD_ONLY}
+
+
 def sweep_options(options, run):
     """The options of a sweep checked: names among ``run``'s keyword-only parameters, ``tol``,
     ``max_step`` and ``rates`` of their kinds; the others are checked where they are used.
     Returns them with ``max_step`` filled in."""
-    known = {k: p.default for k, p in inspect.signature(run).parameters.items() if p.kind == p.KEYWORD_ONLY}
+    known = _options(run)
     unknown = sorted(set(options) - set(known))
     if unknown:
         raise InputError(f"unknown sweep option {unknown[0]!r}: the options are {', '.join(known)}")

@@ -21,10 +21,7 @@ kept: asking for the first loop of a Watt six-bar does not solve the second.
 import weakref
 from dataclasses import dataclass, replace
 
-import networkx as nx
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import maximum_bipartite_matching
 
 from planar.elimination import CONST, VAR, ZERO, Program
 from planar.errors import MobilityError
@@ -230,6 +227,11 @@ def _kinds(Jv):
 
 
 def _build(model, key):
+    # imported here, on the first compile: ``import planar`` stays light
+    import networkx as nx
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import maximum_bipartite_matching
+
     sysm = model.system
     n = model.n
     rows_all = np.asarray(model.active_rows)

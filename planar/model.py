@@ -27,12 +27,10 @@ angles of a four-bar are the textbook's theta2, theta3 and theta4. Angles are ra
 
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-import networkx as nx
 import numpy as np
-import scipy.linalg
 from numpy.typing import ArrayLike
 
 from planar.dimensions import Dimension, Dyad, Row, assemble
@@ -47,6 +45,7 @@ from planar.system import build_system
 
 if TYPE_CHECKING:
     from planar.results import Sweep
+    from planar.tracking import Tracker
 
 GROUND = "ground"
 
@@ -515,6 +514,10 @@ class Mechanism:
         :meth:`Model.sweep`."""
         return self.compile().sweep(values, velocity, acceleration, **options)
 
+    def track(self, **options: Any) -> "Tracker":
+        """A tracker for moving the input by hand; see :meth:`Model.track`."""
+        return self.compile().track(**options)
+
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0,
                 **options: Any) -> "Sweep":
         """The whole circuit through the sketch, the input reversing at each limit; see
@@ -591,6 +594,9 @@ class Model:
     inertia: np.ndarray | None = None  # (n_bodies,) moments of inertia about the centres of mass
     gravity: np.ndarray | None = None  # (2,) world gravitational acceleration
     loads: tuple = ()  # planar.mass.Load
+    # poses solved on the branch, per branch option (planar.tracking): a private mutable cache
+    # made with the model; the model's fields stay as built
+    _poses: dict = field(default_factory=dict, init=False, repr=False)
 
     def __repr__(self) -> str:
         return (f"<Model {self.name!r}: {len(self.body_names) - 1} moving bodies, {len(self.joints)} joints, "
@@ -637,8 +643,10 @@ class Model:
 
         ``values`` is (N,) for one input or (N, f); ``velocity`` and ``acceleration`` are the
         input rates (scalars, (f,), (N,) or (N, f)); the default unit velocity makes the rates
-        kinematic coefficients. The solve starts at the assembled sketch and follows the
-        branch through the values in order. Returns a frozen :class:`planar.results.Sweep`.
+        kinematic coefficients. The solve follows the branch drawn in the sketch through the
+        values in order; a one-input model starts it from the nearest pose it has solved on
+        the branch before, with the same results as from the sketch (:mod:`planar.tracking`).
+        Returns a frozen :class:`planar.results.Sweep`.
         Options: ``tol`` (scaled residual, 1e-12), ``max_step`` (largest input step between
         continuation anchors: radians, or lengths / L; 0.05), ``outputs`` (names of the
         bodies, points or joints wanted: only the blocks they need are solved), ``branch``
@@ -648,7 +656,7 @@ class Model:
         structure, 4-6x faster at large N; needs the ``fast`` extra; the first sweep of a
         structure compiles for 10-65 s, then it is cached on disk; see :mod:`planar.compiled`).
         """
-        from planar import arguments
+        from planar import arguments, tracking
         from planar.sweep import run_sweep
 
         if not self.drivers:
@@ -659,7 +667,23 @@ class Model:
         N = U.shape[0]
         Ud, Udd = self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N)
         arguments.rates(self, Ud, Udd)
-        return run_sweep(self, U, Ud, Udd, **options)
+        return tracking.sweep(self, U, Ud, Udd, **options)
+
+    def track(self, **options: Any) -> "Tracker":
+        """A :class:`planar.tracking.Tracker` for moving the input by hand: ``tracker.move(value)``
+        returns the pose at ``value`` as a one-value :class:`planar.results.Sweep`, going on from
+        the last pose; ``tracker.pose`` is the last. ``options`` are the sweep's.
+
+        >>> from planar.mechanisms import four_bar
+        >>> tracker = four_bar().track(branch="smooth")
+        >>> [bool(tracker.move(u).ok[0]) for u in (0.5, 0.6, 0.7)], bool(tracker.pose.ok[0])
+        ([True, True, True], True)
+        """
+        from planar.tracking import Tracker
+
+        if not self.drivers:
+            raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
+        return Tracker(self, **options)
 
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
                 max_step: float = 0.05) -> "Sweep":
@@ -807,6 +831,8 @@ def _origins(joints, points):
 
 def _ground_distance(bodies, joints):
     """Graph distance of each body from the ground (bodies linked by a joint are neighbours)."""
+    import networkx as nx  # here, not at import: ``import planar`` stays light
+
     G = nx.Graph()
     G.add_nodes_from(bodies)
     G.add_edges_from((a, b) for j in joints for a in j.bodies for b in j.bodies if a != b)
@@ -1006,6 +1032,8 @@ def _char_length(points, joints):
 
 
 def _check_connected(bodies, joints):
+    import networkx as nx  # here, not at import: ``import planar`` stays light
+
     G = nx.Graph()
     G.add_nodes_from(bodies)
     for j in joints:
@@ -1057,6 +1085,8 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         Js = J[0][rows] * rs[rows, None] * cs[None, :]
         if Js.size == 0:
             return 0, rows
+        import scipy.linalg  # here, not at import: ``import planar`` stays light
+
         _, R, piv = scipy.linalg.qr(Js.T, pivoting=True, mode="economic")
         diag = np.abs(np.diag(R))
         rank = int(np.sum(diag > 1e-9 * max(diag[0], 1e-300))) if diag.size else 0
@@ -1098,6 +1128,8 @@ def _check_drivers(system, q0, u0, active, n_joint_rows, drivers, rs, cs):
     Js = J[0][active] * rs[active, None] * cs[None, :]
     # unpivoted QR of the rows in order: |R_ii| is row i's distance from the span of the rows
     # before it, so one factorisation says which driver depends on the rows before it
+    import scipy.linalg  # here, not at import: ``import planar`` stays light
+
     R = scipy.linalg.qr(Js.T, mode="r")[0]
     reach = np.abs(np.diagonal(R))
     for k, d in enumerate(drivers):

@@ -49,6 +49,7 @@ FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 CERT = 0.1  # accepted correction, as a fraction of the singularity measure at the solution
+SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
 WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
 PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
 SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
@@ -255,7 +256,19 @@ class _Walker:
         t = 0.0
         u0 = u
         halvings = 0
+        wave = WAVE
         while t < 1.0:
+            if halvings == 0 and 1.0 - t > h:
+                # the full steps ahead in one batch, as the anchors are: the walk's own steps
+                # while each is accepted (a batch costs about one step); the rest one by one
+                ts = np.minimum(t + h * np.arange(1, wave + 1), 1.0)
+                ts = ts[: int(np.searchsorted(ts, 1.0)) + 1]
+                a, qa, _ = _wave(self.br, (q, u, signs), u0 + ts[:, None] * (target - u0), np.arange(ts.size))
+                if a:
+                    q, u, t = qa[-1], u0 + ts[a - 1] * (target - u0), ts[a - 1]
+                wave = min(2 * wave, MAX_WAVE) if a == ts.size else max(a, WAVE)
+                if a:
+                    continue
             dt = min(h, 1.0 - t)
             u_next = u0 + (t + dt) * (target - u0)
             q_pred, _ = br.predict(q[None], u[None], (u_next - u)[None])
@@ -473,9 +486,11 @@ def _output_columns(model, outputs):
     return sorted(cols) or None
 
 
-def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
+def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
               engine="numpy"):
-    """See :meth:`planar.Model.sweep`."""
+    """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
+    from instead of the sketch, reached from the sketch by continuation with no event between
+    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     cols = _output_columns(model, outputs)
@@ -527,6 +542,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
         per = walker.period()
         if per is not None and walker.turns:
+            start = None  # the sketch, whole periods back, is nearer than any known pose
             block = per[0] * np.ceil(FAR / per[0])
             k = np.trunc((U[:, 0] - model.u0[0]) / block) * (block / per[0])
             turns = k * round(per[0] / (2 * np.pi))
@@ -535,8 +551,10 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
 
     # 1. the sequential walk over anchors, from the assembled sketch
     chosen = br.signs(model.q0[None], model.u0[None])[0]
-    _check_sketch(model, p)
-    state = (model.q0, model.u0, chosen)
+    if start is None:  # (a known pose was reached from the sketch: it passed)
+        _check_sketch(model, p)
+    origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
+    state = origin
     limits = []  # (limit event, direction of the input that hit it)
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
     anchors = _anchors(model, U, max_step)
@@ -547,6 +565,11 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
         idx = anchors[k : k + wave]
         stop = np.flatnonzero(past(state[1][None], U[idx]) | _on_event(model, U[idx], events))
         tried = stop[0] if stop.size else idx.size
+        # an anchor several steps from the one before (sparse values) is walked to: a wave
+        # would not reach it
+        far = np.flatnonzero(_scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
+                             > SPARSE * max_step)
+        tried = far[0] if far.size else tried
         a, qa, ka = _wave(br, state, U, idx[:tried], coef)
         if a:
             q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
@@ -615,7 +638,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     rest = np.flatnonzero(~solved)
     if rest.size:  # (the last solved value before each: N-sized, so only when needed)
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        u_from = _input_before(model, U, last, rest)
+        u_from = _input_before(origin[1], U, last, rest)
         rest = rest[~_on_event(model, U[rest], events) & ~past(u_from, U[rest])]
     failed, newest = (None, None), -1
     for i in rest:
@@ -623,7 +646,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
             continue
         j = max(int(last[i - 1]) if i else -1, newest)
         j = None if j < 0 else j
-        start = (model.q0, model.u0, chosen) if j is None else (q[j], U[j], signs[j])
+        start = origin if j is None else (q[j], U[j], signs[j])
         if _further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
             continue  # the walk from this pose failed nearer that way already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
@@ -667,7 +690,7 @@ def run_sweep(model, U, Ud, Udd, *, tol=1e-12, max_step=0.05, outputs=None, bran
     miss = np.flatnonzero(~solved)
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        beyond[miss] = past(_input_before(model, U, last, miss), U[miss])
+        beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
     return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift)
 
 
@@ -680,11 +703,11 @@ def _further(failed, j, u_j, u):
     return bool(np.all(d * f >= 0) and np.max(np.abs(d)) >= np.max(np.abs(f)))
 
 
-def _input_before(model, U, last, idx):
+def _input_before(u0, U, last, idx):
     """(M, f) the input of the last solved value before each of ``idx`` (``last``: the index
-    of the last solved value at or before each value, -1 for none), the sketch's where none."""
+    of the last solved value at or before each value, -1 for none), the start's ``u0`` where none."""
     prev = np.where(idx > 0, last[np.maximum(idx - 1, 0)], -1)
-    return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], model.u0)
+    return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], u0)
 
 
 def _mark_jumps(status, stops):

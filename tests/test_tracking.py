@@ -1,0 +1,129 @@
+"""Poses on demand: sweeps from the nearest known pose and the tracker give what the sweep from
+the sketch gives (statuses, events, poses to 1e-12), on the branch, past limits and through
+bifurcations, for any order of moves."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planar import Status
+from planar.mechanisms import four_bar, gear_train, slider_crank
+from planar.tracking import CAP
+
+MECHANISMS = {
+    "four-bar": lambda: four_bar(coupler_point=(1.0, 0.5)),
+    "slider-crank": lambda: slider_crank(2, 5, offset=1),
+    "gear train": lambda: gear_train((1.0, 2.0, 1.5)),  # gear 2 turns half as fast: u + 2 pi is another pose
+    # 96.67..166.71 deg on the branch drawn (and 193.29..263.33 in the other mode)
+    "crank-rocker by its rocker": lambda: four_bar(4, 2, 3, 3.5, driver="rocker", start=2.0),
+    "triple rocker": lambda: four_bar(4, 3, 3, 2.5),  # limit at 1.7913
+    "parallelogram": lambda: four_bar(4, 2, 4, 2, start=0.5, crossed=True),  # change points at 0 and pi
+}
+
+
+def _same(got, want):
+    """Same statuses, events (kind, index, input) and poses to 1e-12 (rates to 1e-9)."""
+    assert got.status.tolist() == want.status.tolist()
+    assert [(e.kind, e.index) for e in got.events] == [(e.kind, e.index) for e in want.events]
+    for a, b in zip(got.events, want.events):
+        assert np.allclose(a.input, b.input, atol=1e-9, rtol=0)
+    np.testing.assert_allclose(got.q, want.q, atol=1e-12, rtol=0)
+    np.testing.assert_allclose(got.qd, want.qd, atol=1e-9, rtol=1e-9)
+    np.testing.assert_allclose(got.qdd, want.qdd, atol=1e-8, rtol=1e-8)
+
+
+def _from_sketch(name, values, **options):
+    """The sweep of a model that knows no pose but its sketch."""
+    return MECHANISMS[name]().compile().sweep(values, **options)
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_tracker_moves_equal_sweeps_from_the_sketch(name):
+    model = MECHANISMS[name]().compile()
+    tracker = model.track()
+    assert tracker.pose is None
+    moves = [1.0, 1.05, 2.5, 1.6, 1.9, 2.2, 3.0, -0.7, 7.0, 6.9, 13.0, 2.4, 1.7, 1.8]
+    for u in moves:
+        res = tracker.move(u)
+        assert res.q.shape[0] == 1 and tracker.pose is res
+        _same(res, _from_sketch(name, [u]))
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_warm_sweeps_equal_sweeps_from_the_sketch(name):
+    model = MECHANISMS[name]().compile()
+    model.sweep([2.0, 5.0])
+    tracker = model.track()
+    tracker.move(4.0)
+    for U in (np.linspace(0, 2 * np.pi, 10), np.linspace(3.0, 3.0 + 2 * np.pi, 100), np.linspace(8.0, -1.0, 37)):
+        _same(model.sweep(U), _from_sketch(name, U))
+
+
+def test_beyond_a_limit_stays_unassemblable_and_moving_back_works():
+    model = MECHANISMS["crank-rocker by its rocker"]().compile()
+    tracker = model.track()
+    lo, hi = np.radians([96.6654, 166.7088])
+    inside = tracker.move(np.radians(120.0))
+    assert inside.status[0] == Status.SOLVED
+    for u in (hi + 0.05, hi + 0.3, lo - 0.3, hi + 0.01):
+        res = tracker.move(u)
+        assert res.status[0] == Status.NOT_ASSEMBLABLE and not res.ok[0]
+        assert [e.kind for e in res.events] == ["limit"]
+    back = tracker.move(np.radians(150.0))
+    assert back.status[0] == Status.SOLVED
+    _same(back, _from_sketch("crank-rocker by its rocker", [np.radians(150.0)]))
+
+
+def test_a_pose_a_turn_on_is_another_pose():
+    model = MECHANISMS["gear train"]().compile()
+    tracker = model.track()
+    a, b = tracker.move(1.0), tracker.move(1.0 + 2 * np.pi)
+    assert abs(b.angle("gear2")[0] - a.angle("gear2")[0] + np.pi) < 1e-12  # half a turn the other way
+    assert abs(tracker.move(1.0).angle("gear2")[0] - a.angle("gear2")[0]) < 1e-12
+
+
+@pytest.mark.parametrize("branch", ["smooth", "other"])
+def test_each_branch_option_knows_its_own_poses(branch):
+    model = MECHANISMS["parallelogram"]().compile()
+    model.sweep(np.linspace(0.5, 7.0, 50), branch="smooth")
+    model.sweep(np.linspace(0.5, 7.0, 50), branch="other")
+    tracker = model.track(branch=branch)
+    for u in (3.5, 4.0, 6.0, 0.2):
+        _same(tracker.move(u), _from_sketch("parallelogram", [u], branch=branch))
+
+
+def test_the_known_poses_stay_bounded():
+    model = MECHANISMS["four-bar"]().compile()
+    for k in range(5):
+        model.sweep(k + np.linspace(0, 1, 1000))
+    poses = model._poses[("smooth", 1e-12)]
+    assert poses.u.size <= CAP + CAP // 2 + 1
+    assert np.all(np.diff(poses.u) > 0) and model.u0[0] in poses.u
+    tracker = model.track()
+    _same(tracker.move(4.5), _from_sketch("four-bar", [4.5]))
+
+
+def test_outputs_and_multi_input_models_sweep_as_from_the_sketch():
+    model = MECHANISMS["four-bar"]().compile()
+    model.sweep([3.0])
+    _same(model.sweep([3.2], outputs=["rocker"]), _from_sketch("four-bar", [3.2], outputs=["rocker"]))
+    from planar.mechanisms import open_chain
+
+    chain = open_chain((5.0, 8.0), start=(0.3, 0.5)).compile()
+    tracker = chain.track()
+    for u in ([0.3, 0.2], [1.0, -0.5]):
+        _same(tracker.move(u), open_chain((5.0, 8.0), start=(0.3, 0.5)).sweep(np.array([u])))
+
+
+@settings(max_examples=12, deadline=None)
+@given(name=st.sampled_from(["four-bar", "crank-rocker by its rocker", "triple rocker", "gear train"]),
+       moves=st.lists(st.one_of(st.floats(-7.0, 14.0), st.floats(-0.08, 0.08)), min_size=1, max_size=6))
+def test_random_moves_equal_sweeps_from_the_sketch(name, moves):
+    """Moves of any size (small ones relative to the last value) give the sweep from the sketch."""
+    model = MECHANISMS[name]().compile()
+    tracker = model.track()
+    u = 0.5
+    for d in moves:
+        u = u + d if abs(d) <= 0.08 else d
+        _same(tracker.move(u), _from_sketch(name, [u]))
