@@ -361,8 +361,9 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
             if pt is None:
                 return out
             ys = pt[0]
-            if ys[-1] >= tr.d:
+            if ys[-1] > tr.d + 1e-10:
                 # the step passed the target before it turned back: the target is on this side
+                # (a limit at the target itself, to 1e-10, is that limit: the walker says so)
                 c = float(t @ (ys - y))
                 at = tr.locate(y, t, c, lambda yy, tt, dd: yy[-1] - tr.d)
                 if at is not None:
