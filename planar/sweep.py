@@ -193,7 +193,7 @@ class _Walker:
                 P, D = sym
                 k, rounds = len(self.events), self.rounds
                 s0 = self.br.signs(m.q0[None], m.u0[None])[0]
-                got = self.walk(m.q0, m.u0, s0, m.u0 + P, 0, periodic=False)
+                got = self.walk(m.q0, m.u0, s0, m.u0 + P, 0)
                 del self.events[k:]  # that turn is no part of the sweep
                 self.rounds = rounds
                 if got[0] == "limit":
@@ -214,12 +214,12 @@ class _Walker:
             return qk[0], uk
         return None
 
-    def walk(self, q, u, signs, target, index, periodic=True):
-        """Follow the branch from (q, u) to ``target``. Where the pose is periodic in the input
-        (:meth:`period`) the whole periods between them are one move, and the walk goes on
-        less than a period the same way, so a far target costs what a near one does; for a
-        rocking input that meets a limit that way, the other way round (a period less or
-        more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)) or ("lost",)
+    def walk(self, q, u, signs, target, index, periodic=False):
+        """Follow the branch from (q, u) to ``target``. With ``periodic``, where the pose is
+        periodic in the input (:meth:`period`), the whole periods between them are one move
+        and the walk goes on less than a period the same way, so a far target costs what a
+        near one does; for a rocking input that meets a limit that way, the other way round
+        (a period less or more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)) or ("lost",)
         (also for a target more than WALK_STEPS steps away with no period to shorten the way:
         the work is bounded and the value left unreached)."""
         if periodic and u.size == 1:
@@ -229,7 +229,7 @@ class _Walker:
             start = self._shorten(q, u, signs, k) if k else (q, u)
             if start is not None:
                 n = len(self.events)
-                got = self.walk(*start, signs, target, index, periodic=False)
+                got = self.walk(*start, signs, target, index)
                 per = self.period() if got[0] == "limit" else None
                 # the other way round when the value was far (whole periods away: either way is
                 # as good) or the other way is the shorter (P / 2 >= pi): a rocking input's value in the next
@@ -241,7 +241,7 @@ class _Walker:
                     return got
                 kept = self.events[n:]
                 del self.events[n:]
-                again = self.walk(*other, signs, target, index, periodic=False)
+                again = self.walk(*other, signs, target, index)
                 if again[0] == "limit":
                     self.events[n:] = kept
                     return got
@@ -509,7 +509,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         value after ``lo`` at or past them (walking back from value ``back`` > i: the first
         value from i on at or past them in the sweep's own direction)."""
         k = len(walker.events)
-        got = walker.walk(*start, U[i], int(i))
+        got = walker.walk(*start, U[i], int(i), periodic=True)
 
         def index(u_star):
             if back is None:
