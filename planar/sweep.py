@@ -33,6 +33,7 @@ import numpy as np
 from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
 from planar.events import NEAR, NEAR_CURVE, SINGULAR, Event, around, cross, status_of
+from planar.progress import Progress
 from planar.results import POSED as POSED_MASK
 from planar.results import VALID as VALID_MASK
 from planar.results import Status, Sweep
@@ -797,6 +798,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, kin
         moving = np.any(P[:, 1:] != 0, axis=(0, 1))
         fixed = P[0, 0, ~moving]
         PL = np.ascontiguousarray(P[:, :, moving].transpose(1, 2, 0))  # :func:`_horner`'s table
+    progress = Progress("sweep: values")  # (on a terminal, for a bulk over 2 s)
     for a in range(0, rest.size, CHUNK):
         i, s_ = rest[a : a + CHUNK], src[a : a + CHUNK]
         at = slice(i[0], i[-1] + 1) if i[-1] - i[0] + 1 == i.size else i  # i, as a slice when it is a run
@@ -825,6 +827,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, kin
             put = i[ok]
         out.put(put, r, ok)
         q[put], solved[put], signs[put], done[put] = r["q"][ok], True, r["signs"][ok], True
+        progress(min(a + CHUNK, rest.size), rest.size)
 
 
 def _wave(br, state, U, idx, coef=None):

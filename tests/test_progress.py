@@ -3,8 +3,11 @@
 import io
 import sys
 
+import numpy as np
 import pytest
 
+from planar import sweep
+from planar.mechanisms import four_bar
 from planar.progress import Progress
 
 
@@ -49,3 +52,18 @@ def test_a_tqdm_bar_when_tqdm_is_installed():
     for k in range(1, 4):
         p(k, 3)
     assert p.bar and p.bar.n == 3 and "frames" in out.getvalue()
+
+
+def test_a_sweep_reports_its_bulk(monkeypatch):
+    seen = []
+
+    class Record:
+        def __init__(self, what):
+            self.what = what
+
+        def __call__(self, done, total):
+            seen.append((self.what, done, total))
+
+    monkeypatch.setattr(sweep, "Progress", Record)
+    four_bar().sweep(np.linspace(0, 2 * np.pi, 100_000))
+    assert len(seen) > 1 and seen[-1][0] == "sweep: values" and seen[-1][1] == seen[-1][2]
