@@ -51,6 +51,9 @@ HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 CERT = 0.1  # accepted correction, as a fraction of the singularity measure at the solution
 SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
+# tracings round a circuit one sweep may make to re-enter its branch: next to a limit's far
+# side the first tries may fail where a value further on enters
+ROUNDS = 5
 WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
 PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
 SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
@@ -161,7 +164,7 @@ class _Branch:
 class _Walker:
     """Sequential continuation of one pose (batch of one), with events."""
 
-    def __init__(self, br, max_step, other, rounds=1):
+    def __init__(self, br, max_step, other, rounds=ROUNDS):
         self.br, self.max_step, self.other = br, max_step, other
         self.events = []
         self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
@@ -314,7 +317,11 @@ class _Walker:
         best = None
         for g in guesses:
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], len(targets), 0), targets)
-            for c in np.flatnonzero(gap <= GAP)[:tries]:
+            near = np.flatnonzero(gap <= GAP)
+            # the first few, and a few spread over the rest: next to a limit's far side Newton
+            # may find only the other mode, where a value further on enters the branch
+            for c in np.unique(np.r_[near[:tries], near[np.linspace(0, near.size - 1, tries).astype(int)]]
+                               if near.size else near):
                 if best is not None and c >= best[0]:
                     break
                 qe = self.enter([ql[c]], signs, targets[c])
