@@ -11,6 +11,7 @@ from planar.synthesis import (burmester_curves, burmester_points, compatible, dy
                               function_four_bar, function_slider_crank, motion_four_bar,
                               path_check, path_four_bar, path_six_bar, precision_points, slider_crank_dimensions,
                               stephenson_tracer)
+from planar.synthesis.path import FOUR_BAR, STEPHENSON
 from tests.oracles import four_bar as fb_oracle
 from tests.oracles import slider_crank as sc_oracle
 
@@ -210,13 +211,23 @@ def known_targets(u):
     return m.sweep(np.r_[0.0, u]).position("C")[1:]
 
 
-def check_found(s, T):
+def check_found(s, T, point="C"):
+    """The answer passes every target within 1e-6 of their size on planar's own sweep of the
+    built mechanism, and is defect-free between the first target and the last."""
     size = np.ptp(T, axis=0).max()
-    res = four_bar(**s.design).sweep(s.inputs)
-    assert np.all(np.hypot(*(res.position("C") - T).T) < 1e-6 * size)
+    res = s.builder(**s.design).sweep(s.inputs)
+    assert np.all(np.hypot(*(res.position(point) - T).T) < 1e-6 * size)
     assert s.ok and s.max_error < 1e-6 * size
     assert s.sweep.ok.all()
     assert not [e for e in s.sweep.events if e.kind in ("limit", "bifurcation", "singular")]
+    assert np.all(np.sign(s.sweep.branch) == np.sign(s.sweep.branch[0]))
+    assert np.all(np.diff(s.inputs) > 0) or np.all(np.diff(s.inputs) < 0)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_four_bar_path_generation_on_a_known_four_bar(seed):
+    T = known_targets(np.radians(np.linspace(20, 250, 7)))
+    check_found(path_four_bar(T, seed=seed), T)
 
 
 def test_path_generation_free_timing_is_reproducible():
@@ -260,18 +271,30 @@ def test_stephenson_tracer_is_the_catalogue_six_bar_with_a_tracer():
         assert np.allclose(ours.position(name), theirs.position(name), atol=1e-12)
     # the search's closed form: the same tracer
     X = np.r_[0, 0, np.log(4), 0, np.log([1.5, 4.0, 3.5]), 2.0, 1.5, 2.0, 6.0, np.log([4.0, 3.0]), 1.0, 0.5]
-    P, gap = tracer_points(X[None], np.array([[1.0, 1.0]]), u[None])
-    assert np.allclose(np.column_stack((P[0].real, P[0].imag)), ours.position("P"), atol=1e-12) and not gap.any()
+    P, reach = tracer_points(X[None], np.array([[1.0, 1.0]]), u[None])
+    assert np.allclose(np.column_stack((P[0].real, P[0].imag)), ours.position("P"), atol=1e-12) and np.all(reach <= 1)
 
 
-def test_six_bar_path_generation_through_more_points_than_a_four_bar_can():
+@pytest.mark.parametrize("seed", range(5))
+def test_six_bar_path_generation_through_more_points_than_a_four_bar_can(seed):
     m = stephenson_tracer(**{**SIX, "pivot_6": (3.0, 4.0)}, tracer=(1.0, 0.5), pivot=(1.0, -2.0))
     T = m.sweep(np.radians(np.linspace(0, 300, 11))).position("P")
-    s = path_six_bar(T, seed=1)
-    size = np.ptp(T, axis=0).max()
-    res = s.builder(**s.design).sweep(s.inputs)
-    assert np.all(np.hypot(*(res.position("P") - T).T) < 1e-6 * size)
-    assert s.ok and s.max_error < 1e-6 * size and s.sweep.ok.all()
+    check_found(path_six_bar(T, seed=seed), T, point="P")
+
+
+@pytest.mark.parametrize("family", [FOUR_BAR, STEPHENSON])
+def test_the_search_moves_designs_with_their_curves(family):
+    """The search's similarity move z -> a z + b of a design moves its tracer's points alike
+    and turns the crank angles by arg a."""
+    rng = np.random.default_rng(0)
+    X, sigma = family.sample(rng.uniform(size=(50, family.n - 4 + family.modes)))
+    a, b = rng.normal(size=50) * np.exp(2j * np.pi * rng.uniform(size=50)), rng.normal(size=50) + 1j
+    th = rng.uniform(-np.pi, np.pi, (50, 7))
+    P, reach = family.points(X, sigma, th)
+    Q, moved = family.points(family.move(X, a, b), sigma, th + np.angle(a)[:, None])
+    ok = reach <= 1
+    assert ok.any() and np.allclose(moved, reach, rtol=1e-9)  # |cos gamma| is a ratio of lengths
+    assert np.allclose(Q[ok], (a[:, None] * P + b[:, None])[ok], atol=1e-9 * np.abs(a).max())
 
 
 def test_path_generation_says_when_it_fails():
@@ -305,6 +328,16 @@ def test_defect_wrong_order():
     s = path_check(d, [0.0, 1.0, 0.5, 2.0], np.zeros((4, 2)))
     assert any(m.startswith("wrong order") for m in s.defects)
     assert path_check(d, [0.0, 0.5, 1.0, 2.0], np.zeros((4, 2))).ok
+
+
+def test_defect_six_bar_second_loop():
+    """The six-bar's links 5 and 6 reach 5 of the 2.3 to 5.8 that C comes from O6 over a turn:
+    its second loop breaks from about 200 deg of crank on."""
+    d = {**SIX, "link_5": 3.0, "link_6": 2.0, "tracer": (1.0, 0.5)}
+    s = path_check(d, [0.0, 1.5, 4.0], np.zeros((3, 2)))
+    assert any(m.startswith("not assemblable") for m in s.defects)
+    assert any(m.startswith("wrong order") for m in path_check(d, [0.0, 1.0, 2.0, 0.5], np.zeros((4, 2))).defects)
+    assert path_check(d, [0.0, 1.0, 2.0], np.zeros((3, 2))).ok
 
 
 def test_defect_poor_transmission():

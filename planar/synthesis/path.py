@@ -14,60 +14,85 @@ from D to a third ground pivot O6 (its position, the logarithms of r5 and r6) an
 P on link 5 (p5 along C -> D, q5 to its left), with a second mode (D left of C -> O6); D is
 the same circle intersection again.
 
-1. Global search: ``designs`` random designs from a seeded generator, in batches. Without
-   timing, each target takes the crank angle (on a grid of one turn) where the coupler curve
-   passes nearest; with timing (the crank angles of the targets relative to the first), the
-   first target's crank angle is searched on the grid. Designs whose targets come out of
-   order, or with a stretch between them where the linkage does not assemble, rank last.
+1. Global search over shape: ``designs`` designs in the canonical frame (O2 at the origin,
+   O4 at (1, 0)), a Latin hypercube over the other numbers from a seeded generator, in
+   batches. Without timing, each target takes the crank angle (on a grid of one turn) where
+   the coupler curve passes nearest; with timing (the crank angles of the targets relative to
+   the first), each first crank angle on the grid is tried. The best similarity z -> a z + b
+   (least squares, closed form) then moves each design's points onto the targets (without
+   timing, matching the targets again after the move), so the search is over the curve's
+   shape only; the distance left is the score. Designs whose targets come out of order, or
+   with a stretch between them where the linkage does not assemble, rank last.
 2. Local refinement: the best ``refine`` designs, with the crank angles at the targets (free
-   timing) or the first one (prescribed timing), go to :func:`scipy.optimize.least_squares`
-   on the distances to the targets (and a penalty where a target's pose does not assemble).
-3. Check: each refined design is built with :func:`planar.mechanisms.four_bar` (and, for the
-   six-bar, its second loop) and swept by planar from the first target's crank angle through
-   every target's, in order; the first whose errors are all within ``tol`` of the targets'
-   size and that has no defect is the answer.
+   timing) or the first one (prescribed timing), go to a Levenberg-Marquardt refinement all
+   at once (a batch of normal equations, the Jacobian by forward differences of the
+   vectorised closed form) on the distances to the targets, with penalties that keep the
+   linkage assembled, away from its limit positions (|cos gamma| <= 1 - MARGIN) at and
+   between the targets, and (free timing) the targets in order within one turn. The worse
+   half is dropped a few times on the way, so the effort goes to the designs that converge.
+3. Check: each refined design within ``tol``, best first, is built with
+   :func:`planar.mechanisms.four_bar` (and, for the six-bar, its second loop) and swept by
+   planar from the first target's crank angle through every target's, in order; the first
+   whose errors are all within ``tol`` of the targets' size and that has no defect is the
+   answer.
 
 >>> import numpy as np
 >>> from planar.synthesis.path import coupler_points
 >>> X = np.array([[0.0, 0.0, np.log(4), 0.0, np.log(2), np.log(3), np.log(4), 1.0, 0.5]])
->>> C, gap = coupler_points(X, np.array([1.0]), np.array([[np.pi / 3]]))
->>> np.round(C, 6).tolist(), gap.tolist()   # four_bar(4, 2, 3, 4, coupler_point=(1, 0.5)) at 60 deg
-([[(1.333494+2.799188j)]], [[0.0]])
+>>> C, reach = coupler_points(X, np.array([1.0]), np.array([[np.pi / 3]]))
+>>> np.round(C, 6).tolist(), np.round(reach, 6).tolist()  # four_bar(4, 2, 3, 4, coupler_point=(1, 0.5)) at 60 deg
+([[(1.333494+2.799188j)]], [[0.144338]])
 """
 
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.stats import qmc
 
 from planar.analysis import transmission_angle
 from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar
 from planar.mechanisms.six_bar import _dyad
 from planar.mechanisms.sketch import along
-from planar.synthesis.result import check
+from planar.synthesis.result import check, ordered
 
 GRID = 120  # crank angles per turn in the global search
 BATCH = 2000  # designs per batch
-PENALTY = 10.0  # weight of the assembly gap at a target in the refinement
+ROUND = 20000  # designs per round of search and refinement
+RATIO = (0.2, 4.0)  # range of the sampled lengths against the ground link's
+BOX = (-2.0, 2.0)  # range of the sampled points' coordinates (the ground link O2 -> O4 is (0, 0) -> (1, 0))
+MATCHES = 2  # matchings of the targets to the curve in the search, each followed by a similarity move
 DISORDER = 10.0  # search score added to designs with targets out of order (targets' size 1)
-STEP = 1e-6  # central-difference step of the refinement's Jacobian (the design is of unit size)
+ITERATIONS = 200  # Levenberg-Marquardt iterations of the refinement
+HALVINGS = (10, 20, 30)  # iterations at which the refinement drops its worse half
+PENALTY = 10.0  # weight of the refinement's assembly and order terms
+MARGIN = 1e-3  # smallest 1 - |cos gamma| the refinement keeps at and between the targets
+BETWEEN = 3  # crank angles between each two targets where the refinement keeps the linkage assembled
+SPACING = 1e-3  # smallest crank angle step between targets the refinement keeps (free timing)
+CONVERGED = 1e-6  # the refinement stops a design at this fraction of tol
+STEP = 1e-7  # forward-difference step of the refinement's Jacobian (the design is of unit size)
 
 
 def coupler_points(X, sigma, th2):
-    """Coupler points C (D, K) complex and assembly gaps (D, K) (max(|cos gamma| - 1, 0): 0
-    where the pose exists) of designs X (D, 9) in modes sigma (D,) at crank angles th2 (D, K).
-    Where the gap is positive, C is that of the nearest pose (cos gamma clipped to +-1)."""
+    """Coupler points C (D, K) complex and reaches (D, K) (|cos gamma|: the pose exists where
+    it is at most 1) of designs X (D, 9) in modes sigma (D,) at crank angles th2 (D, K).
+    Where the reach is above 1, C is that of the nearest pose (cos gamma clipped to +-1)."""
     O2 = X[:, 0] + 1j * X[:, 1]
     r1, r2, r3, r4 = (_length(X[:, k])[:, None] for k in (2, 4, 5, 6))
     O4 = (O2 + r1[:, 0] * np.exp(1j * X[:, 3]))[:, None]
     A = O2[:, None] + r2 * np.exp(1j * th2)
-    d = O4 - A
+    C, reach = _dyad_point(A, O4, r3, r4, sigma[:, None], X[:, 7] + 1j * X[:, 8])
+    return C, reach
+
+
+def _dyad_point(A, O, r, s, sigma, pq):
+    """The point pq (complex, in the frame of link A -> B) of the dyad A-B-O (link r from A,
+    link s from the ground pivot O) in mode sigma, and the reach |cos gamma| at A."""
+    d = O - A
     L = np.maximum(np.abs(d), 1e-300)
-    c = (r3**2 + L**2 - r4**2) / (2 * r3 * L)
-    gap = np.maximum(np.abs(c) - 1, 0.0)
-    th3 = np.angle(d) + sigma[:, None] * np.arccos(np.clip(c, -1, 1))
-    return A + (X[:, 7] + 1j * X[:, 8])[:, None] * np.exp(1j * th3), gap
+    c = (r**2 + L**2 - s**2) / (2 * r * L)
+    th = np.angle(d) + sigma * np.arccos(np.clip(c, -1, 1))
+    return A + pq[:, None] * np.exp(1j * th), np.abs(c)
 
 
 def _length(log_length):
@@ -76,16 +101,13 @@ def _length(log_length):
 
 
 def tracer_points(X, sigma, th2):
-    """Tracer points P (D, K) and summed assembly gaps of Stephenson six-bars X (D, 15) in modes
-    sigma (D, 2) at crank angles th2 (D, K) (see the module)."""
-    C, gap = coupler_points(X[:, :9], sigma[:, 0], th2)
+    """Tracer points P (D, K) and the larger reach of the two loops of Stephenson six-bars
+    X (D, 15) in modes sigma (D, 2) at crank angles th2 (D, K) (see the module)."""
+    C, reach = coupler_points(X[:, :9], sigma[:, 0], th2)
     O6 = (X[:, 9] + 1j * X[:, 10])[:, None]
-    r5, r6 = _length(X[:, 11])[:, None], _length(X[:, 12])[:, None]
-    d = O6 - C
-    L = np.maximum(np.abs(d), 1e-300)
-    c = (r5**2 + L**2 - r6**2) / (2 * r5 * L)
-    th5 = np.angle(d) + sigma[:, 1:2] * np.arccos(np.clip(c, -1, 1))
-    return C + (X[:, 13] + 1j * X[:, 14])[:, None] * np.exp(1j * th5), gap + np.maximum(np.abs(c) - 1, 0.0)
+    P, reach_5 = _dyad_point(C, O6, _length(X[:, 11])[:, None], _length(X[:, 12])[:, None], sigma[:, 1:2],
+                             X[:, 13] + 1j * X[:, 14])
+    return P, np.maximum(reach, reach_5)
 
 
 def stephenson_tracer(ground, crank, coupler, rocker, *, coupler_point, link_5, link_6, pivot_6, tracer,
@@ -107,37 +129,60 @@ def stephenson_tracer(ground, crank, coupler, rocker, *, coupler_point, link_5, 
 @dataclass(frozen=True)
 class Family:
     """A linkage structure for the search: ``n`` design numbers, ``modes`` assembly modes, the
-    closed form of its tracer, the builder and its keyword arguments, the tracer's name and the
-    point pairs of its transmission angles."""
+    closed form of its tracer, the map of the unit cube to designs in the canonical frame, the
+    similarity move of designs, the builder's keyword arguments of a design, the builder, the
+    tracer's name and the point pairs of its transmission angles."""
 
     n: int
     modes: int
     points: object
     sample: object
+    move: object
     design: object
     build: object
     point: str
     transmission: tuple
 
 
-def _sample_four_bar(rng, D):
-    """D random four-bars around unit-size targets centred on the origin."""
-    X = np.empty((D, 9))
-    X[:, 0:2] = rng.uniform(-1.5, 1.5, (D, 2))
-    X[:, [2, 4, 5, 6]] = rng.uniform(np.log(0.15), np.log(2.5), (D, 4))
-    X[:, 3] = rng.uniform(-np.pi, np.pi, D)
-    X[:, 7:9] = rng.uniform(-1.5, 1.5, (D, 2))
-    return X, rng.choice([-1.0, 1.0], (D, 1))
+def _sample_four_bar(U):
+    """Four-bars from points U (D, 6) of the unit cube, in the canonical frame: O2 at the
+    origin, O4 at (1, 0) (the search moves each to the targets)."""
+    D = len(U)
+    X = np.zeros((D, 9))
+    X[:, [4, 5, 6]] = np.log(RATIO[0]) + U[:, 0:3] * np.log(RATIO[1] / RATIO[0])
+    X[:, 7:9] = BOX[0] + U[:, 3:5] * (BOX[1] - BOX[0])
+    return X, np.where(U[:, 5:6] < 0.5, -1.0, 1.0)
 
 
-def _sample_six_bar(rng, D):
-    X4, s4 = _sample_four_bar(rng, D)
-    X = np.empty((D, 15))
+def _sample_six_bar(U):
+    X4, s4 = _sample_four_bar(U[:, :6])
+    X = np.empty((len(U), 15))
     X[:, :9] = X4
-    X[:, 9:11] = rng.uniform(-1.5, 1.5, (D, 2))
-    X[:, 11:13] = rng.uniform(np.log(0.15), np.log(2.5), (D, 2))
-    X[:, 13:15] = rng.uniform(-1.5, 1.5, (D, 2))
-    return X, np.column_stack((s4, rng.choice([-1.0, 1.0], D)))
+    X[:, 9:11] = BOX[0] + U[:, 6:8] * (BOX[1] - BOX[0])
+    X[:, 11:13] = np.log(RATIO[0]) + U[:, 8:10] * np.log(RATIO[1] / RATIO[0])
+    X[:, 13:15] = BOX[0] + U[:, 10:12] * (BOX[1] - BOX[0])
+    return X, np.column_stack((s4, np.where(U[:, 12] < 0.5, -1.0, 1.0)))
+
+
+def _move_four_bar(X, a, b):
+    """Designs X (D, 9) moved by z -> a z + b (a, b complex (D,)): their coupler points move
+    alike, their crank angles turn by arg a."""
+    X = X.copy()
+    O2 = a * (X[:, 0] + 1j * X[:, 1]) + b
+    X[:, 0], X[:, 1] = O2.real, O2.imag
+    X[:, [2, 4, 5, 6]] += np.log(np.abs(a))[:, None]
+    X[:, 3] += np.angle(a)
+    X[:, 7:9] *= np.abs(a)[:, None]
+    return X
+
+
+def _move_six_bar(X, a, b):
+    X = np.column_stack((_move_four_bar(X[:, :9], a, b), X[:, 9:]))
+    O6 = a * (X[:, 9] + 1j * X[:, 10]) + b
+    X[:, 9], X[:, 10] = O6.real, O6.imag
+    X[:, 11:13] += np.log(np.abs(a))[:, None]
+    X[:, 13:15] *= np.abs(a)[:, None]
+    return X
 
 
 def _design_four_bar(X, sigma, start, centre, size, name):
@@ -157,9 +202,9 @@ def _design_six_bar(X, sigma, start, centre, size, name):
     return d
 
 
-FOUR_BAR = Family(9, 1, lambda X, sigma, th: coupler_points(X, sigma[:, 0], th), _sample_four_bar,
+FOUR_BAR = Family(9, 1, lambda X, sigma, th: coupler_points(X, sigma[:, 0], th), _sample_four_bar, _move_four_bar,
                   _design_four_bar, four_bar, "C", ((("B", "A"), ("B", "O4")),))
-STEPHENSON = Family(15, 2, tracer_points, _sample_six_bar, _design_six_bar, stephenson_tracer, "P",
+STEPHENSON = Family(15, 2, tracer_points, _sample_six_bar, _move_six_bar, _design_six_bar, stephenson_tracer, "P",
                     ((("B", "A"), ("B", "O4")), (("D", "C"), ("D", "O6"))))
 
 
@@ -260,32 +305,39 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
     t = (T - centre) / size
     tz = t[:, 0] + 1j * t[:, 1]
     tau = None if timing is None else _timing(timing, len(T))
-    rng = np.random.default_rng(seed)
-    batches = -(-designs // BATCH)
-    total = batches + refine
-    pool = _search(family, tz, tau, designs, refine, rng, progress, total)
-    best, tried = None, 0
-    for X, sigma, th in pool:
-        X, th, fit = _refine(family, X, sigma, th, tz, tau)
-        tried += 1
+    cube = qmc.LatinHypercube(d=family.n - 4 + family.modes, seed=np.random.default_rng(seed))
+    rounds = [min(ROUND, designs - k) for k in range(0, designs, ROUND)]
+    total = sum(-(-D // BATCH) + ITERATIONS for D in rounds)
+
+    def report(done):
         if progress is not None:
-            progress(total if tried == len(pool) else batches + tried, total)
-        if fit > 1e3 * tol:
-            best = _better(best, (fit, None))
-            continue
-        s = path_check(family.design(X, sigma, th[0], centre, size, name), th, T, min_transmission)
-        score = (s.max_error / size if np.isfinite(s.max_error) else np.inf, s)
-        if s.ok and s.max_error <= tol * size:
-            if progress is not None and tried < len(pool):
-                progress(total, total)
-            return replace(s, notes={**s.notes, "candidates": tried})
-        best = _better(best, score)
-    what = "the search found no design with the targets in order" if best is None else (
-        f"the best design misses by {best[0]:.3g} of the targets' size"
-        + (f" with defects: {'; '.join(best[1].defects)}" if best[1] is not None and best[1].defects else ""))
+            progress(done, total)
+
+    best, fits, tried, base = None, [], 0, 0
+    for D in rounds:
+        # each round searches afresh and refines its own best: a round whose designs all stall
+        # leaves the next its full chance
+        X, sigma, th = _search(family, tz, tau, D, refine, cube, lambda b: report(base + b))
+        base += -(-D // BATCH)
+        X, th, fit = _refine(family, X, sigma, th, tz, tau, tol, lambda i: report(base + i))
+        base += ITERATIONS
+        fits.append(np.min(fit, initial=np.inf))
+        for i in np.argsort(fit, kind="stable"):
+            if not fit[i] <= tol:
+                break
+            tried += 1
+            s = path_check(family.design(X[i], sigma[i], th[i, 0], centre, size, name), th[i], T, min_transmission)
+            if s.ok and s.max_error <= tol * size:
+                report(total)
+                return replace(s, notes={**s.notes, "candidates": tried})
+            best = _better(best, (s.max_error / size if np.isfinite(s.max_error) else np.inf, s))
+        report(base)
+    what = (f"the best refined design misses by {min(fits):.3g} of the targets' size" if best is None else
+            f"the best design misses by {best[0]:.3g} of the targets' size"
+            + (f" with defects: {'; '.join(best[1].defects)}" if best[1].defects else ""))
     raise SynthesisError(f"path generation through {len(T)} targets found no defect-free {kind} within "
-                         f"{tol:g} of their size after {tried} refined designs ({what}): raise designs or refine, "
-                         "try another seed, or relax tol")
+                         f"{tol:g} of their size among {len(rounds) * refine} refined designs ({what}): raise "
+                         "designs or refine, try another seed, or relax tol")
 
 
 def _better(best, new):
@@ -306,38 +358,56 @@ def _timing(timing, N):
     return tau - tau[0]
 
 
-def _search(family, tz, tau, designs, keep, rng, progress, total):
-    """The ``keep`` best designs of the global search, best first, as (X, sigma, crank angles)."""
+def _search(family, tz, tau, designs, keep, cube, report):
+    """The ``keep`` best of ``designs`` designs from the unit cube's sampler ``cube``, best first:
+    designs X (keep, n), modes (keep, modes) and crank angles at the targets (keep, N)."""
     grid = np.linspace(-np.pi, np.pi, GRID, endpoint=False)
     scores, found = [], []
-    done = 0
-    for batch in range(-(-designs // BATCH)):
-        D = min(BATCH, designs - done)
-        done += D
-        X, sigma = family.sample(rng, D)
-        score, th = (_score_free if tau is None else _score_timed)(family, X, sigma, tz, tau, grid)
+    for batch, start in enumerate(range(0, designs, BATCH)):
+        X, sigma = family.sample(cube.random(min(BATCH, designs - start)))
+        score, a, b, th = (_score_free if tau is None else _score_timed)(family, X, sigma, tz, tau, grid)
         best = np.argsort(score)[:keep]
         best = best[np.isfinite(score[best])]
         scores.append(score[best])
-        found += [(X[i], sigma[i], th[i]) for i in best]
-        if progress is not None:
-            progress(batch + 1, total)
-    scores = np.concatenate(scores)
-    return [found[i] for i in np.argsort(scores, kind="stable")[:keep]]
+        found.append((family.move(X[best], a[best], b[best]), sigma[best], th[best]))
+        report(batch + 1)
+    order = np.argsort(np.concatenate(scores), kind="stable")[:keep]
+    return tuple(np.concatenate(part)[order] for part in zip(*found))
+
+
+def _similarity(C, tz):
+    """The move z -> a z + b (a, b complex (D,)) that brings the points C (D, N) nearest the
+    targets tz (N,) in the least squares sense, and the root mean square distance left."""
+    Cm = C.mean(axis=1, keepdims=True)
+    dc, dt = C - Cm, tz - tz.mean()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a = np.sum(np.conj(dc) * dt, axis=1) / np.sum(np.abs(dc) ** 2, axis=1)
+    b = tz.mean() - a * Cm[:, 0]
+    rms = np.sqrt(np.mean(np.abs(a[:, None] * C + b[:, None] - tz) ** 2, axis=1))
+    return a, b, np.where(np.isfinite(rms), rms, np.inf)
+
+
+def _nearest(C, tz):
+    """The index (D, N) of the point of each curve C (D, M) nearest each target (NaN: none)."""
+    dist = np.abs(C[:, None, :] - tz[None, :, None])
+    return np.argmin(np.where(np.isnan(dist), np.inf, dist), axis=2)
 
 
 def _score_free(family, X, sigma, tz, tau, grid):
+    """Each target takes the nearest point of the coupler curve, the curve moves to the
+    targets by the best similarity (twice, matching again), and the score is the distance
+    left; designs out of order or broken between the targets rank last."""
     D, M = len(X), len(grid)
-    C, gap = family.points(X, sigma, np.broadcast_to(grid, (D, M)))
-    C = np.where(gap > 0, np.nan, C)
-    dist = np.abs(C[:, None, :] - tz[None, :, None])  # (D, N, M)
-    dist = np.where(np.isnan(dist), np.inf, dist)
-    k = np.argmin(dist, axis=2)  # (D, N)
-    dmin = np.take_along_axis(dist, k[..., None], axis=2)[..., 0]
-    score = np.sqrt(np.mean(dmin**2, axis=1))
+    C, reach = family.points(X, sigma, np.broadcast_to(grid, (D, M)))
+    C = np.where(reach > 1, np.nan, C)
+    k = _nearest(C, tz)
+    for _ in range(MATCHES):
+        a, b, score = _similarity(np.take_along_axis(C, k, 1), tz)
+        k = _nearest(a[:, None] * C + b[:, None], tz)
+    a, b, score = _similarity(np.take_along_axis(C, k, 1), tz)
     # in order along one turn, either way, and assemblable between the first and last target
     fine = np.zeros(D, bool)
-    bad = np.cumsum(np.concatenate((gap > 0, gap > 0), axis=1), axis=1)
+    bad = np.cumsum(np.concatenate((reach > 1, reach > 1), axis=1), axis=1)
     for sign in (1, -1):
         off = np.mod(sign * (k - k[:, :1]), M)
         inorder = np.all(np.diff(off, axis=1) > 0, axis=1)
@@ -348,64 +418,95 @@ def _score_free(family, X, sigma, tz, tau, grid):
     # designs out of order or broken between the targets rank after all others: the refinement
     # may still mend them, and the check refuses them if it does not
     score = np.where(fine, score, score + DISORDER)
-    return score, grid[k]
+    return score, a, b, grid[k] + np.angle(a)[:, None]
 
 
 def _score_timed(family, X, sigma, tz, tau, grid):
+    """The first target's crank angle on the grid, the others' by the timing: each start's
+    points moved to the targets by the best similarity, the best start's distance left."""
     D, M, N = len(X), len(grid), len(tz)
     th = (grid[:, None] + tau[None, :]).ravel()
-    C, gap = family.points(X, sigma, np.broadcast_to(th, (D, M * N)))
-    err = np.abs(C - np.tile(tz, M)[None, :]) ** 2 + np.where(gap > 0, np.inf, 0.0)
-    err = np.sqrt(err.reshape(D, M, N).mean(axis=2))
+    C, reach = family.points(X, sigma, np.broadcast_to(th, (D, M * N)))
+    C = np.where(reach > 1, np.nan, C).reshape(D * M, N)
+    a, b, err = _similarity(C, tz)
+    err = err.reshape(D, M)
     j = np.argmin(err, axis=1)
-    return err[np.arange(D), j], grid[j][:, None] + tau[None, :]
+    pick = np.arange(D) * M + j
+    return err[np.arange(D), j], a[pick], b[pick], grid[j][:, None] + tau[None, :] + np.angle(a[pick])[:, None]
 
 
-def _refine(family, X, sigma, th, tz, tau):
-    """Least squares on the distances to the targets from one searched design; returns the
-    design, the crank angles at the targets and the largest distance (targets' size 1)."""
-    n, k = len(tz), family.n
+def _refine(family, X, sigma, th, tz, tau, tol, report):
+    """Levenberg-Marquardt on all designs at once, on the distances to the targets, with the
+    linkage kept assembled (|cos gamma| <= 1 - MARGIN) at the targets and at BETWEEN crank
+    angles between each two, and (free timing) the targets kept in order within one turn.
+    The worse half is dropped at each of HALVINGS. Returns the designs, the crank angles at
+    the targets and each design's largest residual (targets' size 1)."""
+    B, k, N = len(X), family.n, len(tz)
+    sign = np.ones(B)
+    if tau is None:
+        for i in range(B):  # the crank angles unwrapped the way the targets come
+            off, sign[i] = ordered(th[i], 2 * np.pi)
+            if off is not None:
+                th[i] = th[i, 0] + off
+        z = np.column_stack((X, th))
+    else:
+        z = np.column_stack((X, th[:, :1]))
+    frac = np.arange(1, BETWEEN + 1) / (BETWEEN + 1)
 
-    def unpack(z):
-        return z[:k], (z[k:] if tau is None else z[k] + tau)
+    def angles(z):
+        a = z[:, k:] if tau is None else z[:, k:] + tau
+        mid = a[:, :-1, None] + frac * np.diff(a, axis=1)[:, :, None]
+        return a, np.concatenate((a, mid.reshape(len(z), -1)), axis=1)
 
-    def residuals(Xs, ths):
-        C, gap = family.points(Xs, np.repeat(sigma[None], len(Xs), axis=0), ths)
-        r = C - tz
-        return np.concatenate((r.real, r.imag, PENALTY * gap), axis=1)
-
-    def residual(z):
-        x, angles = unpack(z)
-        return residuals(x[None], angles[None])[0]
-
-    def jacobian(z):
-        # central differences, all in one batch: each target's residuals depend on the design
-        # numbers and on its own crank angle only, so one shift of every angle at once gives
-        # their columns
-        x, angles = unpack(z)
-        Xs, ths = np.repeat(x[None], 2 * k + 2, axis=0), np.repeat(angles[None], 2 * k + 2, axis=0)
-        for j in range(k):
-            Xs[2 * j, j] += STEP
-            Xs[2 * j + 1, j] -= STEP
-        ths[2 * k] += STEP
-        ths[2 * k + 1] -= STEP
-        R = residuals(Xs, ths)
-        dR = (R[0::2] - R[1::2]) / (2 * STEP)
-        J = np.zeros((3 * n, len(z)))
-        J[:, :k] = dR[:k].T
+    def residuals(z, sigma, sign):
+        a, every = angles(z)
+        P, reach = family.points(z[:, :k], sigma, every)
+        r = P[:, :N] - tz
+        out = [r.real, r.imag, PENALTY * np.maximum(reach - (1 - MARGIN), 0)]
         if tau is None:
-            rows = np.arange(3 * n)
-            J[rows, k + rows % n] = dR[k]
-        else:
-            J[:, k] = dR[k]
-        return J
+            step = sign[:, None] * np.diff(a, axis=1)
+            out += [PENALTY * np.maximum(SPACING - step, 0),
+                    PENALTY * np.maximum(step.sum(axis=1, keepdims=True) - (2 * np.pi - SPACING), 0)]
+        return np.concatenate(out, axis=1)
 
-    z0 = np.concatenate((X, th if tau is None else th[:1]))
-    # Levenberg-Marquardt where there are as many residuals as unknowns, else the trust region
-    method = "lm" if 3 * n >= len(z0) else "trf"
-    sol = least_squares(residual, z0, jac=jacobian, method=method, xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                        max_nfev=100 * len(z0))
-    x, angles = unpack(sol.x)
-    r = residual(sol.x)
-    fit = max(np.max(np.hypot(r[:n], r[n:2 * n])), np.max(r[2 * n:]))
-    return x, angles, fit
+    r = residuals(z, sigma, sign)
+    cost = np.sum(r**2, axis=1)
+    lam = np.full(B, 1e-3)
+    live = np.ones(B, bool)
+    n = z.shape[1]
+    for it in range(ITERATIONS):
+        if it in HALVINGS:
+            act = np.flatnonzero(live)
+            live[act[np.argsort(cost[act])[(len(act) + 1) // 2:]]] = False
+        live &= (np.abs(r).max(axis=1) > CONVERGED * tol) & (lam < 1e10)
+        report(it + 1)
+        act = np.flatnonzero(live)
+        if not act.size:
+            break
+        za, ra, sa, ga = z[act], r[act], sigma[act], sign[act]
+        # the Jacobian by forward differences, every column of every design in one batch
+        Z = (za[:, None, :] + STEP * np.eye(n)).reshape(-1, n)
+        R = residuals(Z, np.repeat(sa, n, axis=0), np.repeat(ga, n)).reshape(len(act), n, -1)
+        J = (R - ra[:, None, :]).transpose(0, 2, 1) / STEP
+        A = J.transpose(0, 2, 1) @ J
+        g = np.einsum("bmn,bm->bn", J, ra)
+        d = np.diagonal(A, axis1=1, axis2=2)
+        M = A + (lam[act, None] * (d + 1e-12 * (1 + d.max(axis=1, keepdims=True))))[:, :, None] * np.eye(n)
+        with np.errstate(all="ignore"):
+            zn = za - _solve(M, g)
+            rn = residuals(zn, sa, ga)
+        cn = np.sum(rn**2, axis=1)
+        up = cn < cost[act]
+        z[act[up]], r[act[up]], cost[act[up]] = zn[up], rn[up], cn[up]
+        lam[act] = np.where(up, np.maximum(lam[act] / 3, 1e-12), lam[act] * 4)
+    fit = np.maximum(np.abs(r[:, :N] + 1j * r[:, N:2 * N]).max(axis=1), np.abs(r[:, 2 * N:]).max(axis=1))
+    return z[:, :k], angles(z)[0], fit
+
+
+def _solve(M, g):
+    """x with M x = g for each of a batch of matrices M (B, n, n); least squares where one is
+    singular."""
+    try:
+        return np.linalg.solve(M, g[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        return np.array([np.linalg.lstsq(m, v, rcond=None)[0] for m, v in zip(M, g)])
