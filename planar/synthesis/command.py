@@ -30,7 +30,7 @@ def add_parser(sub):
     s.add_argument("file", help="CSV with a header row: x,y[,input] (path), x,y,angle (motion), x,y (function)")
     s.add_argument("--timing", action="store_true", help="path: prescribe the crank angles of the CSV's input column")
     s.add_argument("--seed", type=int, default=0, help="path: seed of the search (default 0)")
-    s.add_argument("--designs", type=int, default=20000, help="path: random designs searched (default 20000)")
+    s.add_argument("--designs", type=int, help="path: designs searched (default 20000, six-bar 100000)")
     s.add_argument("--tol", type=float, default=1e-6, help="path: largest error relative to the targets' size")
     s.add_argument("--min-transmission", type=float, help="path: smallest transmission angle allowed")
     s.add_argument("--six-bar", action="store_true", help="path: a Stephenson six-bar (tracer P on link 5)")
@@ -88,9 +88,10 @@ def cmd_synth(args):
             raise FileFormatError(f"{args.file}: --timing needs an input column (the crank angle at each target)")
         timing = units.angle_to_internal(cols["input"]) if args.timing else None
         mu = None if args.min_transmission is None else units.angle_to_internal(args.min_transmission)
+        budget = {} if args.designs is None else {"designs": args.designs}
         s = (path_six_bar if args.six_bar else path_four_bar)(
-            np.column_stack((cols["x"], cols["y"])), timing=timing, designs=args.designs, tol=args.tol,
-            min_transmission=mu, seed=args.seed, progress=Progress("search step"))
+            np.column_stack((cols["x"], cols["y"])), timing=timing, tol=args.tol, min_transmission=mu,
+            seed=args.seed, progress=Progress("search step"), **budget)
     elif args.problem == "function":
         if args.input_range is None or args.output_range is None:
             raise InputError("function generation needs --input-range A0 A1 and --output-range B0 B1")

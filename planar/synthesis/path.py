@@ -41,7 +41,7 @@ the same circle intersection again.
 >>> X = np.array([[0.0, 0.0, np.log(4), 0.0, np.log(2), np.log(3), np.log(4), 1.0, 0.5]])
 >>> C, reach = coupler_points(X, np.array([1.0]), np.array([[np.pi / 3]]))
 >>> np.round(C, 6).tolist(), np.round(reach, 6).tolist()  # four_bar(4, 2, 3, 4, coupler_point=(1, 0.5)) at 60 deg
-([[(1.333494+2.799188j)]], [[0.144338]])
+([[(1.333494+2.799188j)]], [[0.240563]])
 """
 
 from dataclasses import dataclass, replace
@@ -58,7 +58,7 @@ from planar.synthesis.result import check, ordered
 
 GRID = 120  # crank angles per turn in the global search
 BATCH = 2000  # designs per batch
-ROUND = 20000  # designs per round of search and refinement
+ROUND = 10000  # designs per round of search and refinement
 RATIO = (0.2, 4.0)  # range of the sampled lengths against the ground link's
 BOX = (-2.0, 2.0)  # range of the sampled points' coordinates (the ground link O2 -> O4 is (0, 0) -> (1, 0))
 MATCHES = 2  # matchings of the targets to the curve in the search, each followed by a similarity move
@@ -232,7 +232,7 @@ def path_check(design, inputs, targets, min_transmission=None):
     return replace(s, defects=defects, notes={"transmission": worst})
 
 
-def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, min_transmission=None, seed=0,
+def path_four_bar(targets, *, timing=None, designs=20000, refine=64, tol=1e-6, min_transmission=None, seed=0,
                   progress=None, name="path_four_bar"):
     """A four-bar whose coupler point C passes every target point (N, 2) in order, found as the
     module describes.
@@ -244,9 +244,10 @@ def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, m
     timing : (N,) array, optional
         The crank angles at the targets, relative to the first (radians); default free.
     designs : int
-        Random designs in the global search.
+        Designs in the global search at most, in rounds of 10000 (the last may be smaller);
+        the first round that yields an answer ends the search.
     refine : int
-        Designs refined and checked, best first.
+        Designs of each round refined together, the best of its search.
     tol : float
         Largest distance to a target, relative to the targets' size.
     min_transmission : float, optional
@@ -256,13 +257,14 @@ def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, m
         fewer equations than unknowns the refinement may end elsewhere on the family of exact
         solutions by ~1e-10, from last-bit differences of numpy's vectorised functions).
     progress : callable, optional
-        ``progress(done, total)`` after each batch of the search and each refinement.
+        ``progress(done, total)`` after each batch of the search and each iteration of the
+        refinement.
 
     Returns
     -------
     planar.synthesis.Synthesis
         The first defect-free design within ``tol``; ``notes["candidates"]`` says how many
-        were refined and checked.
+        refined designs were checked.
 
     Raises
     ------
@@ -273,13 +275,13 @@ def path_four_bar(targets, *, timing=None, designs=20000, refine=16, tol=1e-6, m
     return _path(FOUR_BAR, targets, timing, designs, refine, tol, min_transmission, seed, progress, name)
 
 
-def path_six_bar(targets, *, timing=None, designs=20000, refine=48, tol=1e-6, min_transmission=None, seed=0,
+def path_six_bar(targets, *, timing=None, designs=100000, refine=128, tol=1e-6, min_transmission=None, seed=0,
                  progress=None, name="path_six_bar"):
     """A Stephenson six-bar whose tracer P on link 5 passes every target point in order: as
-    :func:`path_four_bar`, with 15 design numbers (see the module) and more designs refined
-    by default (its search lands near an answer less often); the result's mechanism is
-    :func:`stephenson_tracer`'s. More design freedom than a four-bar: 15 + N unknowns for 2N
-    equations without timing, 16 with.
+    :func:`path_four_bar`, with 15 design numbers (see the module) and a larger search and
+    refinement by default (a round lands near an answer less often); the result's mechanism
+    is :func:`stephenson_tracer`'s. More design freedom than a four-bar: 15 + N unknowns for
+    2N equations without timing, 16 with.
 
     >>> import numpy as np
     >>> T = [(0.0, 0.0), (1.0, 0.6), (2.0, 0.4), (2.6, -0.5), (2.0, -1.2), (1.0, -1.0), (0.3, -0.6)]
