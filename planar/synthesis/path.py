@@ -50,7 +50,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from planar.analysis import transmission_angle
-from planar.errors import InputError, SynthesisError
+from planar.errors import InputError, PlanarError, SynthesisError
 from planar.mechanisms import four_bar
 from planar.mechanisms.six_bar import _dyad
 from planar.mechanisms.sketch import along
@@ -328,7 +328,11 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
             if not fit[i] <= tol:
                 break
             tried += 1
-            s = path_check(family.design(X[i], sigma[i], th[i, 0], centre, size, name), th[i], T, min_transmission)
+            try:
+                s = path_check(family.design(X[i], sigma[i], th[i, 0], centre, size, name), th[i], T,
+                               min_transmission)
+            except PlanarError:  # it does not even assemble at the first target
+                continue
             if s.ok and s.max_error <= tol * size:
                 report(total)
                 return replace(s, notes={**s.notes, "candidates": tried})
@@ -453,23 +457,9 @@ def _refine(family, X, sigma, th, tz, tau, tol, report):
         z = np.column_stack((X, th))
     else:
         z = np.column_stack((X, th[:, :1]))
-    frac = np.arange(1, BETWEEN + 1) / (BETWEEN + 1)
-
-    def angles(z):
-        a = z[:, k:] if tau is None else z[:, k:] + tau
-        mid = a[:, :-1, None] + frac * np.diff(a, axis=1)[:, :, None]
-        return a, np.concatenate((a, mid.reshape(len(z), -1)), axis=1)
 
     def residuals(z, sigma, sign):
-        a, every = angles(z)
-        P, reach = family.points(z[:, :k], sigma, every)
-        r = P[:, :N] - tz
-        out = [r.real, r.imag, PENALTY * np.maximum(reach - (1 - MARGIN), 0)]
-        if tau is None:
-            step = sign[:, None] * np.diff(a, axis=1)
-            out += [PENALTY * np.maximum(SPACING - step, 0),
-                    PENALTY * np.maximum(step.sum(axis=1, keepdims=True) - (2 * np.pi - SPACING), 0)]
-        return np.concatenate(out, axis=1)
+        return _residuals(family, tz, tau, z, sigma, sign)
 
     r = residuals(z, sigma, sign)
     cost = np.sum(r**2, axis=1)
@@ -502,7 +492,32 @@ def _refine(family, X, sigma, th, tz, tau, tol, report):
         z[act[up]], r[act[up]], cost[act[up]] = zn[up], rn[up], cn[up]
         lam[act] = np.where(up, np.maximum(lam[act] / 3, 1e-12), lam[act] * 4)
     fit = np.maximum(np.abs(r[:, :N] + 1j * r[:, N:2 * N]).max(axis=1), np.abs(r[:, 2 * N:]).max(axis=1))
-    return z[:, :k], angles(z)[0], fit
+    return z[:, :k], _angles(k, tau, z)[0], fit
+
+
+def _angles(k, tau, z):
+    """The crank angles at the targets (B, N) of refinement unknowns z (B, n), and those with
+    BETWEEN more between each two."""
+    a = z[:, k:] if tau is None else z[:, k:] + tau
+    mid = a[:, :-1, None] + np.arange(1, BETWEEN + 1) / (BETWEEN + 1) * np.diff(a, axis=1)[:, :, None]
+    return a, np.concatenate((a, mid.reshape(len(z), -1)), axis=1)
+
+
+def _residuals(family, tz, tau, z, sigma, sign):
+    """The refinement's residuals (B, m) of unknowns z (B, n) (designs, then the crank angles
+    at the targets or, with timing, the first), modes sigma and directions sign (B,): the
+    distances to the targets (x, then y), the assembly penalties and (free timing) the
+    order penalties."""
+    k, N = family.n, len(tz)
+    a, every = _angles(k, tau, z)
+    P, reach = family.points(z[:, :k], sigma, every)
+    r = P[:, :N] - tz
+    out = [r.real, r.imag, PENALTY * np.maximum(reach - (1 - MARGIN), 0)]
+    if tau is None:
+        step = sign[:, None] * np.diff(a, axis=1)
+        out += [PENALTY * np.maximum(SPACING - step, 0),
+                PENALTY * np.maximum(step.sum(axis=1, keepdims=True) - (2 * np.pi - SPACING), 0)]
+    return np.concatenate(out, axis=1)
 
 
 def _solve(M, g):
