@@ -70,6 +70,7 @@ MARGIN = 1e-3  # smallest 1 - |cos gamma| the refinement keeps at and between th
 BETWEEN = 3  # crank angles between each two targets where the refinement keeps the linkage assembled
 SPACING = 1e-3  # smallest crank angle step between targets the refinement keeps (free timing)
 CONVERGED = 1e-6  # the refinement stops a design at this fraction of tol
+STALL = 1e-9  # or when a step lowers its sum of squares by less than this fraction
 STEP = 1e-7  # forward-difference step of the refinement's Jacobian (the design is of unit size)
 
 
@@ -445,7 +446,8 @@ def _refine(family, X, sigma, th, tz, tau, tol, report):
     """Levenberg-Marquardt on all designs at once, on the distances to the targets, with the
     linkage kept assembled (|cos gamma| <= 1 - MARGIN) at the targets and at BETWEEN crank
     angles between each two, and (free timing) the targets kept in order within one turn.
-    The worse half is dropped at each of HALVINGS. Returns the designs, the crank angles at
+    A design stops when it converges or stalls (see STALL); the worse half of those still
+    going is dropped at each of HALVINGS. Returns the designs, the crank angles at
     the targets and each design's largest residual (targets' size 1)."""
     B, k, N = len(X), family.n, len(tz)
     sign = np.ones(B)
@@ -480,7 +482,7 @@ def _refine(family, X, sigma, th, tz, tau, tol, report):
         Z = (za[:, None, :] + STEP * np.eye(n)).reshape(-1, n)
         R = residuals(Z, np.repeat(sa, n, axis=0), np.repeat(ga, n)).reshape(len(act), n, -1)
         J = (R - ra[:, None, :]).transpose(0, 2, 1) / STEP
-        A = J.transpose(0, 2, 1) @ J
+        A = np.einsum("bmi,bmj->bij", J, J)  # not matmul: small threaded BLAS calls crawl on a busy machine
         g = np.einsum("bmn,bm->bn", J, ra)
         d = np.diagonal(A, axis1=1, axis2=2)
         M = A + (lam[act, None] * (d + 1e-12 * (1 + d.max(axis=1, keepdims=True))))[:, :, None] * np.eye(n)
@@ -489,6 +491,7 @@ def _refine(family, X, sigma, th, tz, tau, tol, report):
             rn = residuals(zn, sa, ga)
         cn = np.sum(rn**2, axis=1)
         up = cn < cost[act]
+        live[act[up & (cn > (1 - STALL) * cost[act])]] = False  # a least-squares fit at its minimum
         z[act[up]], r[act[up]], cost[act[up]] = zn[up], rn[up], cn[up]
         lam[act] = np.where(up, np.maximum(lam[act] / 3, 1e-12), lam[act] * 4)
     fit = np.maximum(np.abs(r[:, :N] + 1j * r[:, N:2 * N]).max(axis=1), np.abs(r[:, 2 * N:]).max(axis=1))
