@@ -287,7 +287,7 @@ def test_the_search_moves_designs_with_their_curves(family):
     """The search's similarity move z -> a z + b of a design moves its tracer's points alike
     and turns the crank angles by arg a."""
     rng = np.random.default_rng(0)
-    X, sigma = family.sample(rng.uniform(size=(50, family.n - 4 + family.modes)))
+    X, sigma = family.sample(rng.uniform(size=(50, family.cube)))
     a, b = rng.normal(size=50) * np.exp(2j * np.pi * rng.uniform(size=50)), rng.normal(size=50) + 1j
     th = rng.uniform(-np.pi, np.pi, (50, 7))
     P, reach = family.points(X, sigma, th)

@@ -144,6 +144,13 @@ class Family:
     point: str
     transmission: tuple
 
+    @property
+    def cube(self):
+        """The dimension of the unit cube the designs are sampled from: the design numbers but
+        the four the canonical frame fixes (O2, the ground link's length and angle), and the
+        modes."""
+        return self.n - 4 + self.modes
+
 
 def _sample_four_bar(U):
     """Four-bars from points U (D, 6) of the unit cube, in the canonical frame: O2 at the
@@ -308,7 +315,7 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
     t = (T - centre) / size
     tz = t[:, 0] + 1j * t[:, 1]
     tau = None if timing is None else _timing(timing, len(T))
-    cube = qmc.LatinHypercube(d=family.n - 4 + family.modes, seed=np.random.default_rng(seed))
+    cube = qmc.LatinHypercube(d=family.cube, seed=np.random.default_rng(seed))
     rounds = [min(ROUND, designs - k) for k in range(0, designs, ROUND)]
     total = sum(-(-D // BATCH) + ITERATIONS for D in rounds)
 
