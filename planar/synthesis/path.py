@@ -14,7 +14,10 @@ from D to a third ground pivot O6 (its position, the logarithms of r5 and r6) an
 P on link 5 (p5 along C -> D, q5 to its left), with a second mode (D left of C -> O6); D is
 the same circle intersection again.
 
-1. Global search over shape: ``designs`` designs in the canonical frame (O2 at the origin,
+The search runs in rounds of ROUND designs, up to ``designs``, each through the three steps
+below; the first round with an answer ends it.
+
+1. Global search over shape: the round's designs in the canonical frame (O2 at the origin,
    O4 at (1, 0)), a Latin hypercube over the other numbers from a seeded generator, in
    batches. Without timing, each target takes the crank angle (on a grid of one turn) where
    the coupler curve passes nearest; with timing (the crank angles of the targets relative to
