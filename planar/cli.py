@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.analysis import grashof, mobility, motion_range, output, stroke
+from planar.analysis import grashof, mobility, motion_range, output, outputs, stroke
 from planar.errors import FileFormatError, IndeterminateWarning, InputError, PlanarError
-from planar.joints import Revolute, Slot
+from planar.joints import Revolute
 from planar.progress import Progress
 from planar.results import Status
 from planar.units import LENGTH_RATE_UNITS, LENGTH_UNITS, RATE_UNITS, Units, convert_length, parse_rate
@@ -43,21 +43,19 @@ def table(res, units):
     """Columns of a sweep as [(name, unit, values (N,))]: inputs, status, every body's angle,
     rate and acceleration, every slider's or slot's travel and rates, every named point's
     position, velocity and acceleration."""
-    from planar.draw import OUTPUTS, output_values
-
     model = res.model
     cols = []
     for k, (name, is_len) in enumerate(zip(model.input_names, model.input_lengths)):
         x = units.input_from_internal(np.asarray(res.inputs[:, k]), bool(is_len))
         cols.append((f"input:{name}", units.input_label(bool(is_len)), np.asarray(x, float)))
     cols.append(("status", "", np.array([Status(s).name for s in res.status])))
-    specs = [f"{kind}:{b}" for b in model.body_names[1:] for kind in ("angle", "omega", "alpha")]
-    specs += [f"{kind}:{j}" for j in model.coordinates for kind in ("travel", "travel_rate", "travel_accel")
-              if isinstance(model.joint(j), Slot)]
-    specs += [f"{kind}:{p}" for p, (b, _) in model.points.items() if b != 0
-              for kind in ("x", "y", "vx", "vy", "ax", "ay")]
-    for spec in specs:
-        cols.append((spec, units.label(OUTPUTS[spec.partition(":")[0]][1]), output_values(res, spec, units)))
+    moving = [p for p, (b, _) in model.points.items() if b != 0]
+    columns = [s for b in model.body_names[1:] for s in outputs.specs(model, ("angle", "omega", "alpha"), [b])]
+    columns += [s for j in model.coordinates
+                for s in outputs.specs(model, ("travel", "travel_rate", "travel_accel"), [j])]
+    columns += [s for p in moving for s in outputs.specs(model, ("x", "y", "vx", "vy", "ax", "ay"), [p])]
+    for spec in columns:
+        cols.append((spec, outputs.label(spec, units), outputs.output_values(res, spec, units)))
     return cols
 
 
@@ -285,11 +283,10 @@ def summary(res, units, settings, circuit=False):
         if np.any(np.isfinite(a)):
             lines.append(f"  {b}: angle {_fmt(np.nanmin(a))} to {_fmt(np.nanmax(a))} {units.angle}, "
                          f"largest |rate| {_fmt(np.nanmax(np.abs(w)) if np.any(np.isfinite(w)) else math.nan)} {units.rate}")
-    for j in model.coordinates:
-        if isinstance(model.joint(j), Slot):
-            t = res.coordinate(j)
-            if np.any(np.isfinite(t)):
-                lines.append(f"  {j}: travel {_length(np.nanmin(t), units)} to {_length(np.nanmax(t), units)}")
+    for j in outputs.names_of(model, "length coordinate"):
+        t = res.coordinate(j)
+        if np.any(np.isfinite(t)):
+            lines.append(f"  {j}: travel {_length(np.nanmin(t), units)} to {_length(np.nanmax(t), units)}")
     if res.events:
         name, unit = model.input_names[0], units.input_label(bool(model.input_lengths[0]))
         lines.append("events:")
@@ -380,16 +377,16 @@ def stroke_lines(model, units):
     if not turn.ok.all():
         return []
     lines = []
-    sliders = [j for j in model.coordinates if isinstance(model.joint(j), Slot)]
-    for name in sliders + list(model.body_names[1:]):
-        values = output(turn, name)
-        if np.ptp(values) <= 1e-9 * (model.L if name in sliders else 1.0):
+    for spec in outputs.specs(model, ("travel", "angle")):
+        kind, name = spec.split(":", 1)
+        values = output(turn, spec)
+        if np.ptp(values) <= 1e-9 * (model.L if kind == "travel" else 1.0):
             continue  # it does not move: no stroke
         try:
-            s = stroke(turn, name)
+            s = stroke(turn, spec)
         except PlanarError:
             continue  # it turns with the input rather than going back and forth
-        size = _length(s.stroke, units) if name in sliders else f"{_fmt(units.angle_from_internal(s.stroke))} {units.angle}"
+        size = _length(s.stroke, units) if kind == "travel" else f"{_fmt(units.angle_from_internal(s.stroke))} {units.angle}"
         lines.append(f"  {name}: stroke {size}, time ratio {s.time_ratio:.6f}")
     return ["strokes over one turn of the input:"] + lines if lines else []
 

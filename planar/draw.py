@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planar.analysis.outputs import OUTPUTS, output_values, specs
 from planar.errors import InputError
 from planar.geometry import cross
 from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Slot
@@ -781,46 +782,13 @@ def draw_event_poses(res, *, ax=None, units=None):
 
 
 def default_outputs(model):
-    """Outputs worth plotting for any mechanism: every moving body's angle, rate and
-    acceleration, every slider's or slot's travel and its rates, and the speed and acceleration
-    of the user-named points."""
-    bodies = list(model.body_names[1:])
-    sliding = [j.name for j in model.joints if isinstance(j, Slot) and j.name in model.coordinates]
+    """Outputs worth plotting for any mechanism ("kind:name", :data:`planar.analysis.outputs.OUTPUTS`):
+    every moving body's angle, rate and acceleration, every slider's or slot's travel and its
+    rates, and the speed and acceleration of the user-named points."""
     joint_names = {j.name for j in model.joints}
     named = [n for n in model.points if n not in joint_names]
-    out = [f"angle:{b}" for b in bodies] + [f"omega:{b}" for b in bodies] + [f"alpha:{b}" for b in bodies]
-    out += [f"travel:{j}" for j in sliding] + [f"travel_rate:{j}" for j in sliding]
-    out += [f"travel_accel:{j}" for j in sliding]
-    out += [f"speed:{p}" for p in named] + [f"accel:{p}" for p in named]
-    return out
-
-
-# output kind -> (panel title, unit kind, getter(res, name, units))
-OUTPUTS = {
-    "angle": ("angle", "angle", lambda r, n, u: u.angle_from_internal(r.angle(n))),
-    "omega": ("angular velocity", "rate", lambda r, n, u: u.rate_from_internal(r.omega(n))),
-    "alpha": ("angular acceleration", "angular_accel", lambda r, n, u: u.acceleration_from_internal(r.alpha(n))),
-    "travel": ("slider travel", "length", lambda r, n, u: r.coordinate(n, 0)),
-    "travel_rate": ("slider velocity", "speed", lambda r, n, u: r.coordinate(n, 1)),
-    "travel_accel": ("slider acceleration", "accel", lambda r, n, u: r.coordinate(n, 2)),
-    "x": ("point x", "length", lambda r, n, u: r.position(n)[:, 0]),
-    "y": ("point y", "length", lambda r, n, u: r.position(n)[:, 1]),
-    "vx": ("point velocity x", "speed", lambda r, n, u: r.velocity(n)[:, 0]),
-    "vy": ("point velocity y", "speed", lambda r, n, u: r.velocity(n)[:, 1]),
-    "ax": ("point acceleration x", "accel", lambda r, n, u: r.acceleration(n)[:, 0]),
-    "ay": ("point acceleration y", "accel", lambda r, n, u: r.acceleration(n)[:, 1]),
-    "speed": ("point speed", "speed", lambda r, n, u: np.hypot(*r.velocity(n).T)),
-    "accel": ("point acceleration", "accel", lambda r, n, u: np.hypot(*r.acceleration(n).T)),
-}
-
-
-def output_values(res, spec, units=None):
-    """Values (N,) of one output ``"kind:name"`` (kinds: see :data:`OUTPUTS`) in ``units``."""
-    units = units or Units()
-    kind, _, name = spec.partition(":")
-    if kind not in OUTPUTS or not name:
-        raise InputError(f"unknown output {spec!r}: write kind:name with kind one of {', '.join(OUTPUTS)}")
-    return np.asarray(OUTPUTS[kind][2](res, name, units), float)
+    return (specs(model, ("angle", "omega", "alpha", "travel", "travel_rate", "travel_accel"))
+            + specs(model, ("speed", "accel"), named))
 
 
 def input_axis(res, units=None):
@@ -861,7 +829,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
                  for e in res.events] if events else []
     bad = ~POSED[np.asarray(res.status)]
     for a, (kind, specs) in zip(axes, panels.items()):
-        title, unit_kind, _ = OUTPUTS[kind]
+        title, unit_kind = OUTPUTS[kind].title, OUTPUTS[kind].unit
         for k, spec in enumerate(specs):
             a.plot(*_broken(res, x, output_values(res, spec, units)), lw=1.6,
                    color=PATH_COLOURS[k % len(PATH_COLOURS)], label=spec.partition(":")[2])

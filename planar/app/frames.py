@@ -16,8 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.analysis import instant_centres
-from planar.draw import (FILLS, OUTPUTS, Scene, _arrow_scale, _gear_centres, _joint_params, _local, _path_points,
-                         _world, output_values, part_of)
+from planar.analysis.outputs import OUTPUTS, output_values
+from planar.draw import (FILLS, Scene, _arrow_scale, _gear_centres, _joint_params, _local, _path_points, _world,
+                         part_of)
 from planar.joints import CarrierGear, Gear, Prismatic, Revolute, Slot
 from planar.results import Status
 
@@ -109,7 +110,7 @@ def _loaded(model):
 
 
 def outputs(model):
-    """Output specs the page offers, "kind:name" (:data:`planar.draw.OUTPUTS`): each body's
+    """Output specs the page offers, "kind:name" (:data:`planar.analysis.outputs.OUTPUTS`): each body's
     angle, rate and acceleration, each slider's travel and rates, each moving point's x, y and
     speed; with masses, gravity or loads, each driver's effort and each joint's reaction (its
     size)."""
@@ -128,7 +129,7 @@ def output_label(spec, units, model=None):
     if kind in FORCES:
         moment = kind == "effort" and model is not None and not model.input_lengths[model.input_names.index(name)]
         return f"{FORCES[kind]} of {name} [{units.label('moment' if moment else 'force')}]"
-    title, unit_kind = OUTPUTS[kind][:2]
+    title, unit_kind = OUTPUTS[kind].title, OUTPUTS[kind].unit
     unit = units.label(unit_kind)
     return f"{title} of {name}" + (f" [{unit}]" if unit else "")
 
