@@ -20,11 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.analysis import grashof, mobility, motion_range, output, outputs, stroke
+from planar.analysis import grashof, mobility, motion_range, output, outputs, stroke, swept_ranges
 from planar.errors import FileFormatError, IndeterminateWarning, InputError, PlanarError
 from planar.joints import Revolute
 from planar.progress import Progress
-from planar.results import Status
+from planar.results import POSED, Status
 from planar.units import LENGTH_RATE_UNITS, LENGTH_UNITS, RATE_UNITS, Units, convert_length, parse_rate
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
@@ -240,25 +240,6 @@ def _length(v, units):
     return f"{_fmt(v)} {units.length}".rstrip()
 
 
-def motion_ranges(res, x, limits):
-    """[(lo, hi)] of the input over each stretch of the sweep that assembled; an end next to a
-    limit position the sweep located (``limits``: inputs, display units) is moved onto it."""
-    from planar.draw import _runs
-
-    posed = np.all(np.isfinite(np.asarray(res.q)), axis=1)
-    out = []
-    for a, b in _runs(posed):
-        ends = []
-        for inside, outside in ((a, a - 1), (b, b + 1)):
-            end = x[inside]
-            if 0 <= outside < len(x):
-                lo, hi = sorted((x[inside], x[outside]))
-                end = next((u for u in limits if lo <= u <= hi), end)
-            ends.append(end)
-        out.append(tuple(ends))
-    return out
-
-
 def summary(res, units, settings, circuit=False):
     """Lines describing a sweep (or a ``circuit``): statuses, motion ranges met, output
     ranges, events."""
@@ -273,9 +254,9 @@ def summary(res, units, settings, circuit=False):
     lines = [f"{head}, {len(res)} values" + (", there and back" if settings.rocking else "") + ": "
              + ", ".join(f"{c} {n}" for n, c in counts.items())]
     is_len = bool(model.input_lengths[0])
-    limits = [float(units.input_from_internal(np.ravel(e.input)[0], is_len)) for e in res.events if e.kind == "limit"]
-    if not np.all(np.isfinite(np.asarray(res.q))):
-        spans = "; ".join(f"{_fmt(a)} to {_fmt(b)}" for a, b in motion_ranges(res, x, limits))
+    if not POSED[np.asarray(res.status)].all():
+        spans = "; ".join(f"{_fmt(units.input_from_internal(a, is_len))} to {_fmt(units.input_from_internal(b, is_len))}"
+                          for a, b in swept_ranges(res))
         lines.append(f"assembles over {spans} ({xlabel}) on the sketched branch")
     for b in model.body_names[1:]:
         a = units.angle_from_internal(res.angle(b))

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.analysis.outputs import OUTPUTS, output_values, specs
+from planar.analysis.ranges import runs
 from planar.errors import InputError
 from planar.geometry import cross
 from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Slot
@@ -837,7 +838,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
         a.set_ylabel(f"{title}" + (f"\n[{unit}]" if unit else ""), fontsize=9)
         for at, kind in events_at:
             a.axvline(at, color=EVENT_MARK[kind][1], lw=0.9, ls=":")
-        for lo, hi in _runs(bad):
+        for lo, hi in runs(bad):
             a.axvspan(x[lo], x[hi], color="#bbbbbb", alpha=0.35, lw=0)
         a.grid(True, color="#e6e6e6", lw=0.6)
         a.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
@@ -857,20 +858,6 @@ def _broken(res, *series):
     """
     at = np.flatnonzero(np.asarray(res.status) == Status.JUMPED)
     return [np.insert(np.asarray(v, float), at, np.nan) for v in series]
-
-
-def _runs(mask):
-    """(first, last) index of each run of True in mask."""
-    out, start = [], None
-    for i, v in enumerate(mask):
-        if v and start is None:
-            start = i
-        if not v and start is not None:
-            out.append((start, i - 1))
-            start = None
-    if start is not None:
-        out.append((start, len(mask) - 1))
-    return out
 
 
 # ---- kinetostatics -----------------------------------------------------------------------------
