@@ -27,7 +27,7 @@ import numpy as np
 from planar.analysis.outputs import OUTPUTS, output_values, specs
 from planar.analysis.ranges import runs
 from planar.errors import InputError
-from planar.geometry import cross
+from planar.geometry import cross, rotate
 from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Slot
 from planar.results import POSED, Status
 from planar.units import Units
@@ -71,32 +71,27 @@ def _axes(ax):
 
 
 def _frame(q, b):
-    """(r, c, s) of body b over q (..., n); the ground is the identity."""
+    """(r, phi) of body b over q (..., n); the ground is the identity."""
     if b == 0:
-        z = np.zeros(q.shape[:-1])
-        return np.zeros(q.shape[:-1] + (2,)), z + 1.0, z
-    r = q[..., 3 * b - 3: 3 * b - 1]
-    phi = q[..., 3 * b - 1]
-    return r, np.cos(phi), np.sin(phi)
+        return np.zeros(q.shape[:-1] + (2,)), np.zeros(q.shape[:-1])
+    return q[..., 3 * b - 3: 3 * b - 1], q[..., 3 * b - 1]
 
 
 def _world(q, b, s):
     """World position of the body-fixed point s (2,) of body b at poses q (..., n)."""
-    r, c, sn = _frame(q, b)
-    return r + np.stack((c * s[0] - sn * s[1], sn * s[0] + c * s[1]), -1)
+    r, phi = _frame(q, b)
+    return r + rotate(phi, np.asarray(s, float))
 
 
 def _turn(q, b, u):
     """World direction of the body-fixed vector u of body b."""
-    _, c, sn = _frame(q, b)
-    return np.stack((c * u[0] - sn * u[1], sn * u[0] + c * u[1]), -1)
+    return rotate(_frame(q, b)[1], np.asarray(u, float))
 
 
 def _local(q, b, p):
     """Body-fixed coordinates in body b of the world point p at poses q."""
-    r, c, sn = _frame(q, b)
-    d = p - r
-    return np.stack((c * d[..., 0] + sn * d[..., 1], -sn * d[..., 0] + c * d[..., 1]), -1)
+    r, phi = _frame(q, b)
+    return rotate(-phi, p - r)
 
 
 # ---- the joint registry ----------------------------------------------------------------------

@@ -36,7 +36,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from planar.geometry import cross_cf, dot_cf, perp_cf
+from planar.geometry import cross_cf, dot_cf, perp_cf, rotate
 
 
 class Joint:
@@ -130,15 +130,11 @@ class SketchFrames:
         self.angles = angles  # name -> float
 
     def local_point(self, body, p):
-        c, s = np.cos(self.angles[body]), np.sin(self.angles[body])
-        d = np.asarray(p, dtype=float) - self.origins[body]
-        return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+        return rotate(-self.angles[body], np.asarray(p, dtype=float) - self.origins[body])
 
     def local_direction(self, body, v):
         v = np.asarray(v, dtype=float)
-        v = v / np.hypot(v[0], v[1])
-        c, s = np.cos(self.angles[body]), np.sin(self.angles[body])
-        return np.array([c * v[0] + s * v[1], -s * v[0] + c * v[1]])
+        return rotate(-self.angles[body], v / np.hypot(v[0], v[1]))
 
 
 def kernel_params(P):
