@@ -4,7 +4,8 @@ Nothing here knows a mechanism by name. A body is drawn as a bar between its joi
 points) or a plate over them (three or more); each joint draws its own parts from the body-fixed
 numbers the solver uses (the model's joint parameters): pins, hatched ground pivots, slider blocks
 on guide lines, slots, gears as pitch circles with a mark that turns with them, racks as toothed
-lines. One registry, :data:`PARTS`, maps each joint class to how it is drawn.
+lines: each joint class draws its own part (:meth:`planar.joints.Joint.draw_part`) with the
+primitives of a :class:`Scene`.
 
 Every function takes ``ax=None`` (a new figure when None) and returns the axes it drew on.
 matplotlib is imported when a function runs, not when planar is imported.
@@ -20,15 +21,12 @@ matplotlib is imported when a function runs, not when planar is imported.
 True
 """
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from planar.analysis.outputs import OUTPUTS, output_values, specs
 from planar.analysis.ranges import runs
 from planar.errors import InputError
 from planar.geometry import cross, rotate
-from planar.joints import CarrierGear, Gear, Prismatic, RackPinion, Revolute, Slot
 from planar.results import POSED, Status
 from planar.units import Units
 
@@ -94,25 +92,6 @@ def _local(q, b, p):
     return rotate(-phi, p - r)
 
 
-# ---- the joint registry ----------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Part:
-    """How one joint class is drawn.
-
-    ``attach(scene, j, P)`` -> [(body id, body-fixed point)] where bodies hold on to the joint
-    (the ends of bars and corners of plates); ``line(scene, j, P)`` -> (body id of the line,
-    point, direction, (body id, point) that runs on it, padding) for joints with a guide line or
-    rack, else None; ``draw(scene, j, P, q, ax)`` -> artists of the joint at pose q.
-    """
-
-    attach: object
-    draw: object
-    line: object = None
-    labelled: bool = True  # label the joint's named point (pins and sliders; not gear centres)
-
-
 def _joint_params(model):
     """Each joint's body-fixed parameters, exactly as the compiled system holds them."""
     out = {}
@@ -121,114 +100,6 @@ def _joint_params(model):
             if i < len(model.joints):
                 out[model.joints[i].name] = {key: v[k] for key, v in g.P.items()}
     return out
-
-
-def _ids(scene, j):
-    return [scene.model.body_id(b) for b in j.bodies]
-
-
-def _revolute_attach(scene, j, P):
-    return list(zip(_ids(scene, j), P["s"]))
-
-
-def _revolute_draw(scene, j, P, q, ax):
-    a, b = _ids(scene, j)
-    p = _world(q, a, P["s"][0])
-    arts = []
-    if 0 in (a, b):
-        arts += scene.ground_pivot(ax, p)
-    return arts + scene.pin(ax, p)
-
-
-def _line_of(scene, j, P):
-    a, b = _ids(scene, j)
-    pad = scene.block[0] if isinstance(j, Prismatic) else scene.size
-    return a, P["s"][0], P["u"], (b, P["s"][1]), pad
-
-
-def _slider_attach(scene, j, P):
-    a, b = _ids(scene, j)
-    ends = scene.line_ends(j.name)
-    out = [(b, P["s"][1])]
-    if a != 0:  # a moving guide is part of its body: the bar runs along it
-        out += [(a, e) for e in ends]
-    return out
-
-
-def _slider_draw(scene, j, P, q, ax):
-    a, b = _ids(scene, j)
-    ends = [_world(q, a, e) for e in scene.line_ends(j.name)]
-    u = _turn(q, a, P["u"])
-    p = _world(q, b, P["s"][1])
-    arts = []
-    if isinstance(j, Prismatic):
-        if a == 0:  # a moving guide is drawn as its body's bar
-            arts += scene.guide(ax, ends)
-        arts += scene.block_at(ax, p, u, scene.colour(b))
-    else:
-        arts += scene.slot(ax, ends)
-    return arts + scene.pin(ax, p)
-
-
-def _gear_centres(scene, j, P):
-    """(body id, body-fixed centre) of both gears."""
-    ids = _ids(scene, j)
-    if "s" in P:
-        return [(ids[0], P["s"][0]), (ids[1], P["s"][1])]
-    # carrier gears keep no centres among their parameters: take the sketch centres into the
-    # gears' frames at the assembled sketch
-    q0 = scene.model.q0
-    return [(ids[k], _local(q0, ids[k], np.asarray(j.data[key], float))) for k, key in ((0, "centre_a"), (1, "centre_b"))]
-
-
-def _gear_draw(scene, j, P, q, ax):
-    R = np.abs(P["R"])
-    internal = P["R"][1] < 0
-    arts = []
-    for k, (b, s) in enumerate(_gear_centres(scene, j, P)):
-        ring = internal and R[k] > R[1 - k]
-        arts += scene.wheel(ax, q, b, s, R[k], ring=ring)
-    return arts
-
-
-def _rack_line(scene, j, P):
-    rack, pinion = _ids(scene, j)
-    return rack, P["s"][0], P["u"], (pinion, P["s"][1]), abs(float(P["sR"])) + scene.size
-
-
-def _rack_attach(scene, j, P):
-    rack, pinion = _ids(scene, j)
-    ends = scene.line_ends(j.name)
-    out = [(pinion, P["s"][1])]
-    if rack != 0:
-        out.append((rack, 0.5 * (ends[0] + ends[1])))
-    return out
-
-
-def _rack_draw(scene, j, P, q, ax):
-    rack, pinion = _ids(scene, j)
-    ends = [_world(q, rack, e) for e in scene.line_ends(j.name)]
-    side = float(np.sign(P["sR"]))
-    arts = scene.rack(ax, ends, side, hatch=rack == 0)
-    return arts + scene.wheel(ax, q, pinion, P["s"][1], abs(float(P["sR"])))
-
-
-PARTS = {
-    Revolute: Part(_revolute_attach, _revolute_draw),
-    Slot: Part(_slider_attach, _slider_draw, _line_of),  # Prismatic too (a subclass)
-    CarrierGear: Part(_gear_centres, _gear_draw, labelled=False),
-    Gear: Part(_gear_centres, _gear_draw, labelled=False),  # RollingContact too
-    RackPinion: Part(_rack_attach, _rack_draw, _rack_line, labelled=False),
-}
-
-
-def part_of(joint):
-    """The :class:`Part` that draws ``joint`` (looked up along its class hierarchy)."""
-    for cls in type(joint).__mro__:
-        if cls in PARTS:
-            return PARTS[cls]
-    raise InputError(f"joint {joint.name!r}: planar.draw has no picture for {type(joint).__name__}; "
-                     f"add an entry to planar.draw.PARTS")
 
 
 # ---- the scene: one mechanism, any pose ------------------------------------------------------
@@ -269,16 +140,16 @@ class Scene:
         self.colours = {b: FILLS[(b - 1) % len(FILLS)] for b in range(1, len(m.body_names))}
         self._ends = {}
         for j in m.joints:
-            part = part_of(j)
-            if part.line is not None:
-                self._ends[j.name] = self._extent(finite, *part.line(self, j, self.params[j.name]))
+            line = j.guide_line(self, self.params[j.name])
+            if line is not None:
+                self._ends[j.name] = self._extent(finite, *line)
         self.attach = {b: [] for b in range(len(m.body_names))}
         for j in m.joints:
-            for b, s in part_of(j).attach(self, j, self.params[j.name]):
+            for b, s in j.attach(self, self.params[j.name]):
                 self.attach[b].append(np.asarray(s, float))
         joint_names = {j.name for j in m.joints}
         self.user_points = [n for n in m.points if n not in joint_names]
-        unlabelled = {j.name for j in m.joints if not part_of(j).labelled}
+        unlabelled = {j.name for j in m.joints if not j.labelled}
         self.labelled = [n for n in m.points if n not in unlabelled]
         for n in self.user_points:
             b, s = m.points[n]
@@ -306,7 +177,14 @@ class Scene:
         return (s_a + lo * u, s_a + hi * u)
 
     def line_ends(self, name):
+        """Body-fixed ends of the guide line or rack of joint ``name``."""
         return self._ends[name]
+
+    def ids(self, joint):
+        """Body ids of a joint's bodies."""
+        return [self.model.body_id(b) for b in joint.bodies]
+
+    world, turn, local = staticmethod(_world), staticmethod(_turn), staticmethod(_local)
 
     def colour(self, b):
         return self.colours.get(b, "white")
@@ -467,7 +345,7 @@ class Scene:
             elif len(pts) > 2:
                 arts += self.plate(ax, pts, self.colour(b))
         for j in self.model.joints:
-            arts += part_of(j).draw(self, j, self.params[j.name], q, ax)
+            arts += j.draw_part(self, self.params[j.name], q, ax)
         for n in self.user_points:
             b, s = self.model.points[n]
             p = _world(q, b, s)
@@ -627,7 +505,7 @@ def _path_points(res, points):
     own = [n for n in model.points if n not in joint_names]
     if own:
         return own
-    shown = {j.name for j in model.joints if part_of(j).labelled}
+    shown = {j.name for j in model.joints if j.labelled}
     scale = Scene(res, labels=False).L
     return [n for n in model.points if n in shown and model.points[n][0] != 0
             and _span(res.position(n)) > 1e-6 * scale]
@@ -824,9 +702,9 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     events_at = [(float(units.input_from_internal(np.ravel(e.input)[0], bool(m.input_lengths[0]))), e.kind)
                  for e in res.events] if events else []
     bad = ~POSED[np.asarray(res.status)]
-    for a, (kind, specs) in zip(axes, panels.items()):
+    for a, (kind, panel) in zip(axes, panels.items()):
         title, unit_kind = OUTPUTS[kind].title, OUTPUTS[kind].unit
-        for k, spec in enumerate(specs):
+        for k, spec in enumerate(panel):
             a.plot(*_broken(res, x, output_values(res, spec, units)), lw=1.6,
                    color=PATH_COLOURS[k % len(PATH_COLOURS)], label=spec.partition(":")[2])
         unit = units.label(unit_kind)

@@ -89,8 +89,8 @@ from pathlib import Path
 import numpy as np
 
 from planar.errors import FileFormatError, InputError, ModelError, PlanarError
-from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic, RackPinion,
-                           Revolute, RollingContact, Slot, TravelDriver)
+from planar.joints import FILE_TYPES
+from planar.joints.base import xy
 from planar.model import GROUND, Mechanism
 from planar.units import Units, convert_length
 
@@ -113,21 +113,6 @@ _KINDS = {
     "pair": "a list of two different names",
 }
 
-_LINE = {"at": ("point", True), "direction": ("vector", True), "origin": ("point", False)}
-_CONTACT = {"radius": ("positive", True), "centre": ("point", True), "through": ("point", True),
-            "direction": ("vector", True), "side": ("side", False)}
-JOINT_FIELDS = {  # type -> {field: (kind, required)}; "type", "name", "bodies" always
-    "revolute": {"at": ("point", True)},
-    "prismatic": _LINE,
-    "slot": _LINE,
-    "gear": {"radius_a": ("positive", True), "radius_b": ("positive", True), "internal": ("bool", False),
-             "carrier": ("name", False), "centre_a": ("point", False), "centre_b": ("point", False),
-             "hold_distance": ("bool", False)},
-    "rack_pinion": _CONTACT,
-    "rolling": _CONTACT,
-}
-_TOOTHED = {"gear": {"pressure_angle": ("number", False), "pressure_angle_rad": ("number", False)}}
-_TOOTHED["rack_pinion"] = _TOOTHED["gear"]
 _MASS = {"mass": ("number", True), "com": ("point", True), "inertia": ("number", False)}
 _LOAD = {"body": ("name", True), "force": ("point", False), "at": ("point", False), "torque": ("number", False),
          "fixed": ("fixed", False)}
@@ -307,18 +292,21 @@ def from_dict(data, source="<mechanism file>", length_unit=None):
         if not isinstance(j, dict):
             c.mapping(j, where, ())
         kind = j.get("type")
-        if not isinstance(kind, str) or kind not in JOINT_FIELDS:
-            c.fail(f"{where}.type", f"must be one of {', '.join(JOINT_FIELDS)}, got {json.dumps(kind)}")
-        spec = JOINT_FIELDS[kind]
-        c.mapping(j, where, {"type", "name", "bodies", *spec, *_TOOTHED.get(kind, ())})
+        if not isinstance(kind, str) or kind not in FILE_TYPES:
+            c.fail(f"{where}.type", f"must be one of {', '.join(FILE_TYPES)}, got {json.dumps(kind)}")
+        spec = FILE_TYPES[kind]
+        angles = [k for k, (kind_, _) in spec.items() if kind_ == "angle"]
+        c.mapping(j, where, {"type", "name", "bodies", *spec, *(f"{k}_rad" for k in angles)})
         jname = c.field(j, "name", "name", where)
         bodies = j.get("bodies")
         if not (isinstance(bodies, list) and len(bodies) == 2 and all(_valid("name", b) for b in bodies)):
             c.fail(f"{where}.bodies", f"must be a list of two body names, got {json.dumps(bodies)}")
-        kwargs = {k: c.field(j, k, kind_, where, req) for k, (kind_, req) in spec.items() if k in j or req}
-        alpha = _angle(c, j, "pressure_angle", where, units)
-        if alpha is not None:
-            kwargs["pressure_angle"] = alpha
+        kwargs = {k: c.field(j, k, kind_, where, req) for k, (kind_, req) in spec.items()
+                  if kind_ != "angle" and (k in j or req)}
+        for k in angles:
+            angle = _angle(c, j, k, where, units)
+            if angle is not None:
+                kwargs[k] = angle
         _build(c, f"{where} ({kind} {jname!r})", getattr(m, f"add_{kind}"), jname, *bodies, **kwargs)
     for bname, (where, key, value) in given.items():
         _body_angle(c, m, bname, where, key, value)
@@ -334,7 +322,8 @@ def from_dict(data, source="<mechanism file>", length_unit=None):
             kwargs["axis"] = c.field(d, "axis", "axis", where)
         start = c.field(d, "start", "number", where, False)
         if start is not None:
-            turns = "body" in d or any(j.name == d.get("joint") and isinstance(j, Revolute) for j in m.sketch().joints)
+            turns = "body" in d or any(j.name == d.get("joint") and j.coordinate() is not None
+                                       and not j.coordinate().length_rows[0] for j in m.sketch().joints)
             kwargs["start"] = float(units.angle_to_internal(start)) if turns else float(start)
         _build(c, where, m.drive, **{k: v for k, v in kwargs.items() if v is not None})
 
@@ -438,14 +427,12 @@ def convert_lengths(data, unit, source="<mechanism file>"):
                 ld[key] = conv(ld[key])
         if "torque" in ld:
             ld["torque"] = ld["torque"] * k * k
-    joints = {}
     for j in out.get("joints", []):
-        joints[j["name"]] = j["type"]
-        for key, (kind, _) in JOINT_FIELDS[j["type"]].items():
+        for key, (kind, _) in FILE_TYPES[j["type"]].items():
             if key in j and kind in ("point", "positive"):
                 j[key] = conv(j[key])
-    # which inputs are lengths: a slider's or slot's travel, a point's coordinate
-    lengths = [("point" in d) or joints.get(d.get("joint")) in ("prismatic", "slot") for d in out.get("drivers", [])]
+    # which inputs are lengths (a slider's or slot's travel, a point's coordinate): the built drivers say
+    lengths = [bool(d.length_rows[0]) for d in from_dict(data, source).mechanism.sketch().drivers]
     for d, is_len in zip(out.get("drivers", []), lengths):
         if is_len and "start" in d:
             d["start"] = conv(d["start"])
@@ -477,73 +464,19 @@ def _canonical(data):
 # ---- from a Mechanism to a document ---------------------------------------------------------
 
 
-def _xy(p):
-    return [float(p[0]), float(p[1])]
-
-
 def _joint_entry(j, units):
-    """The builder call that makes joint ``j``: {"type", "name", "bodies", **kwargs}."""
-    d = j.data
-    if isinstance(j, (Prismatic, Slot)):
-        kind = "prismatic" if isinstance(j, Prismatic) else "slot"
-        return {"type": kind, "name": j.name, "bodies": list(j.bodies), "at": _xy(d["at"]),
-                "direction": _xy(d["direction"]), "origin": _xy(d["origin"])}
-    if isinstance(j, Revolute):
-        return {"type": "revolute", "name": j.name, "bodies": list(j.bodies), "at": _xy(d["at"])}
-    if isinstance(j, (CarrierGear, Gear)):
-        e = {"type": "gear", "name": j.name, "bodies": list(j.bodies[:2]), "radius_a": float(d["radius_a"]),
-             "radius_b": float(d["radius_b"]), "internal": bool(d["sign"] < 0)}
-        if isinstance(j, CarrierGear):
-            e["carrier"] = j.bodies[2]
-        e.update(centre_a=_xy(d["centre_a"]), centre_b=_xy(d["centre_b"]),
-                 hold_distance=isinstance(j, RollingContact))
-        return e | _pressure_angle_entry(d, units)
-    if isinstance(j, RackPinion):
-        rack, pinion = j.bodies
-        # a contact without teeth is a rolling one
-        e = {"type": "rack_pinion" if d["pressure_angle"] else "rolling", "name": j.name, "bodies": [pinion, rack],
-             "radius": float(d["radius"]), "centre": _xy(d["centre"]), "through": _xy(d["through"]),
-             "direction": _xy(d["direction"]), "side": "left" if d["side"] > 0 else "right"}
-        return e | (_pressure_angle_entry(d, units) if d["pressure_angle"] else {})
-    raise FileFormatError(f"joint {j.name!r} of type {type(j).__name__} has no file form")
-
-
-def _pressure_angle_entry(d, units):
-    default = inspect.signature(Mechanism.add_gear).parameters["pressure_angle"].default
-    return {} if d["pressure_angle"] == default else _angle_entry("pressure_angle", d["pressure_angle"], units)
-
-
-def _driver_entry(d, joints, points):
-    """The drive() call that makes driver ``d``."""
-    if isinstance(d, (AngleDriver, TravelDriver)):
-        kind = Revolute if isinstance(d, AngleDriver) else Slot
-        # a revolute's angle has no data of its own; a slider's travel carries its line
-        own = [j for j in joints if isinstance(j, kind) and j.bodies == d.bodies
-               and (kind is Revolute or _same(j.data, d.data))]
-        own.sort(key=lambda j: j.name != d.name)
-        if isinstance(d, AngleDriver) and d.bodies[0] == GROUND and (d.name == d.bodies[1] or not own):
-            entry = {"body": d.bodies[1]}
-        elif own:
-            entry = {"joint": own[0].name}
+    """The builder call that makes joint ``j``: {"type", "name", "bodies", **kwargs}, its angles
+    in the file's unit (left out at the builder's default)."""
+    entry = j.file_entry()
+    builder = inspect.signature(getattr(Mechanism, f"add_{entry['type']}")).parameters
+    out = {}
+    for key, v in entry.items():
+        field_ = key.removesuffix("_rad")
+        if key.endswith("_rad") and FILE_TYPES[entry["type"]].get(field_, ("",))[0] == "angle":
+            out |= {} if v == builder[field_].default else _angle_entry(field_, v, units)
         else:
-            raise FileFormatError(f"driver {d.name!r} matches no joint coordinate or body angle")
-        default = entry.get("joint", entry.get("body"))
-    elif isinstance(d, CoordinateDriver):
-        axis = "x" if d.data["axis"][0] == 1.0 else "y"
-        (body,) = d.bodies
-        named = [n for n, (b, p) in points.items() if b == body and np.array_equal(p, d.data["at"])]
-        pref = [n for n in named if f"{n}.{axis}" == d.name]
-        entry = {"point": (pref or named)[0], "axis": axis}
-        default = f"{entry['point']}.{axis}"
-    else:
-        raise FileFormatError(f"driver {d.name!r} of type {type(d).__name__} has no file form")
-    if d.name != default:
-        entry["name"] = d.name
-    return entry
-
-
-def _same(a, b):
-    return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
+            out[key] = v
+    return out
 
 
 def _body_entry(mech, name, spec, units):
@@ -564,14 +497,14 @@ def _body_entry(mech, name, spec, units):
 
 
 def _mass_entry(mass):
-    return {} if mass is None else {"mass": mass[0], "com": _xy(mass[1]), "inertia": mass[2]}
+    return {} if mass is None else {"mass": mass[0], "com": xy(mass[1]), "inertia": mass[2]}
 
 
 def _load_entry(body, at, force, torque, fixed):
     if callable(force) or callable(torque):
         raise FileFormatError(f"the load on {body!r} is given by a function of the inputs, which has no file "
                               f"form: give it as constants to save it")
-    return {"body": body, "force": _xy(force), "at": _xy(at), "torque": float(torque), "fixed": fixed}
+    return {"body": body, "force": xy(force), "at": xy(at), "torque": float(torque), "fixed": fixed}
 
 
 def _shown_angle(v, units):
@@ -597,11 +530,11 @@ def to_dict(obj, units=None, sweep=None):
             "units": {"length": units.length, "angle": units.angle, "rate": units.rate},
             "bodies": [_body_entry(obj, n, a, units) | _mass_entry(sk.mass.get(n)) for n, a in sk.bodies.items()
                        if n != GROUND],
-            "points": [{"name": n, "body": b, "at": _xy(p)} for n, (b, p) in points.items()],
+            "points": [{"name": n, "body": b, "at": xy(p)} for n, (b, p) in points.items()],
             "joints": [_joint_entry(j, units) for j in sk.joints]}
     if sk.dimensions:
         data["dimensions"] = [{"between": [d.a, d.b], "length": d.length} for d in sk.dimensions]
-    data["drivers"] = [_driver_entry(d, sk.joints, sk.points) for d in sk.drivers]
+    data["drivers"] = [d.driver_entry(sk.joints, sk.points) for d in sk.drivers]
     for entry, d in zip(data["drivers"], sk.drivers):
         if d.name in sk.starts and sk.dimensions:  # without dimensions the sketch shows the start
             v = sk.starts[d.name]

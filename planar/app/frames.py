@@ -17,8 +17,7 @@ import numpy as np
 
 from planar.analysis import instant_centres
 from planar.analysis.outputs import OUTPUTS, output_values
-from planar.draw import (FILLS, Scene, _arrow_scale, _gear_centres, _joint_params, _local, _path_points, _world,
-                         part_of)
+from planar.draw import FILLS, Scene, _arrow_scale, _joint_params, _local, _path_points, _world
 from planar.joints import CarrierGear, Gear, Prismatic, Revolute, Slot
 from planar.results import Status
 
@@ -167,17 +166,18 @@ def solve(model, units, rate=1.0, samples=721):
         if isinstance(j, Revolute):
             (grounds if 0 in ids else pins).append(fixed(ids[0], P["s"][0]))
         elif isinstance(j, (Gear, CarrierGear)):
-            for k, (b, s) in enumerate(_gear_centres(scene, j, P)):
+            for k, (b, s) in enumerate(j.wheel_centres(scene, P)):
                 t = np.linspace(0, 2 * np.pi, WHEEL_SIDES + 1)
                 r = abs(float(np.ravel(P["R"])[k]))
                 wheels.append([fixed(b, s)] + [fixed(b, s + r * np.array([np.cos(a), np.sin(a)])) for a in t])
-        if part_of(j).line is not None:
-            a = part_of(j).line(scene, j, P)[0]
+        line = j.guide_line(scene, P)
+        if line is not None:
+            a = line[0]
             guides.append([fixed(a, e) for e in scene.line_ends(j.name)])
             if isinstance(j, Prismatic):
                 blocks.append(fixed(ids[1], P["s"][1]))
     joint_names = {j.name for j in model.joints}
-    labels = [n for n in model.points if n not in joint_names or part_of(model.joint(n)).labelled]
+    labels = [n for n in model.points if n not in joint_names or model.joint(n).labelled]
     points = [fixed(*model.points[n]) for n in labels]
     traced = _path_points(res, None)
     moving = [n for n, (b, _) in model.points.items() if b != 0]
