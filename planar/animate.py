@@ -14,7 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.draw import PATH_COLOURS, Scene, _finish, _path_points, _pose_title
+from planar.draw.pose import path_points, pose_title
+from planar.draw.scene import Scene
+from planar.draw.style import PATH_COLOURS, finish
 from planar.errors import InputError
 from planar.units import Units
 
@@ -88,14 +90,14 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
     units = units or Units()
     frames = frame_indices(res, max_frames, rocking)
     scene = Scene(res)
-    names = _path_points(res, points) if trace else []
+    names = path_points(res, points) if trace else []
     paths = [res.position(n) for n in names]
 
     fig, ax = plt.subplots(figsize=size, layout="constrained")
     for k, (n, p) in enumerate(zip(names, paths)):
         ax.plot(p[:, 0], p[:, 1], color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=0.8, alpha=0.35, zorder=1.7)
     _fix_limits(ax, scene, frames)
-    _finish(ax, units)
+    finish(ax, units)
     _fit_figure(fig, ax, size)
     ax.set_aspect("equal", adjustable="box")
     ax.set_autoscale_on(False)
@@ -112,7 +114,7 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
         shown.clear()
         i = frames[f]
         shown.extend(scene.draw(ax, i))
-        ax.set_title(_pose_title(scene, i, units))
+        ax.set_title(pose_title(scene, i, units))
         # the trace: every pose of the sweep up to the furthest one shown so far
         upto = frames[: f + 1].max() + 1
         for line, p in zip(traces, paths):

@@ -92,9 +92,9 @@ def test_paths_follow_the_sweep(fb):
 
 
 def test_default_paths_are_the_named_points_or_the_moving_joints(fb):
-    assert draw._path_points(fb, None) == ["C"]
+    assert draw.path_points(fb, None) == ["C"]
     res = four_bar().sweep(np.linspace(0, 1, 5))
-    assert draw._path_points(res, None) == ["A", "B"]  # O2 and O4 do not move
+    assert draw.path_points(res, None) == ["A", "B"]  # O2 and O4 do not move
 
 
 def test_vectors_are_the_velocities_and_accelerations(fb):
@@ -167,7 +167,7 @@ def test_limit_positions_are_marked_where_the_sweep_found_them():
     marks = [ln for ln in ax.lines if ln.get_marker() == "s" and len(ln.get_xdata())]
     assert len(marks) == len(limits)
     b, s = res.model.points["B"]
-    np.testing.assert_allclose(marks[0].get_xydata()[0], draw._world(np.asarray(limits[0].q), b, s), atol=1e-12)
+    np.testing.assert_allclose(marks[0].get_xydata()[0], draw.world(np.asarray(limits[0].q), b, s), atol=1e-12)
     assert "limit position" in [t.get_text() for t in ax.get_legend().get_texts()]
     axes = draw.plot_outputs(res, ["angle:rocker"])
     assert len(axes[0].patches) >= 1  # the unassemblable inputs are shaded

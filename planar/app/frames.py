@@ -17,7 +17,9 @@ import numpy as np
 
 from planar.analysis import instant_centres
 from planar.analysis.outputs import OUTPUTS, output_values
-from planar.draw import FILLS, Scene, _arrow_scale, _joint_params, _local, _path_points, _world
+from planar.draw.pose import arrow_scale, path_points
+from planar.draw.scene import Scene, joint_params, local, world
+from planar.draw.style import FILLS
 from planar.joints import CarrierGear, Gear, Prismatic, Revolute, Slot
 from planar.results import Status
 
@@ -95,7 +97,7 @@ class Circuit:
             if e.q is None or not np.all(np.isfinite(e.q)):
                 continue
             u = float(self.units.input_from_internal(float(np.ravel(e.input)[0]), bool(m.input_lengths[0])))
-            pts = [_world(np.asarray(e.q), *m.points[n]) for n in self.paths]
+            pts = [world(np.asarray(e.q), *m.points[n]) for n in self.paths]
             out.append((e.kind, min(int(e.index), len(self.x) - 1), u, pts))
         return out
 
@@ -150,14 +152,14 @@ def solve(model, units, rate=1.0, samples=721):
         return len(cols) - 1
 
     def fixed(b, s):
-        return add(_world(Q, b, np.asarray(s, float)))
+        return add(world(Q, b, np.asarray(s, float)))
 
-    params = _joint_params(model)
+    params = joint_params(model)
     bodies, colours = [], []
     for b in range(1, len(model.body_names)):
         outline = scene.body_outline(model.q0, b)
         if len(outline) >= 2:
-            bodies.append([fixed(b, s) for s in _local(model.q0, b, outline)])
+            bodies.append([fixed(b, s) for s in local(model.q0, b, outline)])
             colours.append(FILLS[(b - 1) % len(FILLS)])
     wheels, guides, pins, grounds, blocks = [], [], [], [], []
     for j in model.joints:
@@ -179,11 +181,11 @@ def solve(model, units, rate=1.0, samples=721):
     joint_names = {j.name for j in model.joints}
     labels = [n for n in model.points if n not in joint_names or model.joint(n).labelled]
     points = [fixed(*model.points[n]) for n in labels]
-    traced = _path_points(res, None)
+    traced = path_points(res, None)
     moving = [n for n, (b, _) in model.points.items() if b != 0]
     V = np.stack([res.velocity(n) for n in moving], 1) if moving else np.zeros((len(res), 0, 2))
     A = np.stack([res.acceleration(n) for n in moving], 1) if moving else np.zeros((len(res), 0, 2))
-    sv, sa = _arrow_scale(V, scene.L), _arrow_scale(A, scene.L)
+    sv, sa = arrow_scale(V, scene.L), arrow_scale(A, scene.L)
     arrows = []
     for k, n in enumerate(moving):
         p = res.position(n)
