@@ -12,6 +12,7 @@ import pytest
 
 from planar import cli, io
 from planar.mechanisms import CATALOGUE
+from planar.units import Units
 
 
 @pytest.fixture
@@ -226,7 +227,7 @@ def test_progress_only_on_a_terminal():
 
 
 def test_default_sweep_is_a_turn_or_a_travel():
-    units = cli.Units()
+    units = Units()
     s = cli.default_sweep(CATALOGUE["four_bar"]().compile(), units)
     assert s.stop[0] - s.start[0] == pytest.approx(360.0) and s.num == 73
     m = CATALOGUE["slider_crank"](driver="slider").compile()

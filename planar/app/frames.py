@@ -234,7 +234,7 @@ def pose_lines(model, units, value, rate=1.0):
 
 def csv_text(res, units):
     """The sweep as the CSV table ``planar run`` writes (one row per pose)."""
-    from planar.cli import csv_rows, table
+    from planar.cli.tables import csv_rows, table
 
     out = io.StringIO()
     csv.writer(out).writerows(csv_rows(table(res, units)))
