@@ -16,7 +16,7 @@ import numpy as np
 
 from planar.draw.pose import path_points, pose_title
 from planar.draw.scene import Scene
-from planar.draw.style import PATH_COLOURS, finish
+from planar.draw.style import PATH_COLOURS, SAME, TINY, finish
 from planar.errors import InputError
 from planar.units import Units
 
@@ -139,7 +139,7 @@ def _same_pose(model, a, b):
     """Whether poses a and b (n,) put every body at the same place (angles modulo a turn)."""
     d = (b - a).reshape(-1, 3)
     d[:, 2] = np.angle(np.exp(1j * d[:, 2]))
-    return bool(np.all(np.abs(d[:, :2]) <= 1e-9 * model.L) and np.all(np.abs(d[:, 2]) <= 1e-9))
+    return bool(np.all(np.abs(d[:, :2]) <= SAME * model.L) and np.all(np.abs(d[:, 2]) <= SAME))
 
 
 def _fit_figure(fig, ax, size):
@@ -148,7 +148,7 @@ def _fit_figure(fig, ax, size):
     pad = 0.06 * max(box.width, box.height)
     ax.set_xlim(box.x0 - pad, box.x1 + pad)
     ax.set_ylim(box.y0 - pad, box.y1 + pad)
-    ratio = (box.height + 2 * pad) / max(box.width + 2 * pad, 1e-300)
+    ratio = (box.height + 2 * pad) / max(box.width + 2 * pad, TINY)
     fig.set_size_inches(size[0], float(np.clip(size[0] * ratio + 0.5, 0.4 * size[0], 1.2 * size[0])))
 
 

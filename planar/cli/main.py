@@ -10,6 +10,7 @@ from planar.units import LENGTH_UNITS, RATE_UNITS
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
 MAX_ROWS = 10_000_000  # table rows a run writes: beyond, the CSV alone takes many minutes and gigabytes
 MAX_FRAMES, DPI, FPS = 2000, (20, 1200), (1, 100)
+DEFAULT_NUM = 73  # sweep values of a turn when neither the file nor the command line says: every 5 degrees
 
 
 class UsageError(InputError):
@@ -89,7 +90,8 @@ def parser():
 
     d = sub.add_parser("demo", help="sweep a four-bar with a coupler point; write plots, animation, CSV")
     _outputs(d, "planar-demo")
-    d.add_argument("--num", type=_bounded(2, MAX_ROWS), default=73, help="sweep values over the turn (default 73)")
+    d.add_argument("--num", type=_bounded(2, MAX_ROWS), default=DEFAULT_NUM,
+                   help=f"sweep values over the turn (default {DEFAULT_NUM})")
     d.set_defaults(func=cmd_demo)
 
     r = sub.add_parser("run", help="sweep a mechanism file and write tables, plots and an animation")

@@ -9,6 +9,9 @@ from planar.analysis import four_bar_links, grashof, mobility, motion_range, out
 from planar.errors import PlanarError
 from planar.results import POSED, Status
 
+TURN_SAMPLES = 180  # sweep steps over a turn for the strokes and the motion range (every 2 degrees)
+MOTIONLESS = 1e-9  # an output whose range is this small (relative to the mechanism's size, or radians) stays put
+
 
 def fmt(v):
     return f"{float(v):.6g}"
@@ -101,14 +104,14 @@ def stroke_lines(model, units):
     one input angle turns (nothing when the input does not turn fully)."""
     if len(model.drivers) != 1 or model.input_lengths[0]:
         return []
-    turn = model.sweep(model.u0[0] + np.linspace(0.0, 2 * math.pi, 181))
+    turn = model.sweep(model.u0[0] + np.linspace(0.0, 2 * math.pi, TURN_SAMPLES + 1))
     if not turn.ok.all():
         return []
     lines = []
     for spec in outputs.specs(model, ("travel", "angle")):
         kind, name = spec.split(":", 1)
         values = output(turn, spec)
-        if np.ptp(values) <= 1e-9 * (model.L if kind == "travel" else 1.0):
+        if np.ptp(values) <= MOTIONLESS * (model.L if kind == "travel" else 1.0):
             continue  # it does not move: no stroke
         try:
             s = stroke(turn, spec)
@@ -124,7 +127,7 @@ def range_lines(model, units):
     solver (planar.analysis.motion_range)."""
     if len(model.drivers) != 1:
         return []
-    ranges = motion_range(model, samples=180)
+    ranges = motion_range(model, samples=TURN_SAMPLES)
     name, is_len = model.input_names[0], bool(model.input_lengths[0])
     unit = units.input_label(is_len)
     if not is_len and len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 2 * math.pi:

@@ -4,7 +4,7 @@ sweep (or circuit) they ask for."""
 import math
 from dataclasses import replace
 
-from planar.cli.main import MAX_ROWS, UsageError
+from planar.cli.main import DEFAULT_NUM, MAX_ROWS, UsageError
 from planar.errors import FileFormatError, InputError, PlanarError
 from planar.units import LENGTH_RATE_UNITS, RATE_UNITS, Units, convert_length, parse_rate
 
@@ -23,7 +23,7 @@ def default_sweep(model, units):
             a = float(units.angle_from_internal(u0))
             start.append(a)
             stop.append(a + float(units.angle_from_internal(2 * math.pi)))
-    return SweepSettings(start=tuple(start), stop=tuple(stop), num=73)
+    return SweepSettings(start=tuple(start), stop=tuple(stop), num=DEFAULT_NUM)
 
 
 def file_settings(doc, args):

@@ -4,7 +4,8 @@ instant centres, and the poses of a sweep's events."""
 import numpy as np
 
 from planar.draw.scene import Scene, world
-from planar.draw.style import ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, VELOCITY, broken, finish, new_axes, pyplot
+from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, broken, finish,
+                               new_axes, pyplot)
 from planar.units import Units
 
 
@@ -77,7 +78,7 @@ def path_points(res, points):
     shown = {j.name for j in model.joints if j.labelled}
     scale = Scene(res, labels=False).L
     return [n for n in model.points if n in shown and model.points[n][0] != 0
-            and _span(res.position(n)) > 1e-6 * scale]
+            and _span(res.position(n)) > STILL * scale]
 
 
 def _span(p):
@@ -186,7 +187,7 @@ def draw_instant_centres(source, i=0, *, ax=None, loci=False, units=None):
     box = ax.dataLim if np.all(np.isfinite(ax.dataLim.bounds)) else None
     for label, p in centres.items():
         p = np.asarray(p, float)
-        if loci and label in paths and _span(paths[label]) > 1e-9:
+        if loci and label in paths and _span(paths[label]) > SAME:  # (no scene here: a centre that moves at all)
             path = paths[label]
             if box is not None:
                 pad = max(box.width, box.height)

@@ -7,7 +7,7 @@ import numpy as np
 from planar.errors import InputError
 from planar.geometry import cross, rotate
 from planar.results import Status
-from planar.draw.style import EDGE, FILLS
+from planar.draw.style import EDGE, FILLS, SAME, STILL, TINY
 
 
 # ---- poses: body-fixed vectors to world coordinates ------------------------------------------
@@ -173,7 +173,7 @@ class Scene:
         from matplotlib.patches import Polygon
 
         e0, e1 = ends
-        d = (e1 - e0) / max(np.hypot(*(e1 - e0)), 1e-300)
+        d = (e1 - e0) / max(np.hypot(*(e1 - e0)), TINY)
         n = np.array([d[1], -d[0]])
         a, b = e0 + n * self.block[1], e1 + n * self.block[1]
         k = n * 0.7 * self.size
@@ -196,7 +196,7 @@ class Scene:
     def slot(self, ax, ends):
         """A slot: a stadium outline along the line, as wide as a pin."""
         e0, e1 = ends
-        d = (e1 - e0) / max(np.hypot(*(e1 - e0)), 1e-300)
+        d = (e1 - e0) / max(np.hypot(*(e1 - e0)), TINY)
         w = 0.45 * self.size
         n = np.array([-d[1], d[0]]) * w
         t = np.linspace(-np.pi / 2, np.pi / 2, 12)
@@ -243,7 +243,7 @@ class Scene:
 
         e0, e1 = ends
         length = np.hypot(*(e1 - e0))
-        d = (e1 - e0) / max(length, 1e-300)
+        d = (e1 - e0) / max(length, TINY)
         n = side * np.array([-d[1], d[0]])
         pitch = 0.6 * self.size
         k = max(int(length / pitch), 1)
@@ -267,7 +267,7 @@ class Scene:
         """World points of body b's bar or plate at pose q ([] for none): two ends of a bar, or
         the corners of a plate (its convex hull)."""
         pts = np.array([world(q, b, s) for s in self.attach[b]]) if self.attach[b] else np.zeros((0, 2))
-        pts = _distinct(pts, 1e-9 * self.L)
+        pts = _distinct(pts, SAME * self.L)
         if len(pts) < 2:
             return pts[:0]
         hull = _hull(pts)
@@ -316,12 +316,12 @@ class Scene:
         for k in range(len(pts)):
             if done[k]:
                 continue
-            same = np.flatnonzero(np.linalg.norm(pts - pts[k], axis=1) <= 1e-6 * self.L)
+            same = np.flatnonzero(np.linalg.norm(pts - pts[k], axis=1) <= STILL * self.L)
             done[same] = True
             text = ", ".join(names[s] for s in same)
             half = np.array([0.33 * h * len(text) + 0.2 * h, 0.5 * h])
             d = pts[k] - centre
-            out = np.arctan2(d[1], d[0]) if np.hypot(*d) > 1e-9 * self.L else np.pi / 2
+            out = np.arctan2(d[1], d[0]) if np.hypot(*d) > SAME * self.L else np.pi / 2
             places = [pts[k] + r * u + u * half
                       for r in (1.0 * self.size, 2.2 * self.size, 3.6 * self.size)
                       for t in (0, 1, -1, 2, -2, 3, -3, 4)

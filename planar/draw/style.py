@@ -23,6 +23,9 @@ VELOCITY, ACCELERATION = "#1f5fbf", "#c0282d"
 PATH_COLOURS = _palette(("#6a3d9a", "#1b9e77", "#d95f02", "#e7298a", "#66a61e", "#e6ab02"), 100, (0.8, 0.6), 0.7)
 # the kinds of planar.events.Event: marker and colour
 FORCE = "#2a7f3f"  # reaction arrows
+# relative to a drawing's size: points closer than SAME are one point, a path spanning less than
+# STILL does not move; TINY keeps a division by a length that may be zero finite
+SAME, STILL, TINY = 1e-9, 1e-6, 1e-300
 EVENT_MARK = {"limit": ("s", "#d62728"), "bifurcation": ("D", "#9467bd"), "singular": ("X", "#000000"),
               "near_singular": ("^", "#ff7f0e")}
 

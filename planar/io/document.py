@@ -8,6 +8,8 @@ from planar.errors import FileFormatError
 from planar.model import Mechanism
 from planar.units import Units
 
+NUM = 181  # sweep values when a file's sweep gives no num
+
 
 @dataclass(frozen=True)
 class SweepSettings:
@@ -16,7 +18,7 @@ class SweepSettings:
 
     start: tuple
     stop: tuple
-    num: int = 181
+    num: int = NUM
     speed: tuple = (1.0,)
     acceleration: tuple = (0.0,)
     rocking: bool = False

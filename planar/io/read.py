@@ -6,7 +6,7 @@ import math
 from pathlib import Path
 
 from planar.errors import FileFormatError, InputError, ModelError, PlanarError
-from planar.io.document import MechanismFile, SweepSettings
+from planar.io.document import NUM, MechanismFile, SweepSettings
 from planar.io.schema import LOAD_FIELDS, MASS_FIELDS, SWEEP_FIELDS, TOP_FIELDS, VERSION, Checker, valid
 from planar.joints import FILE_TYPES
 from planar.model import Mechanism
@@ -113,7 +113,7 @@ def from_dict(data, source="<mechanism file>", length_unit=None):
         c.mapping(s, "sweep", SWEEP_FIELDS)
         got = {k: c.field(s, k, kind, "sweep", k in ("start", "stop")) for k, kind in SWEEP_FIELDS.items()}
         sweep = SweepSettings(
-            start=_tuple(got["start"]), stop=_tuple(got["stop"]), num=got["num"] or 181,
+            start=_tuple(got["start"]), stop=_tuple(got["stop"]), num=got["num"] or NUM,
             speed=_tuple(1.0 if got["speed"] is None else got["speed"]),
             acceleration=_tuple(0.0 if got["acceleration"] is None else got["acceleration"]),
             rocking=bool(got["rocking"]))
