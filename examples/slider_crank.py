@@ -42,7 +42,7 @@ def main(outdir="."):
     res = m.sweep(np.radians([30.0]), velocity=12.0)
     print(f"  B = ({res.position('B')[0, 0]:.6f}, {res.position('B')[0, 1]:.6f}), "
           f"v_B = {res.velocity('B')[0, 0]:.6f}, a_B = {res.acceleration('B')[0, 0]:.6f}")
-    s = stroke(m, "slide")  # the slider's extremes over one crank turn, located by the solver
+    s = stroke(m, "travel:slide")  # the slider's extremes over one crank turn, located by the solver
     print(f"  stroke {s.stroke:.6f}, time ratio {s.time_ratio:.6f} "
           f"(dead centres at th2 = {deg(s.input_at_maximum):.6f} and {deg(s.input_at_minimum):.6f} deg)")
 

@@ -14,7 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.draw import PATH_COLOURS, Scene, _finish, _path_points, _pose_title
+from planar.draw.pose import path_points, pose_title
+from planar.draw.scene import Scene
+from planar.draw.style import PATH_COLOURS, SAME, TINY, finish
 from planar.errors import InputError
 from planar.units import Units
 
@@ -88,14 +90,14 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
     units = units or Units()
     frames = frame_indices(res, max_frames, rocking)
     scene = Scene(res)
-    names = _path_points(res, points) if trace else []
+    names = path_points(res, points) if trace else []
     paths = [res.position(n) for n in names]
 
     fig, ax = plt.subplots(figsize=size, layout="constrained")
     for k, (n, p) in enumerate(zip(names, paths)):
         ax.plot(p[:, 0], p[:, 1], color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=0.8, alpha=0.35, zorder=1.7)
     _fix_limits(ax, scene, frames)
-    _finish(ax, units)
+    finish(ax, units)
     _fit_figure(fig, ax, size)
     ax.set_aspect("equal", adjustable="box")
     ax.set_autoscale_on(False)
@@ -112,7 +114,7 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
         shown.clear()
         i = frames[f]
         shown.extend(scene.draw(ax, i))
-        ax.set_title(_pose_title(scene, i, units))
+        ax.set_title(pose_title(scene, i, units))
         # the trace: every pose of the sweep up to the furthest one shown so far
         upto = frames[: f + 1].max() + 1
         for line, p in zip(traces, paths):
@@ -137,7 +139,7 @@ def _same_pose(model, a, b):
     """Whether poses a and b (n,) put every body at the same place (angles modulo a turn)."""
     d = (b - a).reshape(-1, 3)
     d[:, 2] = np.angle(np.exp(1j * d[:, 2]))
-    return bool(np.all(np.abs(d[:, :2]) <= 1e-9 * model.L) and np.all(np.abs(d[:, 2]) <= 1e-9))
+    return bool(np.all(np.abs(d[:, :2]) <= SAME * model.L) and np.all(np.abs(d[:, 2]) <= SAME))
 
 
 def _fit_figure(fig, ax, size):
@@ -146,7 +148,7 @@ def _fit_figure(fig, ax, size):
     pad = 0.06 * max(box.width, box.height)
     ax.set_xlim(box.x0 - pad, box.x1 + pad)
     ax.set_ylim(box.y0 - pad, box.y1 + pad)
-    ratio = (box.height + 2 * pad) / max(box.width + 2 * pad, 1e-300)
+    ratio = (box.height + 2 * pad) / max(box.width + 2 * pad, TINY)
     fig.set_size_inches(size[0], float(np.clip(size[0] * ratio + 0.5, 0.4 * size[0], 1.2 * size[0])))
 
 

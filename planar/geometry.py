@@ -4,7 +4,8 @@ Two layouts. Results, analyses and drawing hold vectors as (..., 2) arrays: ``pe
 and ``cross`` work on those. The joint kernels hold them *components first, configurations
 last* (structure of arrays): a vector is (2, ..., N), so that every operation is one numpy
 call over whole contiguous rows of N configurations, never an inner loop of 2 elements;
-``perp_cf``, ``dot_cf``, ``cross_cf`` and ``rotate_cf`` work on those, and :class:`Frames`
+``perp_cf``, ``dot_cf``, ``cross_cf`` and ``rotate_cf`` work on those (``rotate`` is the first
+layout's body-point rotation), and :class:`Frames`
 holds the body poses in that layout.
 
 ``perp(v)`` is the rotation by +90 degrees, so ``d(A(phi) s)/dphi = perp(A(phi) s)``.
@@ -23,6 +24,17 @@ _PERP = np.array([-1.0, 1.0])
 def perp(v):
     """Rotate (..., 2) vectors by +90 degrees: (x, y) -> (-y, x)."""
     return v[..., ::-1] * _PERP
+
+
+def rotate(phi, v):
+    """A(phi) v: (..., 2) vectors ``v`` turned counter-clockwise by the angles ``phi`` (...),
+    broadcast against each other; ``rotate(-phi, v)`` turns them back (world to body-fixed).
+
+    >>> rotate(np.pi / 2, np.array([1.0, 0.0])).round(12).tolist()
+    [0.0, 1.0]
+    """
+    c, s = np.cos(phi), np.sin(phi)
+    return np.stack((c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]), -1)
 
 
 def dot(a, b):

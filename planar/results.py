@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from planar.errors import ModelError
-from planar.geometry import perp
+from planar.geometry import perp, rotate
 
 if TYPE_CHECKING:
     from planar.kinetostatics import Forces
@@ -136,9 +136,7 @@ class Sweep:
     def _point(self, name):
         b, s = self.model.point(name)
         x, y, phi = self._body(self.model.body_names[b], self.q)
-        c, sn = np.cos(phi), np.sin(phi)
-        S = np.stack((c * s[0] - sn * s[1], sn * s[0] + c * s[1]), axis=-1)
-        return b, S
+        return b, rotate(phi, np.asarray(s, float))
 
     def position(self, name: str) -> np.ndarray:
         """(N, 2) world position of a named point or joint."""

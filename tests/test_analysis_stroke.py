@@ -23,7 +23,7 @@ FAST = {"max_step": 0.5}
 def test_slider_crank_stroke_time_ratio_and_extremes(r2, extra, efrac, th1):
     r3 = r2 + extra
     e = efrac * (r3 - r2)
-    s = stroke(slider_crank(r2, r3, offset=e, slide_angle=th1, start=th1), "slide", **FAST)
+    s = stroke(slider_crank(r2, r3, offset=e, slide_angle=th1, start=th1), "travel:slide", **FAST)
     assert abs(s.stroke - slider_crank_stroke(r2, r3, e)) <= 1e-9 * r3
     ratio = slider_crank_time_ratio(r2, r3, e)  # forward over return: below 1 for e < 0
     assert abs(s.time_ratio - max(ratio, 1 / ratio)) <= 1e-8 * s.time_ratio
@@ -55,7 +55,7 @@ def test_crank_rocker_swing_and_time_ratio(others, frac):
     assume(longest_crank > 0.3)
     r2 = 0.2 + frac * (longest_crank - 0.3)
     r = (r1, r2, r3, r4)
-    s = stroke(four_bar(*r), "rocker", **FAST)
+    s = stroke(four_bar(*r), "angle:rocker", **FAST)
     (th2_ext, th4_ext), (th2_fold, th4_fold) = rocker_extremes(*r)
     assert abs(s.stroke - abs(th4_fold - th4_ext)) <= 1e-9
     forward = (th2_fold - th2_ext) % (2 * np.pi)
@@ -68,23 +68,23 @@ def test_crank_rocker_swing_and_time_ratio(others, frac):
 def test_a_sweep_result_gives_the_same_stroke():
     m = slider_crank()
     res = m.sweep(np.linspace(0, 2 * np.pi, 181), **FAST)
-    a, b = stroke(res, "B.x", **FAST), stroke(m, "B.x", **FAST)
+    a, b = stroke(res, "x:B", **FAST), stroke(m, "x:B", **FAST)
     assert abs(a.stroke - b.stroke) < 1e-12 and abs(a.input_at_minimum - b.input_at_minimum) < 1e-10
 
 
 def test_any_back_and_forth_output_of_any_mechanism():
     # the slotted link of an inverted slider-crank (a quick-return): its swing and time ratio
-    s = stroke(inverted_slider_crank(4.0, 2.0), "link3", **FAST)
+    s = stroke(inverted_slider_crank(4.0, 2.0), "angle:link3", **FAST)
     swing = 2 * np.arcsin(2.0 / 4.0)  # the link is tangent to the crank circle at its extremes
     assert abs(s.stroke - swing) < 1e-9
     assert abs(s.time_ratio - (np.pi + swing) / (np.pi - swing)) < 1e-8
 
 
 @pytest.mark.parametrize("source, output, error, match", [
-    (four_bar(4, 3, 3, 3, start=0.5), "rocker", planar.AssemblyError, "does not turn fully"),
-    (four_bar(), "crank", planar.InputError, "does not come back"),
-    (slider_crank(driver="slider"), "crank", planar.InputError, "one input angle"),
-    (four_bar(), "rocker.z", planar.ModelError, "unknown output"),
+    (four_bar(4, 3, 3, 3, start=0.5), "angle:rocker", planar.AssemblyError, "does not turn fully"),
+    (four_bar(), "angle:crank", planar.InputError, "does not come back"),
+    (slider_crank(driver="slider"), "angle:crank", planar.InputError, "one input angle"),
+    (four_bar(), "z:rocker", planar.InputError, "unknown output"),
 ])
 def test_refusals_name_the_cause(source, output, error, match):
     with pytest.raises(error, match=match):
@@ -93,4 +93,4 @@ def test_refusals_name_the_cause(source, output, error, match):
 
 def test_a_sweep_not_over_one_turn_is_refused():
     with pytest.raises(planar.InputError, match="exactly one turn"):
-        stroke(four_bar().sweep(np.linspace(0, np.pi, 10)), "rocker")
+        stroke(four_bar().sweep(np.linspace(0, np.pi, 10)), "angle:rocker")

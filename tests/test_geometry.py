@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from planar.geometry import Frames, cos_sin, cross, cross_cf, dot, dot_cf, perp, perp_cf, rotate_cf
+from planar.geometry import Frames, cos_sin, cross, cross_cf, dot, dot_cf, perp, perp_cf, rotate, rotate_cf
 
 finite = st.floats(-1e3, 1e3, allow_nan=False)
 vectors = st.integers(1, 6).flatmap(lambda n: arrays(float, (n, 2), elements=finite))
@@ -124,3 +124,13 @@ def test_frame_points_and_their_rates_against_finite_differences():
         np.testing.assert_allclose(F.point_rate(k, Sk), fd, atol=1e-8)
     np.testing.assert_allclose(F.vecs(s_local), S, rtol=0, atol=0)
     assert F.shape == (K, N)
+
+
+def test_rotate_turns_body_points_and_back():
+    rng = np.random.default_rng(3)
+    phi, v = rng.uniform(-7, 7, 50), rng.normal(size=(50, 2))
+    w = rotate(phi, v)
+    np.testing.assert_allclose(np.hypot(*w.T), np.hypot(*v.T), rtol=1e-14)
+    np.testing.assert_allclose(rotate(-phi, w), v, atol=1e-14)
+    np.testing.assert_allclose(rotate(np.pi / 2, v), perp(v), atol=1e-15)
+    assert rotate(phi, np.array([1.0, 0.0])).shape == (50, 2)  # one body point over many poses

@@ -311,10 +311,10 @@ def test_save_refuses_what_is_not_a_mechanism(tmp_path):
 
 
 def test_every_joint_class_has_a_file_form():
-    from planar.joints import JOINT_TYPES
+    from planar.joints import FILE_TYPES, JOINT_TYPES
 
     joints = [cls for cls in JOINT_TYPES if not cls.is_driver]
     kinds = {"Revolute": "revolute", "Prismatic": "prismatic", "Slot": "slot", "CarrierGear": "gear",
              "Gear": "gear", "RollingContact": "gear", "RackPinion": "rack_pinion"}
     assert sorted(c.__name__ for c in joints) == sorted(kinds)
-    assert set(kinds.values()) | {"rolling"} == set(io.JOINT_FIELDS)
+    assert set(kinds.values()) | {"rolling"} == set(FILE_TYPES)

@@ -130,7 +130,7 @@ def test_slider_crank(case):
 def test_slider_crank_stroke_and_time_ratio(case):
     i, e = case["inputs"], case["expected"]
     m = slider_crank(i["crank"], i["coupler"], offset=i["offset"])
-    for out in ("B.x", "slide"):
+    for out in ("x:B", "travel:slide"):
         s = stroke(m, out)
         check_length(s.stroke, e["stroke"], max(i["crank"], i["coupler"]), "stroke")
         check_rate(s.time_ratio, e["time_ratio"], e["time_ratio"], "time ratio")

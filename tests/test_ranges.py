@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from planar.analysis.ranges import motion_range
+from planar.analysis.ranges import motion_range, runs, swept_ranges
 from planar.mechanisms import four_bar, slider_crank
 from tests import oracles
 
@@ -32,3 +32,20 @@ def test_four_bar_ranges_against_the_closed_form():
         m = four_bar(*dims, start=float(np.mean(want[0])))
         np.testing.assert_allclose(motion_range(m), want, atol=1e-10)
     assert motion_range(four_bar(4, 2, 3, 4)) == ((-np.pi, np.pi),)  # crank-rocker: a full turn
+
+
+def test_a_sweep_reads_the_same_ends_as_far_as_it_went():
+    m = four_bar(4, 3, 3, 2.5, start=0.3)
+    (lo, hi), = motion_range(m)
+    res = m.sweep(np.linspace(0.0, 2 * np.pi, 73))
+    got = swept_ranges(res)
+    # up from 0 to the upper limit; back in from the lower limit (one turn on) to 2 pi
+    assert len(got) == 2
+    np.testing.assert_allclose([got[0][1], got[1][0]], [hi, lo + 2 * np.pi], atol=1e-9)
+    assert got[0][0] == 0.0 and got[1][1] == 2 * np.pi
+    assert swept_ranges(m.sweep([0.0, 0.1])) == [(0.0, 0.1)]
+
+
+def test_runs_of_a_mask():
+    assert runs([True, False, False, True, True]) == [(0, 0), (3, 4)]
+    assert runs([]) == [] and runs([False]) == []

@@ -5,7 +5,8 @@ length). Each stretch of values that assembles on the chosen branch (the block a
 of the sketch) is an interval; its ends are limit positions, located by the sweep's arclength
 tracer where the branch runs into them, and by walking back from the first value of a stretch
 the sweep re-entered. Disjoint intervals stay apart (the seed's merged slider-crank ranges
-come out as the two intervals they are).
+come out as the two intervals they are). :func:`swept_ranges` reads the same intervals off a
+sweep already made, as far as it went.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -67,6 +68,41 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
     return tuple(sorted(_turn(lo, hi) for lo, hi in [first] + rest))
 
 
+def runs(mask):
+    """(first, last) index of each run of True in ``mask``.
+
+    >>> runs([False, True, True, False, True])
+    [(1, 2), (4, 4)]
+    """
+    edges = np.flatnonzero(np.diff(np.r_[0, np.asarray(mask, int), 0]))
+    return [(int(a), int(b) - 1) for a, b in zip(edges[::2], edges[1::2])]
+
+
+def swept_ranges(res):
+    """[(start, end)] of the first input over each stretch of the sweep ``res`` that assembled,
+    in sweep order (start > end where the input went down); an end next to a limit position
+    the sweep located is moved onto it.
+
+    >>> import numpy as np
+    >>> from planar.mechanisms import four_bar
+    >>> res = four_bar(4, 3, 3, 3).sweep(np.radians(np.arange(0, 361, 5.0)))
+    >>> [np.round(np.degrees(r), 4).tolist() for r in swept_ranges(res)]
+    [[0.0, 117.2796], [242.7204, 360.0]]
+    """
+    u = np.asarray(res.inputs[:, 0], float)
+    limits = [float(np.ravel(e.input)[0]) for e in res.events if e.kind == "limit"]
+    out = []
+    for a, b in runs(POSED[np.asarray(res.status)]):
+        ends = []
+        for inside, outside in ((a, a - 1), (b, b + 1)):
+            end = float(u[inside])
+            if 0 <= outside < len(u):
+                end = next((v for v in limits if _between(v, u[inside], u[outside])), end)
+            ends.append(end)
+        out.append(tuple(ends))
+    return out
+
+
 def _turn(lo, hi):
     start = (lo + np.pi) % TURN - np.pi
     return float(start), float(start + (hi - lo))
@@ -79,10 +115,10 @@ def _stretches(model, grid, tol, max_step):
     res = model.sweep(grid, tol=tol, max_step=max_step)
     posed = POSED[res.status]
     limits = [e for e in res.events if e.kind == "limit"]
-    edges = np.flatnonzero(np.diff(np.r_[0, posed.astype(int), 0]))
     out = []
     br = _Branch(model, block_plan(model), tol)
-    for a, b in zip(edges[::2], edges[1::2]):
+    for a, last in runs(posed):
+        b = last + 1
         hi = None
         if b < len(grid):
             ends = [e.input for e in limits if _between(e.input, grid[b - 1], grid[b])]

@@ -6,7 +6,7 @@ that rate, whose derivative is the second kinematic coefficient: both come from 
 velocity and acceleration solutions at the refined input, along the same branch.
 
 >>> from planar.mechanisms import slider_crank
->>> s = stroke(slider_crank(2, 5, offset=1), "slide")
+>>> s = stroke(slider_crank(2, 5, offset=1), "travel:slide")
 >>> round(s.stroke, 12), round(s.time_ratio, 12)
 (4.099776105529, 1.133434599512)
 """
@@ -100,8 +100,8 @@ def _check_input(model):
 
 
 def stroke(source, output_name, *, samples=360, **options):
-    """Stroke and time ratio of the output ``output_name`` (see
-    :func:`planar.analysis.output`: a body, a joint coordinate, or "P.x" / "P.y").
+    """Stroke and time ratio of the output ``output_name`` ("kind:name", see
+    :func:`planar.analysis.output`: "angle:rocker", "travel:slide", "x:P", ...).
 
     ``source`` is a mechanism or model (swept over one turn from its sketch, in ``samples``
     steps; ``options`` go to the sweep), or a sweep result over exactly one increasing turn of
@@ -114,7 +114,7 @@ def stroke(source, output_name, *, samples=360, **options):
     --------
     >>> import numpy as np
     >>> from planar.mechanisms import four_bar
-    >>> s = stroke(four_bar(4, 2, 3, 4), "rocker")     # the rocker's swing
+    >>> s = stroke(four_bar(4, 2, 3, 4), "angle:rocker")     # the rocker's swing
     >>> round(float(np.degrees(s.stroke)), 9), round(s.time_ratio, 9)
     (63.002863344, 1.424265796)
     """

@@ -16,8 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.analysis import instant_centres
-from planar.draw import (FILLS, OUTPUTS, Scene, _arrow_scale, _gear_centres, _joint_params, _local, _path_points,
-                         _world, output_values, part_of)
+from planar.analysis.outputs import OUTPUTS, output_values
+from planar.draw.pose import arrow_scale, path_points
+from planar.draw.scene import Scene, joint_params, local, world
+from planar.draw.style import FILLS
 from planar.joints import CarrierGear, Gear, Prismatic, Revolute, Slot
 from planar.results import Status
 
@@ -95,7 +97,7 @@ class Circuit:
             if e.q is None or not np.all(np.isfinite(e.q)):
                 continue
             u = float(self.units.input_from_internal(float(np.ravel(e.input)[0]), bool(m.input_lengths[0])))
-            pts = [_world(np.asarray(e.q), *m.points[n]) for n in self.paths]
+            pts = [world(np.asarray(e.q), *m.points[n]) for n in self.paths]
             out.append((e.kind, min(int(e.index), len(self.x) - 1), u, pts))
         return out
 
@@ -109,7 +111,7 @@ def _loaded(model):
 
 
 def outputs(model):
-    """Output specs the page offers, "kind:name" (:data:`planar.draw.OUTPUTS`): each body's
+    """Output specs the page offers, "kind:name" (:data:`planar.analysis.outputs.OUTPUTS`): each body's
     angle, rate and acceleration, each slider's travel and rates, each moving point's x, y and
     speed; with masses, gravity or loads, each driver's effort and each joint's reaction (its
     size)."""
@@ -128,7 +130,7 @@ def output_label(spec, units, model=None):
     if kind in FORCES:
         moment = kind == "effort" and model is not None and not model.input_lengths[model.input_names.index(name)]
         return f"{FORCES[kind]} of {name} [{units.label('moment' if moment else 'force')}]"
-    title, unit_kind = OUTPUTS[kind][:2]
+    title, unit_kind = OUTPUTS[kind].title, OUTPUTS[kind].unit
     unit = units.label(unit_kind)
     return f"{title} of {name}" + (f" [{unit}]" if unit else "")
 
@@ -150,14 +152,14 @@ def solve(model, units, rate=1.0, samples=721):
         return len(cols) - 1
 
     def fixed(b, s):
-        return add(_world(Q, b, np.asarray(s, float)))
+        return add(world(Q, b, np.asarray(s, float)))
 
-    params = _joint_params(model)
+    params = joint_params(model)
     bodies, colours = [], []
     for b in range(1, len(model.body_names)):
         outline = scene.body_outline(model.q0, b)
         if len(outline) >= 2:
-            bodies.append([fixed(b, s) for s in _local(model.q0, b, outline)])
+            bodies.append([fixed(b, s) for s in local(model.q0, b, outline)])
             colours.append(FILLS[(b - 1) % len(FILLS)])
     wheels, guides, pins, grounds, blocks = [], [], [], [], []
     for j in model.joints:
@@ -166,23 +168,24 @@ def solve(model, units, rate=1.0, samples=721):
         if isinstance(j, Revolute):
             (grounds if 0 in ids else pins).append(fixed(ids[0], P["s"][0]))
         elif isinstance(j, (Gear, CarrierGear)):
-            for k, (b, s) in enumerate(_gear_centres(scene, j, P)):
+            for k, (b, s) in enumerate(j.wheel_centres(scene, P)):
                 t = np.linspace(0, 2 * np.pi, WHEEL_SIDES + 1)
                 r = abs(float(np.ravel(P["R"])[k]))
                 wheels.append([fixed(b, s)] + [fixed(b, s + r * np.array([np.cos(a), np.sin(a)])) for a in t])
-        if part_of(j).line is not None:
-            a = part_of(j).line(scene, j, P)[0]
+        line = j.guide_line(scene, P)
+        if line is not None:
+            a = line[0]
             guides.append([fixed(a, e) for e in scene.line_ends(j.name)])
             if isinstance(j, Prismatic):
                 blocks.append(fixed(ids[1], P["s"][1]))
     joint_names = {j.name for j in model.joints}
-    labels = [n for n in model.points if n not in joint_names or part_of(model.joint(n)).labelled]
+    labels = [n for n in model.points if n not in joint_names or model.joint(n).labelled]
     points = [fixed(*model.points[n]) for n in labels]
-    traced = _path_points(res, None)
+    traced = path_points(res, None)
     moving = [n for n, (b, _) in model.points.items() if b != 0]
     V = np.stack([res.velocity(n) for n in moving], 1) if moving else np.zeros((len(res), 0, 2))
     A = np.stack([res.acceleration(n) for n in moving], 1) if moving else np.zeros((len(res), 0, 2))
-    sv, sa = _arrow_scale(V, scene.L), _arrow_scale(A, scene.L)
+    sv, sa = arrow_scale(V, scene.L), arrow_scale(A, scene.L)
     arrows = []
     for k, n in enumerate(moving):
         p = res.position(n)
@@ -231,7 +234,7 @@ def pose_lines(model, units, value, rate=1.0):
 
 def csv_text(res, units):
     """The sweep as the CSV table ``planar run`` writes (one row per pose)."""
-    from planar.cli import csv_rows, table
+    from planar.cli.tables import csv_rows, table
 
     out = io.StringIO()
     csv.writer(out).writerows(csv_rows(table(res, units)))

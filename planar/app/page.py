@@ -521,7 +521,7 @@ def _loop_checks(design, model):
     if not isinstance(design, FileDesign):
         return []
     from planar.app.forms import grashof_line
-    from planar.cli import four_bar_links
+    from planar.analysis import four_bar_links
 
     found = four_bar_links(model)
     return [grashof_line(found[0], found[1] or "crank")] if found else []

@@ -1,8 +1,12 @@
-"""Joint types. Each class supplies residual rows, Jacobian blocks and gamma, batched.
+"""Joint types. Each class supplies residual rows, Jacobian blocks and gamma, batched, and its
+file form and drawing part; :data:`JOINT_TYPES` registers them (adding a joint type is one
+module and one entry there), and :data:`FILE_TYPES` is what files read from them.
 
->>> from planar.joints import JOINT_TYPES
+>>> from planar.joints import FILE_TYPES, JOINT_TYPES
 >>> sorted(cls.__name__ for cls in JOINT_TYPES)[:3]
 ['AngleDriver', 'CarrierGear', 'CoordinateDriver']
+>>> list(FILE_TYPES)
+['revolute', 'prismatic', 'slot', 'gear', 'rack_pinion', 'rolling']
 """
 
 from planar.joints.base import Joint
@@ -17,4 +21,7 @@ JOINT_TYPES = (
     AngleDriver, TravelDriver, CoordinateDriver,
 )
 
-__all__ = ["Joint", "JOINT_TYPES"] + [cls.__name__ for cls in JOINT_TYPES]
+# a file entry's "type" -> {field: (field kind, required)}: the file form of every joint type
+FILE_TYPES = {t: fields for cls in JOINT_TYPES for t, fields in cls.file_types.items()}
+
+__all__ = ["FILE_TYPES", "Joint", "JOINT_TYPES"] + [cls.__name__ for cls in JOINT_TYPES]

@@ -36,7 +36,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from planar.geometry import cross_cf, dot_cf, perp_cf
+from planar.errors import FileFormatError, InputError
+from planar.geometry import cross_cf, dot_cf, perp_cf, rotate
 
 
 class Joint:
@@ -121,6 +122,58 @@ class Joint:
         kind = type(self).__name__.lower()
         return f"{kind} '{self.name}' between {', '.join(repr(b) for b in self.bodies)}"
 
+    # ---- the file form (planar.io reads and writes it) ----------------------------------------
+
+    # file entry "type" -> {field: (field kind, required)} besides "type", "name" and "bodies";
+    # the builder method of a type is Mechanism.add_<type>; an "angle" field is in the file's
+    # angle unit, or in radians as "<field>_rad"
+    file_types: ClassVar[dict] = {}
+
+    def file_entry(self):
+        """The file entry that builds this joint: {"type", "name", "bodies", fields...} with
+        angles in radians as "<field>_rad"."""
+        raise FileFormatError(f"joint {self.name!r} of type {type(self).__name__} has no file form: "
+                              f"give its class file_types and file_entry")
+
+    def driver_entry(self, joints, points):
+        """For a driver: its file entry in "drivers" ({"joint"}, {"body"} or {"point", "axis"},
+        and "name" when not the default), given the sketch's ``joints`` and ``points``."""
+        raise FileFormatError(f"driver {self.name!r} of type {type(self).__name__} has no file form")
+
+    def measures(self, driver):
+        """Whether ``driver`` drives this joint's own coordinate (as ``drive(joint=)`` makes it)."""
+        c = self.coordinate()
+        return (c is not None and type(c) is type(driver) and c.bodies == driver.bodies
+                and c.data.keys() == driver.data.keys()
+                and all(np.array_equal(c.data[k], driver.data[k]) for k in c.data))
+
+    # ---- the drawing part (planar.draw's Scene calls these) ------------------------------------
+    # ``scene`` gives body ids (scene.ids), world points (scene.world, scene.turn, scene.local)
+    # and the drawing primitives; ``P`` is the joint's body-fixed parameters, as the system holds
+    # them; ``q`` a pose.
+
+    labelled: ClassVar[bool] = True  # a drawing names the joint's point (pins, sliders)
+
+    def attach(self, scene, P):
+        """[(body id, body-fixed point)] where the bodies' bars and plates hold on to the joint."""
+        raise InputError(f"joint {self.name!r}: planar.draw has no picture for {type(self).__name__}; "
+                         f"give its class attach and draw_part")
+
+    def guide_line(self, scene, P):
+        """(body id of the line, point, direction, (body id, point) that runs on it, padding)
+        for a joint with a guide line or rack, else None."""
+        return None
+
+    def draw_part(self, scene, P, q, ax):
+        """The artists that draw the joint at pose ``q`` on the axes ``ax``."""
+        raise InputError(f"joint {self.name!r}: planar.draw has no picture for {type(self).__name__}; "
+                         f"give its class attach and draw_part")
+
+
+def xy(p):
+    """A point or vector as a file writes it: [x, y] of floats."""
+    return [float(p[0]), float(p[1])]
+
 
 class SketchFrames:
     """Body frames at the sketch: converts world sketch data into body-fixed vectors."""
@@ -130,15 +183,11 @@ class SketchFrames:
         self.angles = angles  # name -> float
 
     def local_point(self, body, p):
-        c, s = np.cos(self.angles[body]), np.sin(self.angles[body])
-        d = np.asarray(p, dtype=float) - self.origins[body]
-        return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+        return rotate(-self.angles[body], np.asarray(p, dtype=float) - self.origins[body])
 
     def local_direction(self, body, v):
         v = np.asarray(v, dtype=float)
-        v = v / np.hypot(v[0], v[1])
-        c, s = np.cos(self.angles[body]), np.sin(self.angles[body])
-        return np.array([c * v[0] + s * v[1], -s * v[0] + c * v[1]])
+        return rotate(-self.angles[body], v / np.hypot(v[0], v[1]))
 
 
 def kernel_params(P):

@@ -6,6 +6,7 @@ driver row is the input rate, and its gamma gets the input acceleration added.
 
 import numpy as np
 
+from planar.errors import FileFormatError
 from planar.geometry import cross_cf, dot_cf
 from planar.joints.base import LOCK, Joint, line_of, line_params
 
@@ -36,6 +37,15 @@ class AngleDriver(Joint):
     def gamma(P, F):
         return np.zeros((1,) + F.shape)
 
+    def driver_entry(self, joints, points):
+        """A body's absolute angle as {"body"}, a revolute's angle as {"joint"}."""
+        from planar.model import GROUND
+
+        own = sorted((j for j in joints if j.measures(self)), key=lambda j: j.name != self.name)
+        if self.bodies[0] == GROUND and (self.name == self.bodies[1] or not own):
+            return _named({"body": self.bodies[1]}, self.name, self.bodies[1])
+        return _joint_entry(self, own)
+
 
 class TravelDriver(Joint):
     """Travel u.d of a point of body b along a line of body a, from the line's origin."""
@@ -60,6 +70,10 @@ class TravelDriver(Joint):
     @staticmethod
     def gamma(P, F):
         return line_of(P, F, rates=True).t_gamma()[None]
+
+    def driver_entry(self, joints, points):
+        """A slider's or slot's travel as {"joint"}."""
+        return _joint_entry(self, sorted((j for j in joints if j.measures(self)), key=lambda j: j.name != self.name))
 
 
 class CoordinateDriver(Joint):
@@ -90,6 +104,29 @@ class CoordinateDriver(Joint):
     @staticmethod
     def gamma(P, F):
         return (dot_cf(F.vec(0, P["s"]), P["e"]) * F.phid[0] ** 2)[None]
+
+    def driver_entry(self, joints, points):
+        """A named point's world coordinate as {"point", "axis"}."""
+        axis = "x" if self.data["axis"][0] == 1.0 else "y"
+        (body,) = self.bodies
+        named = [n for n, (b, p) in points.items() if b == body and np.array_equal(p, self.data["at"])]
+        point = ([n for n in named if f"{n}.{axis}" == self.name] or named)[0]
+        return _named({"point": point, "axis": axis}, self.name, f"{point}.{axis}")
+
+
+# ---- the file form: each driver's entry in a file's "drivers" (the drive() call that makes it)
+
+
+def _joint_entry(driver, own):
+    """{"joint"} of the first joint whose coordinate ``driver`` drives (``own``)."""
+    if not own:
+        raise FileFormatError(f"driver {driver.name!r} matches no joint coordinate or body angle")
+    return _named({"joint": own[0].name}, driver.name, own[0].name)
+
+
+def _named(entry, name, default):
+    """The entry with the driver's ``name`` when it is not the one drive() gives by default."""
+    return entry if name == default else entry | {"name": name}
 
 
 __all__ = ["AngleDriver", "TravelDriver", "CoordinateDriver"]

@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 
 from planar.geometry import Frames, cross_cf, dot_cf, perp_cf
-from planar.joints.base import Joint, pair_rates, pair_row, point_pair, wrap
+from planar.joints.base import Joint, pair_rates, pair_row, point_pair, wrap, xy
 
 
 class CarrierGear(Joint):
@@ -68,6 +68,51 @@ class CarrierGear(Joint):
 
     def anchor(self):
         return self.bodies[1], self.data["centre_b"]
+
+    # ---- the file form and the drawing part (a "gear" entry with a carrier) -------------------
+
+    labelled = False  # its point is a gear centre, named by the pin there
+
+    def file_entry(self):
+        return _gear_entry(self, carrier=self.bodies[2])
+
+    def wheel_centres(self, scene, P):
+        """(body id, body-fixed centre) of both gears: the sketch centres in the gears' frames
+        at the assembled sketch (a carrier's mesh keeps no centres among its parameters)."""
+        q0 = scene.model.q0
+        return [(b, scene.local(q0, b, np.asarray(self.data[key], float)))
+                for b, key in zip(scene.ids(self)[:2], ("centre_a", "centre_b"))]
+
+    attach = wheel_centres
+
+    def draw_part(self, scene, P, q, ax):
+        return _draw_wheels(self, scene, P, q, ax)
+
+
+# the file fields of a "gear" entry (Mechanism.add_gear)
+GEAR_FIELDS = {"radius_a": ("positive", True), "radius_b": ("positive", True), "internal": ("bool", False),
+               "carrier": ("name", False), "centre_a": ("point", False), "centre_b": ("point", False),
+               "hold_distance": ("bool", False), "pressure_angle": ("angle", False)}
+
+
+def _gear_entry(joint, carrier=None, hold_distance=False):
+    d = joint.data
+    e = {"type": "gear", "name": joint.name, "bodies": list(joint.bodies[:2]), "radius_a": float(d["radius_a"]),
+         "radius_b": float(d["radius_b"]), "internal": bool(d["sign"] < 0)}
+    if carrier is not None:
+        e["carrier"] = carrier
+    return e | {"centre_a": xy(d["centre_a"]), "centre_b": xy(d["centre_b"]), "hold_distance": hold_distance,
+                "pressure_angle_rad": float(d["pressure_angle"])}
+
+
+def _draw_wheels(joint, scene, P, q, ax):
+    """Both pitch circles; an internal gear's larger one as a ring."""
+    R = np.abs(P["R"])
+    internal = P["R"][1] < 0
+    arts = []
+    for k, (b, s) in enumerate(joint.wheel_centres(scene, P)):
+        arts += scene.wheel(ax, q, b, s, R[k], ring=internal and R[k] > R[1 - k])
+    return arts
 
 
 def _gears(F):
@@ -184,6 +229,23 @@ class Gear(Joint):
     def anchor(self):
         return self.bodies[1], self.data["centre_b"]
 
+    # ---- the file form and the drawing part ---------------------------------------------------
+
+    file_types = {"gear": GEAR_FIELDS}  # with a carrier a CarrierGear, with hold_distance a RollingContact
+    labelled = False  # its point is a gear centre
+
+    def file_entry(self):
+        return _gear_entry(self)
+
+    def wheel_centres(self, scene, P):
+        """(body id, body-fixed centre) of both gears."""
+        return list(zip(scene.ids(self), P["s"]))
+
+    attach = wheel_centres
+
+    def draw_part(self, scene, P, q, ax):
+        return _draw_wheels(self, scene, P, q, ax)
+
 
 class RollingContact(Gear):
     """A circle rolling on (or inside) another with no arm: the :class:`Gear` row plus the
@@ -232,3 +294,6 @@ class RollingContact(Gear):
     @classmethod
     def contact_load(cls, P, F, lam):
         return None  # a smooth contact: its normal row carries the push
+
+    def file_entry(self):
+        return _gear_entry(self, hold_distance=True)

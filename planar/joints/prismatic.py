@@ -4,8 +4,11 @@ from typing import ClassVar
 
 import numpy as np
 
-from planar.joints.base import LOCK, Joint, line_of, line_params
+from planar.joints.base import LOCK, Joint, line_of, line_params, xy
 from planar.joints.driver import TravelDriver
+
+# the file fields of a line joint: the pin's sketch point, the line's direction and origin
+LINE_FIELDS = {"at": ("point", True), "direction": ("vector", True), "origin": ("point", False)}
 
 
 class Slot(Joint):
@@ -48,6 +51,35 @@ class Slot(Joint):
     def coordinate(self):
         return TravelDriver(self.name, self.bodies, **self.data)
 
+    # ---- the file form and the drawing part ---------------------------------------------------
+
+    file_types = {"slot": LINE_FIELDS}
+
+    def file_entry(self):
+        d = self.data
+        return {"type": next(iter(self.file_types)), "name": self.name, "bodies": list(self.bodies),
+                "at": xy(d["at"]), "direction": xy(d["direction"]), "origin": xy(d["origin"])}
+
+    def guide_line(self, scene, P):
+        a, b = scene.ids(self)
+        return a, P["s"][0], P["u"], (b, P["s"][1]), self.runner_length(scene)
+
+    @staticmethod
+    def runner_length(scene):
+        """How far the line runs past the pin's travel: the pin's size."""
+        return scene.size
+
+    def attach(self, scene, P):
+        a, b = scene.ids(self)
+        # a moving guide is part of its body: the body's bar runs along it
+        return [(b, P["s"][1])] + ([(a, e) for e in scene.line_ends(self.name)] if a != 0 else [])
+
+    def draw_part(self, scene, P, q, ax):
+        """A slot along the line, with the pin in it."""
+        a, b = scene.ids(self)
+        ends = [scene.world(q, a, e) for e in scene.line_ends(self.name)]
+        return scene.slot(ax, ends) + scene.pin(ax, scene.world(q, b, P["s"][1]))
+
 
 class Prismatic(Slot):
     """Slider: as :class:`Slot`, and the relative rotation phi_b - phi_a is locked at its
@@ -78,3 +110,17 @@ class Prismatic(Slot):
     def reaction(cls, P, F, lam):
         """``normal`` as :class:`Slot`, and ``moment``: the couple on b (counter-clockwise)."""
         return {"normal": -lam[0], "moment": -lam[1]}
+
+    file_types = {"prismatic": LINE_FIELDS}
+
+    @staticmethod
+    def runner_length(scene):
+        """How far the line runs past the slider's travel: half a block."""
+        return scene.block[0]
+
+    def draw_part(self, scene, P, q, ax):
+        """A block on the line; a ground guide hatched (a moving one is its body's bar)."""
+        a, b = scene.ids(self)
+        p = scene.world(q, b, P["s"][1])
+        guide = scene.guide(ax, [scene.world(q, a, e) for e in scene.line_ends(self.name)]) if a == 0 else []
+        return guide + scene.block_at(ax, p, scene.turn(q, a, P["u"]), scene.colour(b)) + scene.pin(ax, p)

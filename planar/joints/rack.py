@@ -2,7 +2,11 @@
 
 import numpy as np
 
-from planar.joints.base import Joint, line_of
+from planar.joints.base import Joint, line_of, xy
+
+# the file fields of a circle rolling on a line: its radius and centre, the line, and the side
+CONTACT_FIELDS = {"radius": ("positive", True), "centre": ("point", True), "through": ("point", True),
+                  "direction": ("vector", True), "side": ("side", False)}
 
 
 class RackPinion(Joint):
@@ -64,3 +68,34 @@ class RackPinion(Joint):
 
     def anchor(self):
         return self.bodies[1], self.data["centre"]
+
+    # ---- the file form and the drawing part ---------------------------------------------------
+
+    # bodies [pinion, rack] in a file, as Mechanism.add_rack_pinion and add_rolling take them; a
+    # contact without teeth (pressure angle 0) is a "rolling" one
+    file_types = {"rack_pinion": CONTACT_FIELDS | {"pressure_angle": ("angle", False)}, "rolling": CONTACT_FIELDS}
+    labelled = False  # its point is the pinion's centre
+
+    def file_entry(self):
+        rack, pinion = self.bodies
+        d = self.data
+        e = {"type": "rack_pinion" if d["pressure_angle"] else "rolling", "name": self.name,
+             "bodies": [pinion, rack], "radius": float(d["radius"]), "centre": xy(d["centre"]),
+             "through": xy(d["through"]), "direction": xy(d["direction"]), "side": "left" if d["side"] > 0 else "right"}
+        return e | ({"pressure_angle_rad": float(d["pressure_angle"])} if d["pressure_angle"] else {})
+
+    def guide_line(self, scene, P):
+        rack, pinion = scene.ids(self)
+        return rack, P["s"][0], P["u"], (pinion, P["s"][1]), abs(float(P["sR"])) + scene.size
+
+    def attach(self, scene, P):
+        rack, pinion = scene.ids(self)
+        ends = scene.line_ends(self.name)
+        return [(pinion, P["s"][1])] + ([(rack, 0.5 * (ends[0] + ends[1]))] if rack != 0 else [])
+
+    def draw_part(self, scene, P, q, ax):
+        """A toothed pitch line (hatched on the ground) and the pinion's pitch circle."""
+        rack, pinion = scene.ids(self)
+        ends = [scene.world(q, rack, e) for e in scene.line_ends(self.name)]
+        arts = scene.rack(ax, ends, float(np.sign(P["sR"])), hatch=rack == 0)
+        return arts + scene.wheel(ax, q, pinion, P["s"][1], abs(float(P["sR"])))

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from planar.joints.base import Joint, pair_blocks, point_pair
+from planar.joints.base import Joint, pair_blocks, point_pair, xy
 
 
 class Revolute(Joint):
@@ -51,3 +51,19 @@ class Revolute(Joint):
         from planar.joints.driver import AngleDriver
 
         return AngleDriver(self.name, self.bodies)
+
+    # ---- the file form and the drawing part ---------------------------------------------------
+
+    file_types = {"revolute": {"at": ("point", True)}}
+
+    def file_entry(self):
+        return {"type": "revolute", "name": self.name, "bodies": list(self.bodies), "at": xy(self.data["at"])}
+
+    def attach(self, scene, P):
+        return list(zip(scene.ids(self), P["s"]))
+
+    def draw_part(self, scene, P, q, ax):
+        """A pin; on the ground, standing on a hatched pivot."""
+        a, b = scene.ids(self)
+        p = scene.world(q, a, P["s"][0])
+        return (scene.ground_pivot(ax, p) if 0 in (a, b) else []) + scene.pin(ax, p)

@@ -75,7 +75,7 @@ def read_targets(path, columns, optional=()):
 
 
 def cmd_synth(args):
-    from planar.cli import EXIT_OK, _write
+    from planar.cli import EXIT_OK, write_output as _write
     from planar.progress import Progress
     from planar.synthesis import (function_four_bar, function_slider_crank, motion_four_bar, path_four_bar,
                                   path_six_bar)

@@ -1,0 +1,76 @@
+"""The tables a run writes: one column per output, one row per sweep value, as CSV or JSON."""
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from planar.analysis import outputs
+from planar.progress import Progress
+from planar.results import Status
+
+
+def table(res, units):
+    """Columns of a sweep as [(name, unit, values (N,))]: inputs, status, every body's angle,
+    rate and acceleration, every slider's or slot's travel and rates, every named point's
+    position, velocity and acceleration."""
+    model = res.model
+    cols = []
+    for k, (name, is_len) in enumerate(zip(model.input_names, model.input_lengths)):
+        x = units.input_from_internal(np.asarray(res.inputs[:, k]), bool(is_len))
+        cols.append((f"input:{name}", units.input_label(bool(is_len)), np.asarray(x, float)))
+    cols.append(("status", "", np.array([Status(s).name for s in res.status])))
+    moving = [p for p, (b, _) in model.points.items() if b != 0]
+    columns = [s for b in model.body_names[1:] for s in outputs.specs(model, ("angle", "omega", "alpha"), [b])]
+    columns += [s for j in model.coordinates
+                for s in outputs.specs(model, ("travel", "travel_rate", "travel_accel"), [j])]
+    columns += [s for p in moving for s in outputs.specs(model, ("x", "y", "vx", "vy", "ax", "ay"), [p])]
+    for spec in columns:
+        cols.append((spec, outputs.label(spec, units), outputs.output_values(res, spec, units)))
+    return cols
+
+
+def force_table(forces, units):
+    """Columns of a sweep's kinetostatics: each driver's effort, each joint's reaction on its
+    second body from its first (x, y, and the components it carries), the shaking force and
+    moment (about the origin)."""
+    model = forces.sweep.model
+    F, M = units.label("force"), units.label("moment")
+    cols = [(f"effort:{d}", F if ln else M, forces.driver_effort(d)) for d, ln in zip(model.input_names, model.input_lengths)]
+    for j, comps in forces.reactions.items():
+        cols += [(f"Fx:{j}", F, comps["force"][:, 0]), (f"Fy:{j}", F, comps["force"][:, 1])]
+        cols += [(f"{c}:{j}", M if c == "moment" else F, v) for c, v in comps.items() if c != "force"]
+    S = forces.shaking_force()
+    return cols + [("shaking:Fx", F, S[:, 0]), ("shaking:Fy", F, S[:, 1]), ("shaking:moment", M, forces.shaking_moment())]
+
+
+def _header(name, unit):
+    return f"{name} [{unit}]" if unit else name
+
+
+def csv_rows(cols):
+    """The header, then one row per sweep value: unsolved values empty."""
+    yield [_header(n, u) for n, u, _ in cols]
+    for row in zip(*(v for _, _, v in cols)):
+        yield [v if isinstance(v, str) else ("" if not math.isfinite(v) else repr(float(v))) for v in row]
+
+
+def write_csv(cols, path):
+    progress, N = Progress(f"writing {Path(path).name}: rows"), len(cols[0][2]) if cols else 0
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        for i, row in enumerate(csv_rows(cols)):
+            w.writerow(row)
+            if i and (i % 4096 == 0 or i == N):
+                progress(i, N)
+
+
+def write_json(cols, path, name):
+    def clean(v):
+        return v if isinstance(v, str) else (float(v) if math.isfinite(v) else None)
+
+    data = {"mechanism": name, "units": {n: u for n, u, _ in cols if u},
+            "columns": {n: [clean(x) for x in v] for n, _, v in cols}}
+    Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")

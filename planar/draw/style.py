@@ -1,0 +1,69 @@
+"""The drawings' style: colours, event marks, and the axes every drawing starts and ends with."""
+
+import numpy as np
+
+from planar.results import Status
+
+
+def _palette(first, total, saturations, value):
+    """``first``, then colours of hues spaced by the golden angle up to ``total``: no two alike,
+    so that bodies, paths and curves keep distinct colours however many there are (up to
+    ``total``, more than a mechanism has)."""
+    from colorsys import hsv_to_rgb
+
+    extra = [hsv_to_rgb((0.07 + 0.6180339887 * k) % 1.0, saturations[k % 2], value)
+             for k in range(total - len(first))]
+    return tuple(first) + tuple("#" + "".join(f"{round(255 * c):02x}" for c in rgb) for rgb in extra)
+
+
+EDGE = "#262626"
+FILLS = _palette(("#a6cee3", "#fdbf6f", "#b2df8a", "#cab2d6", "#fb9a99", "#ffff99", "#8dd3c7", "#d9d9d9",
+                  "#bebada", "#80b1d3"), 100, (0.25, 0.4), 0.97)
+VELOCITY, ACCELERATION = "#1f5fbf", "#c0282d"
+PATH_COLOURS = _palette(("#6a3d9a", "#1b9e77", "#d95f02", "#e7298a", "#66a61e", "#e6ab02"), 100, (0.8, 0.6), 0.7)
+# the kinds of planar.events.Event: marker and colour
+FORCE = "#2a7f3f"  # reaction arrows
+# relative to a drawing's size: points closer than SAME are one point, a path spanning less than
+# STILL does not move; TINY keeps a division by a length that may be zero finite
+SAME, STILL, TINY = 1e-9, 1e-6, 1e-300
+EVENT_MARK = {"limit": ("s", "#d62728"), "bifurcation": ("D", "#9467bd"), "singular": ("X", "#000000"),
+              "near_singular": ("^", "#ff7f0e")}
+
+
+def pyplot():
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def new_axes(ax):
+    if ax is None:
+        _, ax = pyplot().subplots(figsize=(7, 5), layout="constrained")
+    return ax
+
+
+
+def finish(ax, units=None):
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.margins(0.08)
+    ax.autoscale_view()
+    unit = f" [{units.length}]" if units is not None and units.length else ""
+    ax.set_xlabel(f"x{unit}")
+    ax.set_ylabel(f"y{unit}")
+    for side in ("top", "right"):
+        ax.spines[side].set_visible(False)
+    ax.grid(True, color="#e6e6e6", lw=0.6, zorder=0)
+    ax.set_axisbelow(True)
+    return ax
+
+
+def broken(res, *series):
+    """The (N,) series with a NaN put before each JUMPED value, so a line is not drawn across
+    the jump.
+
+    >>> from types import SimpleNamespace
+    >>> broken(SimpleNamespace(status=np.array([0, 0, Status.JUMPED])), np.arange(3.0))[0].tolist()
+    [0.0, 1.0, nan, 2.0]
+    """
+    at = np.flatnonzero(np.asarray(res.status) == Status.JUMPED)
+    return [np.insert(np.asarray(v, float), at, np.nan) for v in series]
