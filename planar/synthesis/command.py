@@ -75,7 +75,7 @@ def read_targets(path, columns, optional=()):
 
 
 def cmd_synth(args):
-    from planar.cli import EXIT_OK, write_output as _write
+    from planar.cli import EXIT_OK, write_output
     from planar.progress import Progress
     from planar.synthesis import (function_four_bar, function_slider_crank, motion_four_bar, path_four_bar,
                                   path_six_bar)
@@ -113,7 +113,7 @@ def cmd_synth(args):
         print(line)
     stem = Path(args.file).with_suffix("")
     path = Path(args.output or f"{stem}-synth.json")
-    _write(path, s.save, path, units)
+    write_output(path, s.save, path, units)
     written = [path]
     if not args.no_plot:
         import matplotlib
@@ -123,7 +123,7 @@ def cmd_synth(args):
 
         ax = s.draw()
         png = path.with_suffix(".png")
-        _write(png, ax.figure.savefig, png, dpi=90)
+        write_output(png, ax.figure.savefig, png, dpi=90)
         plt.close(ax.figure)
         written.append(png)
     print("wrote " + ", ".join(str(p) for p in written))
