@@ -44,16 +44,43 @@ NEWTON = 8  # Newton iterations of the one-value path (the sweep's walk step all
 
 
 class Poses:
-    """Poses of one model known on one branch: inputs ``u`` (K,) sorted, poses ``q`` (K, n) and
-    their kinematic coefficients ``qu``, ``quu`` (K, n), dq/du and d2q/du2 (NaN where not
-    computed yet); the sketch's among them, always. ``signs``: the blocks' modes on the branch
-    (the sketch's), once the one-value path has asked."""
+    """Poses of one model known on one branch: inputs ``u`` (K,), poses ``q`` (K, n) and their
+    kinematic coefficients ``qu``, ``quu`` (K, n), dq/du and d2q/du2 (NaN where not computed
+    yet); the sketch's among them, always. A sweep's poses are merged in (sorted, at most CAP
+    kept); the poses of moves are appended after them, up to CAP before the next merge.
+    ``signs``: the blocks' modes on the branch (the sketch's), once the one-value path has
+    asked."""
 
     def __init__(self, model):
-        self.u0 = float(model.u0[0])
-        self.u, self.q = np.array([self.u0]), model.q0[None].copy()
-        self.qu, self.quu = np.full_like(self.q, np.nan), np.full_like(self.q, np.nan)
+        self.u0 = self.newest = float(model.u0[0])
+        nan = np.full_like(model.q0[None], np.nan)
+        self._keep(np.array([self.u0]), (model.q0[None], nan, nan))
         self.signs = None
+
+    def _keep(self, u, rows):
+        """Hold the known poses u (K,), rows (q, qu, quu), with room for CAP more after them."""
+        K = u.size
+        self.size = K
+        self._u = np.empty(K + CAP)
+        self._u[:K] = u
+        self._rows = np.empty((3, K + CAP, rows[0].shape[1]))
+        self._rows[:, :K] = rows
+
+    @property
+    def u(self):
+        return self._u[: self.size]
+
+    @property
+    def q(self):
+        return self._rows[0, : self.size]
+
+    @property
+    def qu(self):
+        return self._rows[1, : self.size]
+
+    @property
+    def quu(self):
+        return self._rows[2, : self.size]
 
     def nearest(self, u):
         """(q, u) of the known pose nearest the input value u."""
@@ -72,28 +99,29 @@ class Poses:
         with np.errstate(all="ignore"):  # (NaN where the rates are not known: computed when needed)
             qu = np.where(v != 0, res.qd[take] / v, np.nan)
             quu = (res.qdd[take] - a * qu) / v**2
-        self.add(res.inputs[take, 0], res.q[take], qu, quu)
+        self.merge(res.inputs[take, 0], (res.q[take], qu, quu))
 
-    def add(self, u, q, qu, quu):
-        """Remember poses q (M, n) at inputs u (M,) with their coefficients (at an input known
-        already the known pose stays: the sketch's, at the sketch's input)."""
-        at = np.searchsorted(self.u, u)
-        if u.size == 1 and (at[0] == self.u.size or self.u[at[0]] != u[0]) and self.u.size < CAP:
-            # one new pose (a move): inserted where it goes
-            i = int(at[0])
-            self.u = np.insert(self.u, i, u)
-            self.q, self.qu, self.quu = (np.insert(x, i, y, axis=0) for x, y in ((self.q, q), (self.qu, qu),
-                                                                               (self.quu, quu)))
-            return
+    def merge(self, u, rows):
+        """Remember poses at inputs u (M,) with their rows (q, qu, quu), each (M, n), sorted
+        with the known ones (at an input known already the known pose stays: the sketch's, at
+        the sketch's input)."""
         uu, first = np.unique(np.r_[self.u, u], return_index=True)
-        rows = [np.vstack((x, y))[first] for x, y in ((self.q, q), (self.qu, qu), (self.quu, quu))]
+        rows = np.concatenate((self._rows[:, : self.size], np.stack(rows)), axis=1)[:, first]
         if uu.size > CAP:
             # the sketch, the newest (where the next move starts) and evenly spaced others
             keep = np.zeros(uu.size, bool)
             keep[np.unique(np.linspace(0, uu.size - 1, CAP // 2).astype(int))] = True
-            keep[np.searchsorted(uu, np.r_[u, self.u0])] = True
-            uu, rows = uu[keep], [x[keep] for x in rows]
-        self.u, (self.q, self.qu, self.quu) = uu, rows
+            keep[np.searchsorted(uu, np.r_[u, self.newest, self.u0])] = True
+            uu, rows = uu[keep], rows[:, keep]
+        self._keep(uu, rows)
+
+    def append(self, u, q, qu, quu):
+        """Remember the pose q (n,) of a move to input u with its coefficients."""
+        if self.size == self._u.size:
+            self.merge(np.zeros(0), np.zeros((3, 0, q.size)))
+        self._u[self.size] = self.newest = u
+        self._rows[:, self.size] = q, qu, quu
+        self.size += 1
 
 
 def sweep(model, U, Ud, Udd, **options):
@@ -177,7 +205,7 @@ def pose(model, value, velocity, acceleration, options):
     if not (ok and r["status"][0] in CLEAN):
         return None
     q, qu, quu = r["q"], r["qd"], r["qdd"]
-    poses.add(U[0], q, qu, quu)
+    poses.append(value, q[0], qu[0], quu[0])
     if options.get("rates", True):
         qd, qdd = qu * velocity, quu * velocity**2 + qu * acceleration
     else:
