@@ -13,8 +13,10 @@ walk from the interval's end nearest the value is the tail of the walk from the 
 that walk meets a limit or a branch event (past which the way on depends on the whole walk:
 where the range is re-entered, which branch is taken) the sweep is done again from the sketch.
 So the results, statuses and events are those of the sweep from the sketch, at the cost of the
-distance from the nearest known pose on the branch. Models with more inputs sweep from the
-sketch.
+distance from the nearest known pose on the branch. One value within the sweep's direct reach of a known
+pose is solved as one walk step from it (:func:`pose`, the one-value path: none of the sweep's
+machinery), with the sweep's acceptance test; what it cannot certify goes to the sweep. Models with more inputs
+sweep from the sketch.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -242,7 +244,8 @@ class Tracker:
     """An input moved by hand: each :meth:`move` goes on from the last pose (or the known pose
     nearest the new value), with the statuses, events and branch of a sweep from the sketch.
     ``pose`` is the last result (None before the first move); ``direct`` whether it came by
-    the one-value path (:func:`pose`) rather than a sweep. Made by :meth:`planar.Model.track`;
+    the one-value path (:func:`pose`, for a value and rates given as numbers) rather than a
+    sweep. Made by :meth:`planar.Model.track`;
     ``options`` are the sweep's (``branch``, ``tol``, ``max_step``, ``rates``, ``engine``)."""
 
     def __init__(self, model, **options):
