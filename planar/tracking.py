@@ -169,8 +169,9 @@ def pose(model, value, velocity, acceleration, options):
     from planar.blocks import plan as block_plan
     from planar.sweep import FAR, SPARSE, _Branch, _check_sketch, _final, _near_stretches, _scale
 
-    if options.get("outputs") is not None or options.get("engine", "numpy") != "numpy" or model.u0.size != 1:
-        return None
+    if (options.get("outputs") is not None or options.get("engine", "numpy") != "numpy" or model.u0.size != 1
+            or options.get("branch", "smooth") not in ("smooth", "other")):
+        return None  # (the sweep refuses a branch option it does not know)
     max_step = options.get("max_step", 0.05)
     scale = float(_scale(model)[0])
     if not model.input_lengths[0] and abs(value - model.u0[0]) > FAR:

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import planar.sweep
-from planar import Status
+from planar import InputError, Status
 from planar.mechanisms import CATALOGUE, four_bar, slider_crank
 from planar.tracking import CAP
 
@@ -173,3 +173,12 @@ def test_many_moves_keep_the_known_poses_bounded():
     assert poses.u.size <= 2 * CAP and model.u0[0] in poses.u
     assert tracker.direct
     _same(tracker.move(0.5), _reference("four_bar", 0.5))
+
+
+@pytest.mark.parametrize("options", [dict(branch="left"), dict(engine="fortran")])
+def test_options_the_sweep_refuses_are_refused(options):
+    model = _model("four_bar")
+    with pytest.raises(InputError):
+        model.track(**options).move(float(model.u0[0]) + 0.01)
+    with pytest.raises(InputError):
+        model.sweep([float(model.u0[0])], **options)
