@@ -51,7 +51,8 @@ class Poses:
     yet); the sketch's among them, always. A sweep's poses are merged in (sorted, at most CAP
     kept); the poses of moves are appended after them, up to CAP before the next merge.
     ``signs``: the blocks' modes on the branch (the sketch's), once the one-value path has
-    asked."""
+    asked; ``refused``: the value it could not certify last, while no pose has been learned
+    since (the sweep it goes to asks again)."""
 
     def __init__(self, model):
         self.u0 = self.newest = float(model.u0[0])
@@ -62,7 +63,7 @@ class Poses:
     def _keep(self, u, rows):
         """Hold the known poses u (K,), rows (q, qu, quu), with room for CAP more after them."""
         K = u.size
-        self.size = K
+        self.size, self.refused = K, None
         self._u = np.empty(K + CAP)
         self._u[:K] = u
         self._rows = np.empty((3, K + CAP, rows[0].shape[1]))
@@ -124,6 +125,7 @@ class Poses:
         self._u[self.size] = self.newest = u
         self._rows[:, self.size] = q, qu, quu
         self.size += 1
+        self.refused = None
 
 
 def sweep(model, U, Ud, Udd, **options):
@@ -179,7 +181,7 @@ def pose(model, value, velocity, acceleration, options):
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     k = int(np.argmin(np.abs(poses.u - value)))
     du = value - poses.u[k]
-    if abs(du) * scale > SPARSE * max_step:
+    if abs(du) * scale > SPARSE * max_step or value == poses.refused:
         return None
     p = block_plan(model)
     br = _Branch(model, p, options.get("tol", 1e-12))
@@ -206,6 +208,7 @@ def pose(model, value, velocity, acceleration, options):
     r = _final(br, q, U, one, zero)
     ok = br.accept(r["q"], q_pred, lambda rows: qk, r["conv"], r["signs"], poses.signs, r["sing"])[0]
     if not (ok and r["status"][0] in CLEAN):
+        poses.refused = value
         return None
     q, qu, quu = r["q"], r["qd"], r["qdd"]
     poses.append(value, q[0], qu[0], quu[0])
