@@ -3,20 +3,20 @@ the :class:`Tracker` that follows an input moved by hand.
 
 A one-input model remembers, per branch option and tolerance, poses its sweeps solved on the
 branch drawn in the sketch (:class:`Poses`, at most ``CAP``). A pose is remembered only when
-the continuation reached it from the sketch with no limit, bifurcation or singular position
-and no invalid value on the way, so the remembered poses span one interval of the unwrapped
-input, around the sketch's, on which the branch is a smooth function of the input (for a
-crank that turns fully, u and u + 2 pi are different inputs, and for a geared train
-different poses). A sweep walks from the remembered pose nearest its first value: inside that
-interval the pose at any input is the branch's, whichever way it is reached; outside, the
-walk from the interval's end nearest the value is the tail of the walk from the sketch. Where
-that walk meets a limit or a branch event (past which the way on depends on the whole walk:
-where the range is re-entered, which branch is taken) the sweep is done again from the sketch.
-So the results, statuses and events are those of the sweep from the sketch, at the cost of the
-distance from the nearest known pose on the branch. One value within the sweep's direct reach of a known
-pose is solved as one walk step from it (:func:`pose`, the one-value path: none of the sweep's
-machinery), with the sweep's acceptance test; what it cannot certify goes to the sweep. Models with more inputs
-sweep from the sketch.
+the continuation reached it from the sketch with no limit, bifurcation or singular position and
+no invalid value on the way, so the remembered poses span one interval of the unwrapped input,
+around the sketch's, on which the branch is a smooth function of the input (for a crank that
+turns fully, u and u + 2 pi are different inputs, and for a geared train different poses). A
+sweep walks from the remembered pose nearest its first value: inside that interval the pose at
+any input is the branch's, whichever way it is reached; outside, the walk from the interval's
+end nearest the value is the tail of the walk from the sketch. Where that walk meets a limit or
+a branch event (past which the way on depends on the whole walk: where the range is re-entered,
+which branch is taken) the sweep is done again from the sketch. So the results, statuses and
+events are those of the sweep from the sketch, at the cost of the distance from the nearest
+known pose on the branch. One value within the sweep's direct reach of a known pose is solved
+as one walk step from it (:func:`pose`, the one-value path: none of the sweep's machinery),
+with the sweep's acceptance test; what it cannot certify goes to the sweep. Models with more
+inputs sweep from the sketch.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -249,8 +249,8 @@ class Tracker:
     nearest the new value), with the statuses, events and branch of a sweep from the sketch.
     ``pose`` is the last result (None before the first move); ``direct`` whether it came by
     the one-value path (:func:`pose`, for a value and rates given as numbers) rather than a
-    sweep. Made by :meth:`planar.Model.track`;
-    ``options`` are the sweep's (``branch``, ``tol``, ``max_step``, ``rates``, ``engine``)."""
+    sweep. Made by :meth:`planar.Model.track`; ``options`` are the sweep's (``branch``,
+    ``tol``, ``max_step``, ``rates``, ``engine``)."""
 
     def __init__(self, model, **options):
         from planar import arguments
