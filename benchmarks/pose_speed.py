@@ -2,7 +2,7 @@
 
 The four-bar of ``peers.py`` (ground 4, crank 2, coupler 3.5, rocker 3, coupler point C), full
 kinematics (positions, velocities, accelerations). Prints, in one run and in interleaved rounds
-(planar and the closed form take turns; the best of the rounds is kept), the time of:
+(planar, the closed form and pylinkage take turns; the best of the rounds is kept), the time of:
 
 - one pose from a warm model (one that has swept a turn) near the last pose (a drag of 0.01
   rad), far from it (anywhere on the turn, on the known branch), and from the sketch of a model
