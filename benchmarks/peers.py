@@ -63,26 +63,32 @@ def _uniform_step(th):
 # ---- adapters: prepare(th) builds the linkage and returns run() -> outputs --------------------
 
 
-def pylinkage_prepare(th, kinematics):
+def pylinkage_linkage(th0, h):
+    """(linkage, crank, index of C) of pylinkage's four-bar, its crank at ``th0`` turning by
+    ``h`` per step."""
     from pylinkage.actuators import Crank
     from pylinkage.components import Ground
     from pylinkage.dyads import FixedDyad, RRRDyad
     from pylinkage.simulation import Linkage
 
-    h = _uniform_step(th)
-    # step_fast turns the crank by h, then solves and records: start one step early so
-    # record i is crank angle th[0] + i h
-    A, B, _, _ = _pose(th[0] - h)
+    A, B, _, _ = _pose(th0)
     O2, O4 = Ground(0.0, 0.0, name="O2"), Ground(LENGTHS[0], 0.0, name="O4")
-    crank = Crank(O2, radius=LENGTHS[1], angular_velocity=h, initial_angle=th[0] - h, name="A")
+    crank = Crank(O2, radius=LENGTHS[1], angular_velocity=h, initial_angle=th0, name="A")
     # B: circle-circle intersection, the root nearest the previous B (the hint picks the mode)
     rocker = RRRDyad(crank.output, O4, distance1=LENGTHS[2], distance2=LENGTHS[3], x=B[0], y=B[1], name="B")
     # C: polar from A, at a fixed angle from the direction A -> B
     coupler = FixedDyad(crank.output, rocker, distance=math.hypot(*PQ), angle=math.atan2(PQ[1], PQ[0]), name="C")
     linkage = Linkage([O2, O4, crank, rocker, coupler], name="four-bar")
     linkage.set_input_velocity(crank, omega=1.0, alpha=0.0)
+    return linkage, crank, linkage.components.index(coupler)
+
+
+def pylinkage_prepare(th, kinematics):
+    h = _uniform_step(th)
+    # step_fast turns the crank by h, then solves and records: start one step early so
+    # record i is crank angle th[0] + i h
+    linkage, _, iC = pylinkage_linkage(th[0] - h, h)
     linkage.compile()
-    iC = linkage.components.index(coupler)
     N = len(th)
 
     if kinematics:

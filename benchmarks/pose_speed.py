@@ -2,20 +2,25 @@
 
 The four-bar of ``peers.py`` (ground 4, crank 2, coupler 3.5, rocker 3, coupler point C), full
 kinematics (positions, velocities, accelerations). Prints, in one run and in interleaved rounds
-(planar and the closed form take turns; the best of the rounds is kept), the time of:
+(planar, the closed form and pylinkage take turns; the best of the rounds is kept), the time of:
 
 - one pose from a warm model (one that has swept a turn) near the last pose (a drag of 0.01
   rad), far from it (anywhere on the turn, on the known branch), and from the sketch of a model
   that knows no pose yet (a new model per pose: the cost of the walk from the sketch);
 - 1, 10, 100 and 1000 values over a turn, swept by a warm model and from the sketch;
 
-each beside the closed form on the same inputs, with the ratio planar / closed form.
+each beside the closed form on the same inputs, with the ratio planar / closed form, and beside
+pylinkage's ``step()`` on the same linkage (``peers.py``; when pylinkage is installed) moving its
+crank to the same inputs: one step per pose (from the last pose; one step from the sketch's
+angle for "from the sketch"), one step per value for the values over a turn. ``step()`` gives
+positions only (planar gives velocities and accelerations too).
 
     python3 benchmarks/pose_speed.py                # 5 rounds
     python3 benchmarks/pose_speed.py --rounds 2     # a quicker, noisier run
 """
 
 import argparse
+import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -25,7 +30,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from peers import LENGTHS, closed_form  # noqa: E402
+from peers import LENGTHS, closed_form, pylinkage_linkage  # noqa: E402
 from planar.mechanisms import four_bar  # noqa: E402
 
 
@@ -49,30 +54,62 @@ def _fresh(sweep, repeat):
     return [lambda m=build(): sweep(m) for _ in range(repeat)]
 
 
+class Stepper:
+    """pylinkage's four-bar moved by ``step()``: its crank turned from its last angle."""
+
+    def __init__(self, th0=0.0):
+        self.linkage, self.crank, _ = pylinkage_linkage(th0, 0.0)
+        self.th = th0
+
+    def move(self, u):
+        """The positions at crank angle u, one step from the last."""
+        self.crank.angular_velocity, self.th = u - self.th, u
+        for pos in self.linkage.step(iterations=1):
+            return pos
+
+    def sweep(self, U):
+        """The positions at the evenly spaced crank angles U: a step to the first, one per value."""
+        out = [self.move(U[0])]
+        if len(U) > 1:
+            self.crank.angular_velocity, self.th = U[1] - U[0], U[-1]
+            out += list(self.linkage.step(iterations=len(U) - 1))
+        return out
+
+
 def cases(rng):
-    """(label, planar calls, closed-form call, calls per round) for each row: the planar calls
-    made afresh each round."""
+    """(label, planar calls, closed-form call, pylinkage calls or None, calls per round) for
+    each row: the planar and pylinkage calls made afresh each round."""
     warm = build()
     warm.sweep(np.linspace(0, 2 * np.pi, 100))
     tracker = warm.track()
     tracker.move(1.0)
     near = iter(1.0 + 0.01 * np.sin(np.arange(10**7)))
     far = iter(rng.uniform(0, 2 * np.pi, 10**6))
+    peer = importlib.util.find_spec("pylinkage") is not None
+    stepper = Stepper(1.0) if peer else None
+    near_p, far_p = iter(1.0 + 0.01 * np.sin(np.arange(10**7))), iter(rng.uniform(0, 2 * np.pi, 10**6))
 
     def one(u):
         return lambda: closed_form(np.array([u]))
 
+    def stepped(call):
+        return (lambda r: [call] * r) if peer else None
+
     out = [
-        ("1 pose, warm, near the last", lambda r: [lambda: tracker.move(next(near))] * r, one(1.0), 20),
-        ("1 pose, warm, far from the last", lambda r: [lambda: tracker.move(next(far))] * r, one(2.0), 20),
-        ("1 pose at pi, from the sketch", lambda r: _fresh(lambda m: m.sweep([np.pi]), r), one(np.pi), 3),
+        ("1 pose, warm, near the last", lambda r: [lambda: tracker.move(next(near))] * r, one(1.0),
+         stepped(lambda: stepper.move(next(near_p))), 20),
+        ("1 pose, warm, far from the last", lambda r: [lambda: tracker.move(next(far))] * r, one(2.0),
+         stepped(lambda: stepper.move(next(far_p))), 20),
+        ("1 pose at pi, from the sketch", lambda r: _fresh(lambda m: m.sweep([np.pi]), r), one(np.pi),
+         peer and (lambda r: [lambda s=Stepper(): s.move(np.pi) for _ in range(r)]), 3),
     ]
     for n in (1, 10, 100, 1000):
         U = np.linspace(0, 2 * np.pi, n)
+        sweep = stepped(lambda U=U: stepper.sweep(U))
         out.append((f"{n} values over a turn, warm", lambda r, U=U: [lambda: warm.sweep(U)] * r,
-                    lambda U=U: closed_form(U), 5))
+                    lambda U=U: closed_form(U), sweep, 5))
         out.append((f"{n} values over a turn, from the sketch", lambda r, U=U: _fresh(lambda m: m.sweep(U), r),
-                    lambda U=U: closed_form(U), 3))
+                    lambda U=U: closed_form(U), sweep, 3))
     return out
 
 
@@ -81,16 +118,19 @@ def main(argv=None):
     ap.add_argument("--rounds", type=int, default=5, help="interleaved rounds (the best is kept)")
     args = ap.parse_args(argv)
     rows = cases(np.random.default_rng(1))
-    best = {label: [np.inf, np.inf] for label, *_ in rows}
+    best = {label: [np.inf, np.inf, np.inf] for label, *_ in rows}
     for _ in range(args.rounds):
-        for label, fn, ref, repeat in rows:
+        for label, fn, ref, peer, repeat in rows:
             best[label][0] = min(best[label][0], _best(fn(repeat)))
             best[label][1] = min(best[label][1], _best([ref] * repeat))
+            if peer:
+                best[label][2] = min(best[label][2], _best(peer(repeat)))
     print(f"four-bar {LENGTHS} + coupler point, numpy engine, best of {args.rounds} interleaved rounds")
-    print(f"| {'work':<40} | planar ms | closed form ms | planar / closed |")
-    print(f"|{'-' * 42}|-----------|----------------|-----------------|")
-    for label, (t, tc) in best.items():
-        print(f"| {label:<40} | {t * 1e3:9.3f} | {tc * 1e3:14.4f} | {t / tc:15.0f} |")
+    print(f"| {'work':<40} | planar ms | closed form ms | planar / closed | pylinkage step() ms | planar / step() |")
+    print(f"|{'-' * 42}|-----------|----------------|-----------------|---------------------|-----------------|")
+    for label, (t, tc, tp) in best.items():
+        peer = f"{tp * 1e3:19.4f} | {t / tp:15.1f}" if np.isfinite(tp) else f"{'-':>19} | {'-':>15}"
+        print(f"| {label:<40} | {t * 1e3:9.3f} | {tc * 1e3:14.4f} | {t / tc:15.0f} | {peer} |")
 
 
 if __name__ == "__main__":

@@ -3,18 +3,20 @@ the :class:`Tracker` that follows an input moved by hand.
 
 A one-input model remembers, per branch option and tolerance, poses its sweeps solved on the
 branch drawn in the sketch (:class:`Poses`, at most ``CAP``). A pose is remembered only when
-the continuation reached it from the sketch with no limit, bifurcation or singular position
-and no invalid value on the way, so the remembered poses span one interval of the unwrapped
-input, around the sketch's, on which the branch is a smooth function of the input (for a
-crank that turns fully, u and u + 2 pi are different inputs, and for a geared train
-different poses). A sweep walks from the remembered pose nearest its first value: inside that
-interval the pose at any input is the branch's, whichever way it is reached; outside, the
-walk from the interval's end nearest the value is the tail of the walk from the sketch. Where
-that walk meets a limit or a branch event (past which the way on depends on the whole walk:
-where the range is re-entered, which branch is taken) the sweep is done again from the sketch.
-So the results, statuses and events are those of the sweep from the sketch, at the cost of the
-distance from the nearest known pose on the branch. Models with more inputs sweep from the
-sketch.
+the continuation reached it from the sketch with no limit, bifurcation or singular position and
+no invalid value on the way, so the remembered poses span one interval of the unwrapped input,
+around the sketch's, on which the branch is a smooth function of the input (for a crank that
+turns fully, u and u + 2 pi are different inputs, and for a geared train different poses). A
+sweep walks from the remembered pose nearest its first value: inside that interval the pose at
+any input is the branch's, whichever way it is reached; outside, the walk from the interval's
+end nearest the value is the tail of the walk from the sketch. Where that walk meets a limit or
+a branch event (past which the way on depends on the whole walk: where the range is re-entered,
+which branch is taken) the sweep is done again from the sketch. So the results, statuses and
+events are those of the sweep from the sketch, at the cost of the distance from the nearest
+known pose on the branch. One value within the sweep's direct reach of a known pose is solved
+as one walk step from it (:func:`pose`, the one-value path: none of the sweep's machinery),
+with the sweep's acceptance test; what it cannot certify goes to the sweep. Models with more
+inputs sweep from the sketch.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -26,23 +28,62 @@ sketch.
 ([True], True)
 """
 
+import math
+
 import numpy as np
 
-from planar.results import Status
+from planar.results import Status, Sweep
 
 CAP = 256  # poses kept per branch option: a turn of the crank at the default max_step is ~126
 KEYS = 4  # branch options and tolerances remembered per model (the oldest is forgotten)
 CLEAN = (Status.SOLVED, Status.NEAR_SINGULAR)  # values reached on the branch, no event at them
 BREAKS = ("limit", "bifurcation", "singular")  # events past which the branch is not a function of the input
+# a Newton step s below this (scaled) leaves a next correction of about K s^2 at rounding level
+# (the sweep's ROUND, 1e-13) for Newton's quadratic constant K up to 1 (0.2-0.6 on the catalogue's
+# linkages): the final step's one factorisation then gives the pose, its certificate and its rates
+SETTLED = 3e-7
+NEWTON = 8  # Newton iterations of the one-value path (the sweep's walk step allows as many)
 
 
 class Poses:
-    """Poses of one model known on one branch: inputs ``u`` (K,) sorted, poses ``q`` (K, n);
-    the sketch's among them, always."""
+    """Poses of one model known on one branch: inputs ``u`` (K,), poses ``q`` (K, n) and their
+    kinematic coefficients ``qu``, ``quu`` (K, n), dq/du and d2q/du2 (NaN where not computed
+    yet); the sketch's among them, always. A sweep's poses are merged in (sorted, at most CAP
+    kept); the poses of moves are appended after them, up to CAP before the next merge.
+    ``signs``: the blocks' modes on the branch (the sketch's), once the one-value path has
+    asked; ``refused``: the value it could not certify last, while no pose has been learned
+    since (the sweep it goes to asks again)."""
 
     def __init__(self, model):
-        self.u0 = float(model.u0[0])
-        self.u, self.q = np.array([self.u0]), model.q0[None].copy()
+        self.u0 = self.newest = float(model.u0[0])
+        nan = np.full_like(model.q0[None], np.nan)
+        self._keep(np.array([self.u0]), (model.q0[None], nan, nan))
+        self.signs = None
+
+    def _keep(self, u, rows):
+        """Hold the known poses u (K,), rows (q, qu, quu), with room for CAP more after them."""
+        K = u.size
+        self.size, self.refused = K, None
+        self._u = np.empty(K + CAP)
+        self._u[:K] = u
+        self._rows = np.empty((3, K + CAP, rows[0].shape[1]))
+        self._rows[:, :K] = rows
+
+    @property
+    def u(self):
+        return self._u[: self.size]
+
+    @property
+    def q(self):
+        return self._rows[0, : self.size]
+
+    @property
+    def qu(self):
+        return self._rows[1, : self.size]
+
+    @property
+    def quu(self):
+        return self._rows[2, : self.size]
 
     def nearest(self, u):
         """(q, u) of the known pose nearest the input value u."""
@@ -56,28 +97,50 @@ class Poses:
         if end == 0:
             return
         take = np.unique(np.linspace(0, end - 1, min(end, CAP // 2)).astype(int))
-        u = np.r_[self.u, res.inputs[take, 0]]
-        q = np.vstack((self.q, res.q[take]))
-        # at an input known already the known pose stays (the sketch's, at the sketch's input)
-        u, first = np.unique(u, return_index=True)
-        q = q[first]
-        if u.size > CAP:
+        # the kinematic coefficients from the rates: qd = v q_u, qdd = v^2 q_uu + a q_u
+        v, a = res.input_rates[take], res.input_accelerations[take]
+        with np.errstate(all="ignore"):  # (NaN where the rates are not known: computed when needed)
+            qu = np.where(v != 0, res.qd[take] / v, np.nan)
+            quu = (res.qdd[take] - a * qu) / v**2
+        self.merge(res.inputs[take, 0], (res.q[take], qu, quu))
+
+    def merge(self, u, rows):
+        """Remember poses at inputs u (M,) with their rows (q, qu, quu), each (M, n), sorted
+        with the known ones (at an input known already the known pose stays: the sketch's, at
+        the sketch's input)."""
+        uu, first = np.unique(np.r_[self.u, u], return_index=True)
+        rows = np.concatenate((self._rows[:, : self.size], np.stack(rows)), axis=1)[:, first]
+        if uu.size > CAP:
             # the sketch, the newest (where the next move starts) and evenly spaced others
-            keep = np.zeros(u.size, bool)
-            keep[np.unique(np.linspace(0, u.size - 1, CAP // 2).astype(int))] = True
-            keep[np.searchsorted(u, np.r_[res.inputs[take, 0], self.u0])] = True
-            u, q = u[keep], q[keep]
-        self.u, self.q = u, q
+            keep = np.zeros(uu.size, bool)
+            keep[np.unique(np.linspace(0, uu.size - 1, CAP // 2).astype(int))] = True
+            keep[np.searchsorted(uu, np.r_[u, self.newest, self.u0])] = True
+            uu, rows = uu[keep], rows[:, keep]
+        self._keep(uu, rows)
+
+    def append(self, u, q, qu, quu):
+        """Remember the pose q (n,) of a move to input u with its coefficients."""
+        if self.size == self._u.size:
+            self.merge(np.zeros(0), np.zeros((3, 0, q.size)))
+        self._u[self.size] = self.newest = u
+        self._rows[:, self.size] = q, qu, quu
+        self.size += 1
+        self.refused = None
 
 
 def sweep(model, U, Ud, Udd, **options):
     """:func:`planar.sweep.run_sweep` from the known pose nearest U[0] (see the module), and
-    the poses it reaches remembered. Sweeps that ask only for some ``outputs`` (the other
-    coordinates are not solved) start from a known pose but teach none."""
+    the poses it reaches remembered. One value near a known pose takes the one-value path
+    (:func:`pose`). Sweeps that ask only for some ``outputs`` (the other coordinates are not
+    solved) start from a known pose but teach none."""
     from planar.sweep import run_sweep
 
     if U.shape[1] != 1:
         return run_sweep(model, U, Ud, Udd, **options)
+    if U.shape[0] == 1:
+        res = pose(model, U[0, 0], Ud[0, 0], Udd[0, 0], options)
+        if res is not None:
+            return res
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     start = poses.nearest(U[0, 0])
     if start[1][0] == poses.u0:
@@ -90,6 +153,73 @@ def sweep(model, U, Ud, Udd, **options):
     if options.get("outputs") is None:
         poses.learn(res)
     return res
+
+
+def pose(model, value, velocity, acceleration, options):
+    """The one-value path: the pose at input ``value`` of a one-input model as one walk step
+    of the sweep from the known pose nearest it, a one-value :class:`planar.Sweep` equal to
+    the sweep's (None where the path does not apply; the caller sweeps). It applies where that
+    pose lies within the sweep's direct reach (SPARSE walk steps of ``max_step``, where the
+    sweep too solves a value from the Taylor predictor rather than walking to it), whole
+    results are asked for (no ``outputs``) of the numpy engine, and the input is within the
+    sweep's FAR of the sketch's. Then: the predictor from the known pose and its kinematic
+    coefficients, Newton on the model's blocks to a rounding-level guess, and the sweep's
+    final step (:func:`planar.sweep._final`: the pose, its status and its rates from one
+    factorisation) with the sweep's acceptance test (:meth:`planar.sweep._Branch.accept`:
+    converged, certified, the branch's assembly modes, close to the predictor). A value it
+    cannot certify, or whose status is not SOLVED or NEAR_SINGULAR, is left to the sweep."""
+    from planar.blocks import plan as block_plan
+    from planar.sweep import FAR, SPARSE, _Branch, _check_sketch, _final, _near_stretches, _scale
+
+    if (options.get("outputs") is not None or options.get("engine", "numpy") != "numpy" or model.u0.size != 1
+            or options.get("branch", "smooth") not in ("smooth", "other")):
+        return None  # (the sweep refuses a branch option it does not know)
+    max_step = options.get("max_step", 0.05)
+    scale = float(_scale(model)[0])
+    if not model.input_lengths[0] and abs(value - model.u0[0]) > FAR:
+        return None  # (the sweep solves those whole periods back)
+    poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
+    k = int(np.argmin(np.abs(poses.u - value)))
+    du = value - poses.u[k]
+    if abs(du) * scale > SPARSE * max_step or value == poses.refused:
+        return None
+    p = block_plan(model)
+    br = _Branch(model, p, options.get("tol", 1e-12))
+    if poses.signs is None:
+        _check_sketch(model, p)  # (a sketch on a singular position is refused, as the sweep does)
+        poses.signs = br.signs(model.q0[None], model.u0[None])
+    qk, uk = poses.q[k : k + 1], poses.u[k : k + 1, None]
+    one, zero = np.ones((1, 1)), np.zeros((1, 1))
+    if np.isnan(poses.qu[k, 0]):
+        poses.qu[k], poses.quu[k] = br.state(qk, uk, one)[:2]
+    q_pred = qk + poses.qu[k] * du + 0.5 * poses.quu[k] * du**2
+    U = np.array([[value]])
+    q, cs = q_pred, model.col_scale[p.cols]
+    with np.errstate(all="ignore"):
+        for _ in range(NEWTON):
+            Phi, _, Jv = p.evaluate(q, U)
+            dq = p.factor(Jv, dets=False).solve(Phi)
+            q = q - dq
+            step = np.max(np.abs(dq[0, p.cols] / cs))
+            if not step > SETTLED:  # (NaN: a failed solve, rejected below)
+                break
+    # the sweep's final step at a unit input rate: its rates are the kinematic coefficients of
+    # the new pose (the next move's predictor); the asked rates follow from them linearly
+    r = _final(br, q, U, one, zero)
+    ok = br.accept(r["q"], q_pred, lambda rows: qk, r["conv"], r["signs"], poses.signs, r["sing"])[0]
+    if not (ok and r["status"][0] in CLEAN):
+        poses.refused = value
+        return None
+    q, qu, quu = r["q"], r["qd"], r["qdd"]
+    poses.append(value, q[0], qu[0], quu[0])
+    if options.get("rates", True):
+        qd, qdd = qu * velocity, quu * velocity**2 + qu * acceleration
+    else:
+        qd = qdd = np.broadcast_to(np.nan, q.shape)
+    status = r["status"].astype(np.int8)
+    return Sweep(model, U, np.array([[velocity]]), np.array([[acceleration]]), q, qd, qdd, status, r["res"],
+                 r["iters"], r["sing"], r["branch"], np.broadcast_to(np.nan, 1),
+                 tuple(_near_stretches(model, U, r["sing"], status, ())))
 
 
 def _clean_end(res):
@@ -117,8 +247,10 @@ def _poses(model, branch, tol):
 class Tracker:
     """An input moved by hand: each :meth:`move` goes on from the last pose (or the known pose
     nearest the new value), with the statuses, events and branch of a sweep from the sketch.
-    ``pose`` is the last result (None before the first move). Made by :meth:`planar.Model.track`;
-    ``options`` are the sweep's (``branch``, ``tol``, ``max_step``, ``rates``, ``engine``)."""
+    ``pose`` is the last result (None before the first move); ``direct`` whether it came by
+    the one-value path (:func:`pose`, for a value and rates given as numbers) rather than a
+    sweep. Made by :meth:`planar.Model.track`; ``options`` are the sweep's (``branch``,
+    ``tol``, ``max_step``, ``rates``, ``engine``)."""
 
     def __init__(self, model, **options):
         from planar import arguments
@@ -127,6 +259,11 @@ class Tracker:
         self.model = model
         self.options = arguments.sweep_options(options, run_sweep)
         self.pose = None
+        self.direct = False
+        # the largest input rate and acceleration taken without the sweep's checks (in the
+        # units of the one input)
+        scale = float(model.L) if model.input_lengths.size == 1 and model.input_lengths[0] else 1.0
+        self._limits = (arguments.MAX_RATE * scale, arguments.MAX_ACCELERATION * scale)
 
     def __repr__(self) -> str:
         return f"<Tracker of {self.model.name!r}: {self.pose!r}>"
@@ -134,7 +271,16 @@ class Tracker:
     def move(self, value, velocity=1.0, acceleration=0.0):
         """The pose at input ``value`` (a number, or one per input): a :class:`planar.Sweep`
         of one value, as ``model.sweep([value], velocity, acceleration)`` gives it."""
-        value = np.asarray(value, dtype=float)
-        self.pose = self.model.sweep(value.reshape(1, -1) if value.ndim else [value], velocity, acceleration,
-                                     **self.options)
-        return self.pose
+        res = None
+        if self.model.u0.size == 1 and all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                                           for x in (value, velocity, acceleration)):
+            v, a = float(velocity), float(acceleration)
+            if math.isfinite(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
+                res = pose(self.model, float(value), v, a, self.options)
+        self.direct = res is not None
+        if res is None:  # the sweep, with its checks of the arguments
+            value = np.asarray(value, dtype=float)
+            res = self.model.sweep(value.reshape(1, -1) if value.ndim else [value], velocity, acceleration,
+                                   **self.options)
+        self.pose = res
+        return res
