@@ -209,8 +209,11 @@ class Factors:
                 z = st.program.solve_transpose(fac, r[st.cols.T] * st.cscale.T[..., None]) * st.rscale.T[..., None]
                 y[st.eqs.T] = z
                 for (i, j, const, _), Cv in zip(st.program.coup, fac[3]):
-                    # blocks of a stage may share an upstream column: unbuffered subtraction
-                    np.subtract.at(r, st.up[:, j], (const if Cv is None else Cv) * z[i])
+                    up, t = st.up[:, j], (const if Cv is None else Cv) * z[i]
+                    if np.unique(up).size == up.size:
+                        r[up] -= t
+                    else:  # blocks of the stage share the column: each one's share counts
+                        np.subtract.at(r, up, t)
         return y.T
 
 

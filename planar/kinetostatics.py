@@ -160,7 +160,7 @@ def _values(model, q, qd, qdd, u):
     for g, P, F in pieces:
         contact.append(g.kind.contact_load(P, F, lam.T[g.rows.T]))
         if contact[-1] is not None:
-            np.add.at(extra, g.cols.T, contact[-1])
+            _add_columns(extra, g.cols, contact[-1])
     if any(c is not None for c in contact):
         lam = solve(Q + extra[:n].T)
 
@@ -232,8 +232,16 @@ def _transposed(model, pieces, blocks, lam):
     rows."""
     out = np.zeros((model.n + 1, lam.shape[0]))
     for (g, _, _), B in zip(pieces, blocks):
-        np.add.at(out, g.cols.T, np.einsum("rcKN,rKN->cKN", B, lam.T[g.rows.T]))
+        _add_columns(out, g.cols, np.einsum("rcKN,rKN->cKN", B, lam.T[g.rows.T]))
     return out[: model.n].T
+
+
+def _add_columns(out, cols, values):
+    """``out[cols.T] += values`` (values (3 n_bodies, K, N)) with the members' shares summed
+    where they meet on a body: member by member (a joint's bodies differ, so its own columns
+    repeat only in the ground's dump column, which is dropped)."""
+    for k in range(cols.shape[0]):
+        out[cols[k]] += values[:, k]
 
 
 def _sketch_rows(model):
