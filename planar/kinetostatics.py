@@ -152,17 +152,18 @@ def _values(model, q, qd, qdd, u):
     n, N = model.n, q.shape[0]
     Q, F_in, T_in, centres = _applied(model, q, qd, qdd, u)
     pieces, blocks = _force_rows(model, q, u)
-    solve = _solver(model, q, u, pieces, blocks)
+    solve, carry = _solver(model, q, u, pieces, blocks)
     lam = solve(Q)
     # forces a joint adds as its multipliers say (a tooth force's radial part): a second
-    # right-hand side, the same factors
+    # right-hand side, the same factors, carried by what holds the centre distance (a
+    # redundant split of the tooth forces stays as the loads made it)
     extra, contact = np.zeros((n + 1, N)), []
     for g, P, F in pieces:
         contact.append(g.kind.contact_load(P, F, lam.T[g.rows.T]))
         if contact[-1] is not None:
             _add_columns(extra, g.cols, contact[-1])
     if any(c is not None for c in contact):
-        lam = solve(Q + extra[:n].T)
+        lam = lam + carry(extra[:n].T)
 
     reactions = {}
     for (g, P, F), B, C in zip(pieces, blocks, contact):
@@ -180,13 +181,15 @@ def _values(model, q, qd, qdd, u):
 
 
 def _solver(model, q, u, pieces, blocks):
-    """The function Q (N, n) -> lam (N, m) solving ``W^T lam = Q`` (W: the force rows) at the
-    configurations q, through the kinematic plan's block factors at q: one transposed block
+    """Two functions Q (N, n) -> lam (N, m) solving ``W^T lam = Q`` (W: the force rows) at the
+    configurations q: the minimum-norm one, and one with the redundant rows' multipliers 0. Both
+    go through the kinematic plan's block factors at q: one transposed block
     solve (:meth:`planar.blocks.Factors.solve_transpose`). Where a joint's force rows stand in
     for its Jacobian rows (a gear on a carrier), one correction with the same factors makes
     the answer exact (the difference lies in the rows of the pins holding the gears, so their
     multipliers take it up at once). Redundant rows (outside the plan) get the minimum-norm
-    split: moments counted per length L, the self-balancing multipliers projected out."""
+    split in the first: moments counted per length L, the self-balancing multipliers projected
+    out."""
     m, N = model.system.m, q.shape[0]
     p = block_plan(model)
     lu = p.factor(p.evaluate(q, u)[2], dets=False)
@@ -201,7 +204,7 @@ def _solver(model, q, u, pieces, blocks):
 
     free = np.setdiff1d(np.arange(m), p.rows)
     if not free.size:
-        return particular
+        return particular, particular
     # a basis of the self-balancing multipliers: one per redundant row, the rest balancing it
     V = np.empty((N, m, free.size))
     for k, r in enumerate(free):
@@ -216,7 +219,7 @@ def _solver(model, q, u, pieces, blocks):
         z = np.linalg.solve(M, -np.einsum("nik,i,ni->nk", V, w2, lam)[..., None])[..., 0]
         return lam + np.einsum("nik,nk->ni", V, z)
 
-    return least_norm
+    return least_norm, particular
 
 
 def _force_rows(model, q, u):

@@ -337,6 +337,94 @@ def test_redundant_planets_share_the_load_evenly_with_a_warning():
     np.testing.assert_allclose(f.driver_effort("sun"), one.sweep([0.0, 0.5]).forces().driver_effort("sun"), rtol=1e-12)
 
 
+def _swept(name, seed=0, n=5):
+    """A mechanism of the catalogue or of MORE (or three redundant planets) with random masses
+    and loads, swept over a few values with random rates; and its model."""
+    rng = np.random.default_rng(seed + sum(map(ord, name)))
+    m = planetary_gear_train(planets=3) if name == "three planets" else (CATALOGUE.get(name) or MORE[name])()
+    add_mass_points(m, rng, [b for b in m.sketch().bodies if b != "ground"])
+    model = m.compile()
+    values = model.u0 + np.linspace(0.0, 0.3, n)[:, None] * np.where(model.input_lengths, model.L, 1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", planar.IndeterminateWarning)
+        return model.sweep(values, velocity=rng.uniform(0.5, 2, values.shape[1]),
+                           acceleration=rng.uniform(-2, 2, values.shape[1])), model
+
+
+@pytest.mark.parametrize("name", sorted(CATALOGUE) + sorted(MORE))
+def test_the_transposed_block_solve_against_the_dense_jacobian(name):
+    """``Factors.solve_transpose`` (the multipliers' solve, on the kinematic plan's blocks in
+    reverse order) solves J^T y = c, J the plan's Jacobian, at poses off the sketch (the
+    blocks' row swaps differ from pose to pose)."""
+    from planar.blocks import plan
+
+    res, model = _swept(name)
+    p = plan(model)
+    rng = np.random.default_rng(3)
+    q = res.q + 0.05 * rng.normal(size=res.q.shape) * model.col_scale
+    lu = p.factor(p.evaluate(q, res.inputs)[2], dets=False)
+    J = model.system.evaluate(q, res.inputs)[1][:, p.rows]
+    c = rng.normal(size=q.shape)
+    y = lu.solve_transpose(c)
+    np.testing.assert_allclose(np.einsum("nrc,nr->nc", J, y), c, rtol=0, atol=1e-12 * np.abs(y).max())
+
+
+@pytest.mark.parametrize("name", ["gear_train", "planetary_gear_train", "free gears", "four_bar", "rack_and_pinion"])
+def test_multipliers_solve_the_force_rows_with_the_least_norm(name):
+    """W^T lam = Q with W the force rows (gears on a carrier: the rows of the contact, which
+    the kinematic factors do not hold) and Q with the tooth forces' radial parts; the loads'
+    split is the minimum-norm one (moments per length L: orthogonal to every self-balancing
+    set of multipliers), the radial parts go to what holds the centre distances."""
+    from planar import kinetostatics as K
+
+    res, model = _swept(name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", planar.IndeterminateWarning)
+        f = res.forces()
+    q, lam = res.q, np.asarray(f.multipliers)
+    pieces, blocks = K._force_rows(model, q, res.inputs)
+    W = np.zeros((len(res), model.system.m, model.n + 1))
+    for (g, _, _), B in zip(pieces, blocks):
+        W[:, g.rows.T[:, None, :], g.cols.T[None, :, :]] = np.moveaxis(B, -1, 0)
+    W = W[..., : model.n]
+    Q = K._applied(model, q, res.qd, res.qdd, res.inputs)[0]
+    extra = np.zeros((model.n + 1, len(res)))
+    for g, P, F in pieces:
+        C = g.kind.contact_load(P, F, lam.T[g.rows.T])
+        if C is not None:
+            np.add.at(extra, g.cols.T, C)
+    radial = extra[: model.n].T
+    np.testing.assert_allclose(np.einsum("nrc,nr->nc", W, lam), Q + radial, rtol=0, atol=1e-10 * np.abs(Q).max())
+    loads = lam - K._solver(model, q, res.inputs, pieces, blocks)[1](radial)
+    np.testing.assert_allclose(np.einsum("nrc,nr->nc", W, loads), Q, rtol=0, atol=1e-10 * np.abs(Q).max())
+    w = np.where(K._length_rows(model), 1.0, 1.0 / model.L)
+    for k in range(len(res)):
+        _, sv, Vt = np.linalg.svd((W[k] / w[:, None]).T)
+        null = Vt[int(np.sum(sv > 1e-9 * sv[0])):]  # self-balancing, in the scaled multipliers
+        assert null.shape[0] == model.redundant_rows.size
+        np.testing.assert_allclose(null @ (w * loads[k]), 0.0, atol=1e-10 * np.abs(w * loads[k]).max())
+
+
+def test_draw_forces_puts_each_reaction_at_its_joint():
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.quiver import Quiver
+
+    from planar.draw import draw_forces, plot_forces
+
+    res, _ = _swept("slider_crank")
+    f = res.forces()
+    ax = draw_forces(f, 2, ["A", "B"], scale=0.01)
+    arrows = next(c for c in ax.collections if isinstance(c, Quiver))
+    np.testing.assert_allclose(arrows.get_offsets(), [res.position("A")[2], res.position("B")[2]])
+    np.testing.assert_allclose(np.c_[arrows.U, arrows.V], 0.01 * np.array([f.reaction("A")[2], f.reaction("B")[2]]))
+    effort = plot_forces(f)[0].get_lines()[0].get_ydata()
+    np.testing.assert_allclose(effort, f.driver_effort("crank"))
+    matplotlib.pyplot.close("all")
+
+
 def test_unsound_values_give_nan():
     m = four_bar_mechanism(4, 3, 3, 3)  # a triple rocker: out of range past +-117 deg
     m.set_mass("coupler", 1.0, (1.0, 1.0), 0.1)
