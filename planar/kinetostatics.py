@@ -131,10 +131,19 @@ def forces(res):
     q = np.where(sound[:, None], res.q, model.q0)
     qd, qdd = (np.where(sound[:, None], a, 0.0) for a in (res.qd, res.qdd))
     u = np.where(sound[:, None], res.inputs, model.u0)
-    parts = [_values(model, q[sl], qd[sl], qdd[sl], u[sl]) for sl in _chunks(len(res))]
-    lam, F_in, T_in, centres = (np.concatenate([p[k] for p in parts]) for k in range(4))
-    reactions = {j.name: {c: np.concatenate([p[4][j.name][c] for p in parts]) for c in parts[0][4][j.name]}
-                 for j in model.joints}
+    out, stand_in = None, _stand_ins(model)
+    for sl in _chunks(len(res)):
+        part = _values(model, q[sl], qd[sl], qdd[sl], u[sl], stand_in)
+        if out is None:  # the whole arrays, shaped as the first chunk's
+            out = [np.empty((len(res),) + a.shape[1:]) for a in part[:4]]
+            reactions = {j: {c: np.empty((len(res),) + v.shape[1:]) for c, v in comps.items()}
+                         for j, comps in part[4].items()}
+        for a, p in zip(out, part[:4]):
+            a[sl] = p
+        for j, comps in part[4].items():
+            for c, v in comps.items():
+                reactions[j][c][sl] = v
+    lam, F_in, T_in, centres = out
     for a in [lam, F_in, T_in, centres] + [v for comps in reactions.values() for v in comps.values()]:
         a[~sound] = np.nan
     involved = _indeterminate(model)
@@ -146,13 +155,14 @@ def forces(res):
     return Forces(res, lam, F_in, T_in, centres, reactions, involved)
 
 
-def _values(model, q, qd, qdd, u):
+def _values(model, q, qd, qdd, u, stand_in):
     """Multipliers (N, m), inertia forces, torques and centres (see :func:`_applied`) and the
-    reactions {joint: {component: (N,) or (N, 2)}} at the configurations q (N, n)."""
+    reactions {joint: {component: (N,) or (N, 2)}} at the configurations q (N, n);
+    ``stand_in``: see :func:`_stand_ins`."""
     n, N = model.n, q.shape[0]
     Q, F_in, T_in, centres = _applied(model, q, qd, qdd, u)
     pieces, blocks = _force_rows(model, q, u)
-    solve, carry = _solver(model, q, u, pieces, blocks)
+    solve, carry = _solver(model, q, u, pieces, blocks, stand_in)
     lam = solve(Q)
     # forces a joint adds as its multipliers say (a tooth force's radial part): a second
     # right-hand side, the same factors, carried by what holds the centre distance (a
@@ -180,20 +190,19 @@ def _values(model, q, qd, qdd, u):
     return lam, F_in, T_in, centres, reactions
 
 
-def _solver(model, q, u, pieces, blocks):
+def _solver(model, q, u, pieces, blocks, stand_in):
     """Two functions Q (N, n) -> lam (N, m) solving ``W^T lam = Q`` (W: the force rows) at the
-    configurations q: the minimum-norm one, and one with the redundant rows' multipliers 0. Both
-    go through the kinematic plan's block factors at q: one transposed block
-    solve (:meth:`planar.blocks.Factors.solve_transpose`). Where a joint's force rows stand in
-    for its Jacobian rows (a gear on a carrier), one correction with the same factors makes
-    the answer exact (the difference lies in the rows of the pins holding the gears, so their
-    multipliers take it up at once). Redundant rows (outside the plan) get the minimum-norm
-    split in the first: moments counted per length L, the self-balancing multipliers projected
-    out."""
+    configurations q: the minimum-norm one, and one with the redundant rows' multipliers 0.
+    Both go through the kinematic plan's block factors at q: one transposed block solve
+    (:meth:`planar.blocks.Factors.solve_transpose`). Where a joint's force rows stand in for
+    its Jacobian rows (a gear on a carrier: ``stand_in``), one correction with the same
+    factors makes the answer exact (the difference lies in the rows of the pins holding the
+    gears, so their multipliers take it up at once). Redundant rows (outside the plan) get the
+    minimum-norm split in the first: moments counted per length L, the self-balancing
+    multipliers projected out."""
     m, N = model.system.m, q.shape[0]
     p = block_plan(model)
     lu = p.factor(p.evaluate(q, u)[2], dets=False)
-    stand_in = _stand_ins(model)
 
     def particular(c):
         lam = np.zeros((N, m))
@@ -290,7 +299,7 @@ def _applied(model, q, qd, qdd, u):
         b = load.body - 1
         f, t = load.at(u, phi[:, b])
         Q[:, b, :2] += f
-        Q[:, b, 2] += cross(rot(load.s)[:, b], f) + t
+        Q[:, b, 2] += cross(c[:, b] * load.s + s[:, b] * perp(load.s), f) + t
     return Q.reshape(N, -1), F_in, T_in, centres
 
 

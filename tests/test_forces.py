@@ -395,7 +395,7 @@ def test_multipliers_solve_the_force_rows_with_the_least_norm(name):
             np.add.at(extra, g.cols.T, C)
     radial = extra[: model.n].T
     np.testing.assert_allclose(np.einsum("nrc,nr->nc", W, lam), Q + radial, rtol=0, atol=1e-10 * np.abs(Q).max())
-    loads = lam - K._solver(model, q, res.inputs, pieces, blocks)[1](radial)
+    loads = lam - K._solver(model, q, res.inputs, pieces, blocks, K._stand_ins(model))[1](radial)
     np.testing.assert_allclose(np.einsum("nrc,nr->nc", W, loads), Q, rtol=0, atol=1e-10 * np.abs(Q).max())
     w = np.where(K._length_rows(model), 1.0, 1.0 / model.L)
     for k in range(len(res)):
