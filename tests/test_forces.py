@@ -654,5 +654,5 @@ def test_the_benchmarks_quick_path_runs_with_small_errors(capsys):
         sys.path.remove(str(path.parent))
     out = capsys.readouterr().out
     for name in module.CASES:
-        row = re.search(rf"^{re.escape(name)}\s+1000\s+([\d.]+)\s+([\d.]+)\s+[\d.]+\s+(\S+)$", out, re.M)
-        assert row and float(row[1]) > 0 and float(row[2]) > 0 and float(row[3]) < 1e-10, name
+        row = re.search(rf"^{re.escape(name)}\s+1000\s+([\d.]+)\s+([\d.]+)\s+[\d.]+\s+([\d.]+)\s+(\S+)$", out, re.M)
+        assert row and min(float(row[k]) for k in (1, 2, 3)) > 0 and float(row[4]) < 1e-10, name
