@@ -337,18 +337,38 @@ def test_redundant_planets_share_the_load_evenly_with_a_warning():
     np.testing.assert_allclose(f.driver_effort("sun"), one.sweep([0.0, 0.5]).forces().driver_effort("sun"), rtol=1e-12)
 
 
-def _swept(name, seed=0, n=5):
-    """A mechanism of the catalogue or of MORE (or three redundant planets) with random masses
-    and loads, swept over a few values with random rates; and its model."""
+def _swept(name, seed=0, n=5, start=0.0, loads=None):
+    """A mechanism of the catalogue or of MORE with random masses and loads (appended to
+    ``loads``), swept over a few values from ``start`` (input units, or L) past its sketch with
+    random rates; and its model."""
     rng = np.random.default_rng(seed + sum(map(ord, name)))
-    m = planetary_gear_train(planets=3) if name == "three planets" else (CATALOGUE.get(name) or MORE[name])()
-    add_mass_points(m, rng, [b for b in m.sketch().bodies if b != "ground"])
+    m = (CATALOGUE.get(name) or MORE[name])()
+    added = add_mass_points(m, rng, [b for b in m.sketch().bodies if b != "ground"])
+    if loads is not None:
+        loads += added
     model = m.compile()
-    values = model.u0 + np.linspace(0.0, 0.3, n)[:, None] * np.where(model.input_lengths, model.L, 1.0)
+    values = model.u0 + (start + np.linspace(0.0, 0.3, n))[:, None] * np.where(model.input_lengths, model.L, 1.0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", planar.IndeterminateWarning)
-        return model.sweep(values, velocity=rng.uniform(0.5, 2, values.shape[1]),
+        return model.sweep(values, velocity=rng.uniform(-2, 2, values.shape[1]),
                            acceleration=rng.uniform(-2, 2, values.shape[1])), model
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(name=st.sampled_from(sorted(CATALOGUE) + sorted(MORE)), seed=st.integers(0, 2**32 - 1),
+       start=st.floats(-1.0, 1.0))
+def test_virtual_power_with_random_masses_loads_and_rates_on_every_joint_type(name, seed, start):
+    """Virtual power as on the random linkages, over the mechanisms with gears, racks, rolling,
+    slots and sliders: random masses, loads, gravity, input rates and stretch of the input."""
+    loads = []
+    res, _ = _swept(name, seed, start=start, loads=loads)
+    sound = np.isin(res.status, (planar.Status.SOLVED, planar.Status.NEAR_SINGULAR))
+    assume(sound.any())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", planar.IndeterminateWarning)
+        drive, rest, scale = virtual_power(res, loads)
+    np.testing.assert_allclose(drive[sound], rest[sound], rtol=0, atol=1e-10 * scale[sound].max())
+    assert np.isnan(drive[~sound]).all()
 
 
 @pytest.mark.parametrize("name", sorted(CATALOGUE) + sorted(MORE))
