@@ -3,8 +3,9 @@
 For each mechanism (random masses, centres, inertias and loads, gravity; seeded) and N, the
 time per value of the sweep (positions, velocities, accelerations) and of ``res.forces()`` on
 it, best of rounds that call both (as ``sweep_speed.rounds``), their ratio; the time per value
-of the kinematic block factors at the solved poses (the Jacobian's evaluation and the blocks'
-LU, which ``forces()`` forms again rather than keep the sweep's: what keeping them would save);
+of the kinematic block factors at the solved poses, chunk by chunk (the Jacobian's evaluation
+and the blocks' LU, which ``forces()`` forms again rather than keep the sweep's: what keeping
+them would save);
 and the largest virtual power residual (driver power against d/dt (kinetic + potential
 energy) - load power), relative to the largest term.
 
@@ -23,6 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from planar.blocks import plan  # noqa: E402
 from planar.mechanisms import four_bar, gear_train, slider_crank, watt_six_bar  # noqa: E402
+from planar.system import _chunks  # noqa: E402
 from sweep_speed import rounds  # noqa: E402
 from tests.test_forces import add_mass_points, virtual_power  # noqa: E402
 
@@ -35,6 +37,13 @@ def case(build):
     m = build()
     loads = add_mass_points(m, np.random.default_rng(1), [b for b in m.sketch().bodies if b != "ground"])
     return m.compile(), loads
+
+
+def factors(p, res):
+    """The kinematic block factors at the solved poses of ``res``, chunk by chunk as
+    ``forces()`` forms them."""
+    for sl in _chunks(len(res)):
+        p.factor(p.evaluate(res.q[sl], res.inputs[sl])[2], dets=False)
 
 
 def main(argv=None):
@@ -53,7 +62,7 @@ def main(argv=None):
             res = model.sweep(u, velocity=10.0, acceleration=3.0)
             best = rounds({"sweep": lambda: model.sweep(u, velocity=10.0, acceleration=3.0),
                            "forces": lambda: res.forces(),
-                           "factors": lambda: p.factor(p.evaluate(res.q, res.inputs)[2], dets=False)}, repeat)
+                           "factors": lambda: factors(p, res)}, repeat)
             drive, rest, scale = virtual_power(res, loads)
             err = np.nanmax(np.abs(drive - rest)) / np.nanmax(scale)
             s, f, k = (best[key] * 1e6 / N for key in ("sweep", "forces", "factors"))
