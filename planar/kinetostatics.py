@@ -165,15 +165,15 @@ def _values(model, q, qd, qdd, u, stand_in):
     solve, carry = _solver(model, q, u, pieces, blocks, stand_in)
     lam = solve(Q)
     # forces a joint adds as its multipliers say (a tooth force's radial part): a second
-    # right-hand side, the same factors, carried by what holds the centre distance (a
-    # redundant split of the tooth forces stays as the loads made it)
-    extra, contact = np.zeros((n + 1, N)), []
+    # right-hand side, the same factors, that leaves those multipliers as they are
+    extra, contact, held = np.zeros((n + 1, N)), [], []
     for g, P, F in pieces:
         contact.append(g.kind.contact_load(P, F, lam.T[g.rows.T]))
         if contact[-1] is not None:
             _add_columns(extra, g.cols, contact[-1])
-    if any(c is not None for c in contact):
-        lam = lam + carry(extra[:n].T)
+            held.append(g.rows.ravel())
+    if held:
+        lam = lam + carry(extra[:n].T, np.concatenate(held))
 
     reactions = {}
     for (g, P, F), B, C in zip(pieces, blocks, contact):
@@ -191,15 +191,17 @@ def _values(model, q, qd, qdd, u, stand_in):
 
 
 def _solver(model, q, u, pieces, blocks, stand_in):
-    """Two functions Q (N, n) -> lam (N, m) solving ``W^T lam = Q`` (W: the force rows) at the
-    configurations q: the minimum-norm one, and one with the redundant rows' multipliers 0.
-    Both go through the kinematic plan's block factors at q: one transposed block solve
+    """Two functions of Q (N, n) giving lam (N, m) with ``W^T lam = Q`` (W: the force rows) at
+    the configurations q: the minimum-norm one, and one whose multipliers of the rows ``held``
+    (its second argument) are 0, the minimum norm among those (a tooth force's radial part:
+    what holds the centre distances carries it, the tooth forces' split stays as the loads
+    made it, and every body stays in balance). Both go through the kinematic plan's block factors at q: one transposed block solve
     (:meth:`planar.blocks.Factors.solve_transpose`). Where a joint's force rows stand in for
     its Jacobian rows (a gear on a carrier: ``stand_in``), one correction with the same
     factors makes the answer exact (the difference lies in the rows of the pins holding the
     gears, so their multipliers take it up at once). Redundant rows (outside the plan) get the
-    minimum-norm split in the first: moments counted per length L, the self-balancing
-    multipliers projected out."""
+    minimum-norm split: moments counted per length L, the self-balancing multipliers
+    projected out."""
     m, N = model.system.m, q.shape[0]
     p = block_plan(model)
     lu = p.factor(p.evaluate(q, u)[2], dets=False)
@@ -213,7 +215,7 @@ def _solver(model, q, u, pieces, blocks, stand_in):
 
     free = np.setdiff1d(np.arange(m), p.rows)
     if not free.size:
-        return particular, particular
+        return particular, lambda c, held: particular(c)
     # a basis of the self-balancing multipliers: one per redundant row, the rest balancing it
     V = np.empty((N, m, free.size))
     for k, r in enumerate(free):
@@ -228,7 +230,17 @@ def _solver(model, q, u, pieces, blocks, stand_in):
         z = np.linalg.solve(M, -np.einsum("nik,i,ni->nk", V, w2, lam)[..., None])[..., 0]
         return lam + np.einsum("nik,nk->ni", V, z)
 
-    return least_norm, particular
+    def held_least_norm(c, held):
+        # the least norm with lam[held] = 0: its KKT system (a rank-deficient VH when
+        # redundant rows are held themselves, so a pseudo-inverse)
+        lam, k, VH = particular(c), free.size, V[:, held]
+        A = np.zeros((N, k + held.size, k + held.size))
+        A[:, :k, :k], A[:, :k, k:], A[:, k:, :k] = M, VH.transpose(0, 2, 1), VH
+        b = np.concatenate((-np.einsum("nik,i,ni->nk", V, w2, lam), -lam[:, held]), axis=1)
+        z = np.einsum("nij,nj->ni", np.linalg.pinv(A, rcond=1e-12), b)[:, :k]
+        return lam + np.einsum("nik,nk->ni", V, z)
+
+    return least_norm, held_least_norm
 
 
 def _force_rows(model, q, u):
