@@ -195,13 +195,13 @@ def _solver(model, q, u, pieces, blocks, stand_in):
     the configurations q: the minimum-norm one, and one whose multipliers of the rows ``held``
     (its second argument) are 0, the minimum norm among those (a tooth force's radial part:
     what holds the centre distances carries it, the tooth forces' split stays as the loads
-    made it, and every body stays in balance). Both go through the kinematic plan's block factors at q: one transposed block solve
-    (:meth:`planar.blocks.Factors.solve_transpose`). Where a joint's force rows stand in for
-    its Jacobian rows (a gear on a carrier: ``stand_in``), one correction with the same
-    factors makes the answer exact (the difference lies in the rows of the pins holding the
-    gears, so their multipliers take it up at once). Redundant rows (outside the plan) get the
-    minimum-norm split: moments counted per length L, the self-balancing multipliers
-    projected out."""
+    made it, and every body stays in balance). Both go through the kinematic plan's block
+    factors at q: one transposed block solve (:meth:`planar.blocks.Factors.solve_transpose`).
+    Where a joint's force rows stand in for its Jacobian rows (a gear on a carrier:
+    ``stand_in``), one correction with the same factors makes the answer exact (the
+    difference lies in the rows of the pins holding the gears, so their multipliers take it up
+    at once). Redundant rows (outside the plan) get the minimum-norm split: moments counted
+    per length L, the self-balancing multipliers projected out."""
     m, N = model.system.m, q.shape[0]
     p = block_plan(model)
     lu = p.factor(p.evaluate(q, u)[2], dets=False)
