@@ -196,6 +196,26 @@ class Factors:
                 x[st.cols.T] = xb * st.cscale.T[..., None]
         return x[: p.n].T
 
+    def solve_transpose(self, c):
+        """y (N, len(rows)) with ``J^T y = c`` (``c`` (N, n), one value per column: generalised
+        forces; the plan's columns only are read): the same blocks transposed, solved in
+        reverse order, each block's coupling passed on to the upstream columns it reads."""
+        p, N = self.p, self.N
+        r = np.zeros((p.n + 1, N))  # row n: where the padding of ``up`` sends its zeros
+        r[p.cols] = c.T[p.cols]
+        y = np.zeros((p.rows.size, N))
+        with np.errstate(all="ignore"):
+            for st, fac in zip(reversed(p.stages), reversed(self.lu)):
+                z = st.program.solve_transpose(fac, r[st.cols.T] * st.cscale.T[..., None]) * st.rscale.T[..., None]
+                y[st.eqs.T] = z
+                for (i, j, const, _), Cv in zip(st.program.coup, fac[3]):
+                    up, t = st.up[:, j], (const if Cv is None else Cv) * z[i]
+                    if np.unique(up).size == up.size:
+                        r[up] -= t
+                    else:  # blocks of the stage share the column: each one's share counts
+                        np.subtract.at(r, up, t)
+        return y.T
+
 
 _PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 

@@ -238,6 +238,24 @@ class Program:
             x[c] = t / d
         return x
 
+    def solve_transpose(self, fac, rhs):
+        """z (k, G, N) with the blocks' transposed (scaled) systems F^T z = ``rhs`` (k, G, N),
+        one right-hand side per column (a copy: it is overwritten). The elimination read
+        backwards: the pivot rows' forms first, the Schur complement's transpose, then the
+        constant row operations in reverse (the coupling is the caller's: it goes upstream)."""
+        A, perm, E, _ = fac
+        z = np.zeros(rhs.shape)
+        for p, c, d, mults, us in self.steps:
+            z[p] = rhs[c] / d
+            for j, f in us:
+                rhs[j] -= E[f] * z[p]
+        if self.rows:
+            z[self._rows] = _lu_solve_transpose(A, perm, rhs[self._cols])
+        for p, c, d, mults, us in reversed(self.steps):
+            for i, m in mults:
+                z[p] -= m * z[i]
+        return z
+
 
 def _norm_terms(F, coup, angle, nv):
     """The normalisation of the det: |det| over the product of the row norms (Hadamard's
@@ -320,3 +338,18 @@ def _lu_solve(A, perm, b):
             b[i] -= A[i, j] * b[j]
         b[i] /= A[i, i]
     return b
+
+
+def _lu_solve_transpose(A, perm, b):
+    """z (k, G, N) with A^T z = b for the factors (P A = L U) of :func:`_dense_lu`: U^T
+    forward, L^T backward, then the rows put back in place."""
+    k = A.shape[0]
+    b = b.copy()
+    for i in range(k):
+        for j in range(i):
+            b[i] -= A[j, i] * b[j]
+        b[i] /= A[i, i]
+    for i in range(k - 1, -1, -1):
+        for j in range(i + 1, k):
+            b[i] -= A[j, i] * b[j]
+    return b if perm is None else np.take_along_axis(b, np.argsort(perm, axis=0), axis=0)

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planar.blocks import plan as block_plan
 from planar.errors import IndeterminateWarning, ModelError
 from planar.geometry import cross, perp
 from planar.results import Status
@@ -130,10 +131,19 @@ def forces(res):
     q = np.where(sound[:, None], res.q, model.q0)
     qd, qdd = (np.where(sound[:, None], a, 0.0) for a in (res.qd, res.qdd))
     u = np.where(sound[:, None], res.inputs, model.u0)
-    parts = [_values(model, q[sl], qd[sl], qdd[sl], u[sl]) for sl in _chunks(len(res))]
-    lam, F_in, T_in, centres = (np.concatenate([p[k] for p in parts]) for k in range(4))
-    reactions = {j.name: {c: np.concatenate([p[4][j.name][c] for p in parts]) for c in parts[0][4][j.name]}
-                 for j in model.joints}
+    out, stand_in = None, _stand_ins(model)
+    for sl in _chunks(len(res)):
+        part = _values(model, q[sl], qd[sl], qdd[sl], u[sl], stand_in)
+        if out is None:  # the whole arrays, shaped as the first chunk's
+            out = [np.empty((len(res),) + a.shape[1:]) for a in part[:4]]
+            reactions = {j: {c: np.empty((len(res),) + v.shape[1:]) for c, v in comps.items()}
+                         for j, comps in part[4].items()}
+        for a, p in zip(out, part[:4]):
+            a[sl] = p
+        for j, comps in part[4].items():
+            for c, v in comps.items():
+                reactions[j][c][sl] = v
+    lam, F_in, T_in, centres = out
     for a in [lam, F_in, T_in, centres] + [v for comps in reactions.values() for v in comps.values()]:
         a[~sound] = np.nan
     involved = _indeterminate(model)
@@ -145,25 +155,25 @@ def forces(res):
     return Forces(res, lam, F_in, T_in, centres, reactions, involved)
 
 
-def _values(model, q, qd, qdd, u):
+def _values(model, q, qd, qdd, u, stand_in):
     """Multipliers (N, m), inertia forces, torques and centres (see :func:`_applied`) and the
-    reactions {joint: {component: (N,) or (N, 2)}} at the configurations q (N, n)."""
+    reactions {joint: {component: (N,) or (N, 2)}} at the configurations q (N, n);
+    ``stand_in``: see :func:`_stand_ins`."""
     n, N = model.n, q.shape[0]
     Q, F_in, T_in, centres = _applied(model, q, qd, qdd, u)
-    pieces, blocks, W = _force_rows(model, q, u)
-    # multipliers scaled so that a minimum-norm split counts moments per length L
-    w = np.where(_length_rows(model), 1.0, 1.0 / model.L)
-    A = W[:, :n].transpose(2, 1, 0) / w
-    lam = _solve(A, Q) / w
+    pieces, blocks = _force_rows(model, q, u)
+    solve, carry = _solver(model, q, u, pieces, blocks, stand_in)
+    lam = solve(Q)
     # forces a joint adds as its multipliers say (a tooth force's radial part): a second
-    # right-hand side, the same matrix
-    extra, contact = np.zeros((n + 1, N)), []
+    # right-hand side, the same factors, that leaves those multipliers as they are
+    extra, contact, held = np.zeros((n + 1, N)), [], []
     for g, P, F in pieces:
         contact.append(g.kind.contact_load(P, F, lam.T[g.rows.T]))
         if contact[-1] is not None:
-            np.add.at(extra, g.cols.T, contact[-1])
-    if any(c is not None for c in contact):
-        lam = _solve(A, Q + extra[:n].T) / w
+            _add_columns(extra, g.cols, contact[-1])
+            held.append(g.rows.ravel())
+    if held:
+        lam = lam + carry(extra[:n].T, np.concatenate(held))
 
     reactions = {}
     for (g, P, F), B, C in zip(pieces, blocks, contact):
@@ -180,32 +190,102 @@ def _values(model, q, qd, qdd, u):
     return lam, F_in, T_in, centres, reactions
 
 
+def _solver(model, q, u, pieces, blocks, stand_in):
+    """Two functions of Q (N, n) giving lam (N, m) with ``W^T lam = Q`` (W: the force rows) at
+    the configurations q: the minimum-norm one, and one whose multipliers of the rows ``held``
+    (its second argument) are 0, the minimum norm among those (a tooth force's radial part:
+    what holds the centre distances carries it, the tooth forces' split stays as the loads
+    made it, and every body stays in balance). Both go through the kinematic plan's block
+    factors at q: one transposed block solve (:meth:`planar.blocks.Factors.solve_transpose`).
+    Where a joint's force rows stand in for its Jacobian rows (a gear on a carrier:
+    ``stand_in``), one correction with the same factors makes the answer exact (the
+    difference lies in the rows of the pins holding the gears, so their multipliers take it up
+    at once). Redundant rows (outside the plan) get the minimum-norm split: moments counted
+    per length L, the self-balancing multipliers projected out."""
+    m, N = model.system.m, q.shape[0]
+    p = block_plan(model)
+    lu = p.factor(p.evaluate(q, u)[2], dets=False)
+
+    def particular(c):
+        lam = np.zeros((N, m))
+        lam[:, p.rows] = lu.solve_transpose(c)
+        if stand_in:
+            lam[:, p.rows] += lu.solve_transpose(c - _transposed(model, pieces, blocks, lam))
+        return lam
+
+    free = np.setdiff1d(np.arange(m), p.rows)
+    if not free.size:
+        return particular, lambda c, held: particular(c)
+    # a basis of the self-balancing multipliers: one per redundant row, the rest balancing it
+    V = np.empty((N, m, free.size))
+    for k, r in enumerate(free):
+        e = np.zeros((N, m))
+        e[:, r] = 1.0
+        V[..., k] = e - particular(_transposed(model, pieces, blocks, e))
+    w2 = np.where(_length_rows(model), 1.0, model.L**-2)
+    M = np.einsum("nik,i,nil->nkl", V, w2, V)
+
+    def least_norm(c):
+        lam = particular(c)
+        z = np.linalg.solve(M, -np.einsum("nik,i,ni->nk", V, w2, lam)[..., None])[..., 0]
+        return lam + np.einsum("nik,nk->ni", V, z)
+
+    def held_least_norm(c, held):
+        # the least norm with lam[held] = 0: its KKT system (a rank-deficient VH when
+        # redundant rows are held themselves, so a pseudo-inverse)
+        lam, k, VH = particular(c), free.size, V[:, held]
+        A = np.zeros((N, k + held.size, k + held.size))
+        A[:, :k, :k], A[:, :k, k:], A[:, k:, :k] = M, VH.transpose(0, 2, 1), VH
+        b = np.concatenate((-np.einsum("nik,i,ni->nk", V, w2, lam), -lam[:, held]), axis=1)
+        z = np.einsum("nij,nj->ni", np.linalg.pinv(A, rcond=1e-12), b)[:, :k]
+        return lam + np.einsum("nik,nk->ni", V, z)
+
+    return least_norm, held_least_norm
+
+
 def _force_rows(model, q, u):
-    """Each group's (group, parameters, frames), its force rows, and all of them as W
-    (m, n + 1, N), configurations last as the kernels write (column n: the ground's)."""
+    """Each group's (group, parameters, frames) and its force rows (n_rows, 3 n_bodies, K, N)."""
     system = model.system
     full = system._full(q)
     pieces = [(g, g.params(u), g.frames(full)) for g in system.groups]
-    blocks = [g.kind.force_rows(P, F) for g, P, F in pieces]
-    W = np.zeros((system.m, model.n + 1, q.shape[0]))
+    return pieces, [g.kind.force_rows(P, F) for g, P, F in pieces]
+
+
+def _transposed(model, pieces, blocks, lam):
+    """W^T lam (N, n): the generalised forces of multipliers ``lam`` (N, m) through the force
+    rows."""
+    out = np.zeros((model.n + 1, lam.shape[0]))
     for (g, _, _), B in zip(pieces, blocks):
-        W[g.rows.T[:, None, :], g.cols.T[None, :, :]] = B
-    return pieces, blocks, W
+        _add_columns(out, g.cols, np.einsum("rcKN,rKN->cKN", B, lam.T[g.rows.T]))
+    return out[: model.n].T
+
+
+def _add_columns(out, cols, values):
+    """``out[cols.T] += values`` (values (3 n_bodies, K, N)) with the members' shares summed
+    where they meet on a body: member by member (a joint's bodies differ, so its own columns
+    repeat only in the ground's dump column, which is dropped)."""
+    for k in range(cols.shape[0]):
+        out[cols[k]] += values[:, k]
+
+
+def _sketch_rows(model):
+    """The force rows W (m, n) at the sketch, dense."""
+    pieces, blocks = _force_rows(model, model.q0[None], model.u0[None])
+    W = np.zeros((model.system.m, model.n + 1))
+    for (g, _, _), B in zip(pieces, blocks):
+        W[g.rows.T[:, None, :], g.cols.T[None, :, :]] = B[..., 0]
+    return W[:, : model.n]
+
+
+def _stand_ins(model):
+    """Whether some joint's force rows are not its Jacobian rows (read at the sketch)."""
+    W = _sketch_rows(model)
+    J = model.system.evaluate(model.q0[None], model.u0[None])[1][0]
+    return bool(np.any(np.abs(W - J) > 1e-9 * np.abs(J).max()))
 
 
 def _length_rows(model):
     return np.concatenate([np.array(c.length_rows, bool) for c in model.joints + model.drivers])
-
-
-def _solve(A, Q):
-    """Multipliers from A lam = Q per value: exact when A is square and regular, else the
-    minimum-norm least-squares solution."""
-    if A.shape[1] == A.shape[2]:
-        try:
-            return np.linalg.solve(A, Q[..., None])[..., 0]
-        except np.linalg.LinAlgError:
-            pass  # a singular value in the batch: fall back to the pseudo-inverse for all
-    return np.einsum("nij,nj->ni", np.linalg.pinv(A, rcond=1e-12), Q)
 
 
 def _applied(model, q, qd, qdd, u):
@@ -231,7 +311,7 @@ def _applied(model, q, qd, qdd, u):
         b = load.body - 1
         f, t = load.at(u, phi[:, b])
         Q[:, b, :2] += f
-        Q[:, b, 2] += cross(rot(load.s)[:, b], f) + t
+        Q[:, b, 2] += cross(c[:, b] * load.s + s[:, b] * perp(load.s), f) + t
     return Q.reshape(N, -1), F_in, T_in, centres
 
 
@@ -239,8 +319,7 @@ def _indeterminate(model):
     """The joints whose rows take part in a self-balancing set of multipliers at the sketch."""
     if not model.redundant_joints:
         return ()
-    W = _force_rows(model, model.q0[None], model.u0[None])[2][:, : model.n, 0]
-    W = W * model.row_scale[:, None] * model.col_scale[None, :]
+    W = _sketch_rows(model) * model.row_scale[:, None] * model.col_scale[None, :]
     U, sv, _ = np.linalg.svd(W)
     rank = int(np.sum(sv > 1e-9 * max(sv[0], 1e-300)))
     null = U[:, rank:]  # multipliers that balance themselves
