@@ -239,7 +239,10 @@ def test_virtual_power_on_random_linkages(desc, seed):
     names = [b for b in m.sketch().bodies if b != "ground"]
     loads = add_mass_points(m, rng, names)
     th = np.linspace(0.0, 0.6, 7)
-    res = m.sweep(th, velocity=rng.uniform(-3, 3), acceleration=rng.uniform(-3, 3))
+    try:
+        res = m.sweep(th, velocity=rng.uniform(-3, 3), acceleration=rng.uniform(-3, 3))
+    except planar.AssemblyError:
+        assume(False)  # a sketch on a singular position is refused, named
     sound = np.isin(res.status, (planar.Status.SOLVED, planar.Status.NEAR_SINGULAR))
     assume(sound.any())
     drive, rest, scale = virtual_power(res, loads)
