@@ -33,7 +33,8 @@ import numpy as np
 from planar.dimensions import _wrap
 from planar.joints import AngleDriver
 from planar.joints.base import SketchFrames
-from planar.model import GROUND, _char_length, _origins, _rule_line, _sites
+from planar.model import (_PLACES, GROUND, Revolute, Slot, _char_length, _key, _mode_triangles, _origins,
+                          _rule_line, _sites)
 from planar.system import Group, System
 
 
@@ -80,6 +81,149 @@ def join(parts):
                                         for n, (b, _) in first.points.items()})
 
 
+def _assemble(t, pos, cons, spec, dims, starts, L, need):
+    """Assemble the sketches of designs ``need`` as compiling does (:func:`planar.dimensions.assemble`),
+    all at once: the stated lengths and the starts followed from their drawn values to their
+    own in the same steps, a minimum-norm Gauss-Newton solve at each; the named points in
+    ``pos`` and the joints' "at" in ``cons`` moved there. (D,) False for a design whose steps
+    do not all converge or whose triangles would turn over (compiled alone, it gets the reason)."""
+    mech, D, S = t.mech, need.size, len(t.sources)
+    if None in t.bases or S != len(t.bases):  # a motion of a site it does not know: compiled alone
+        return np.zeros(D, bool)
+    X0 = np.empty((D, S, 2))
+    for i, src in t.sources.items():
+        X0[:, i] = (pos[src[1]] if src[0] == "point" else np.broadcast_to(cons[src[1]].data[src[2]], (2, L.size))).T[need]
+    widths = [b if isinstance(b, int) else 1 for b in t.bases]
+    cols = np.cumsum([0] + widths)
+    B = np.zeros((D, S, 2, cols[-1]))
+    for i, b in enumerate(t.bases):
+        if b == 2:
+            B[:, i, :, cols[i]:cols[i] + 2] = np.eye(2)
+        elif not isinstance(b, int):
+            u = (X0[:, i] - X0[:, b[1]]) if b[0] == "pivot" else np.broadcast_to(
+                cons[b[1]].data["direction"], (2, L.size)).T[need]
+            B[:, i, :, cols[i]] = u / np.hypot(u[:, :1], u[:, 1:]) if b[0] == "pivot" else u
+    # the rows: lengths between sites, then the drivers' (angles of body lines, travels)
+    site, Ls = t.site, L[need]
+    rows = [("length", site[d.a], site[d.b], dims[need, k]) for k, d in enumerate(mech._dimensions)]
+    line = {b: (site[ln[0]], site[ln[1]]) for b, ln in t.lines.items() if ln is not None}
+    for c, cv in zip(mech._drivers, cons[len(mech._joints):]):
+        start = starts.get(c.name)
+        if isinstance(c, AngleDriver):
+            terms = [(sg, *line[x]) for sg, x in ((1, c.bodies[1]), (-1, c.bodies[0])) if x in line]
+            offset = np.zeros(D)
+            for sg, x in ((1, c.bodies[1]), (-1, c.bodies[0])):
+                if x != GROUND and isinstance(mech._bodies[x], float):
+                    offset += sg * (spec[x][need] - (_directions(X0, *line[x]) if x in line else 0.0))
+            rows.append(("angle", terms, offset, None if start is None else start[need]))
+        elif "at" in c.data and (len(c.bodies) == 1 or c.bodies[0] == GROUND):
+            u = np.broadcast_to(cv.data["direction"] if "direction" in c.data else cv.data["axis"], (2, L.size)).T[need]
+            o = np.broadcast_to(cv.data.get("origin", np.zeros((2, 1))), (2, L.size)).T[need]
+            rows.append(("travel", site[_key(c.data["at"])], (o, u), None if start is None else start[need]))
+
+    def X(z):
+        return X0 + np.einsum("dsck,dk->dsc", B, z)
+
+    def values(X):
+        out = np.empty((len(X), len(rows)))
+        for k, (kind, a, b, _) in enumerate(rows):
+            if kind == "length":
+                out[:, k] = np.hypot(*(X[:, b] - X[:, a]).T)
+            elif kind == "angle":
+                out[:, k] = b[sel] + sum(sg * _directions(X, i, j) for sg, i, j in a)
+            else:
+                out[:, k] = np.sum((X[:, a] - b[0][sel]) * b[1][sel], axis=1)
+        return out
+
+    def jacobian(X):
+        G = np.zeros((len(X), len(rows), S, 2))
+        for k, (kind, a, b, _) in enumerate(rows):
+            if kind == "length":
+                d = X[:, b] - X[:, a]
+                e = d / np.maximum(np.hypot(d[:, :1], d[:, 1:]), 1e-300)
+                G[:, k, a] -= e
+                G[:, k, b] += e
+            elif kind == "angle":
+                for sg, i, j in a:
+                    d = X[:, j] - X[:, i]
+                    g = sg * np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(np.sum(d * d, axis=1), 1e-300)[:, None]
+                    G[:, k, i] -= g
+                    G[:, k, j] += g
+            else:
+                G[:, k, a] += b[1][sel]
+        return np.einsum("drsc,dsck->drk", G, B[sel]) * (scale * Ls[sel, None])[:, :, None]
+
+    angle = np.array([r[0] == "angle" for r in rows])
+    sel = np.arange(D)
+    scale = np.where(angle, 1.0, 1.0 / Ls[:, None])
+    now = values(X0)
+    target = np.stack([r[3] if r[3] is not None else now[:, k] for k, r in enumerate(rows)], axis=1)
+    change = np.where(angle, _wrap(now - target), now - target)
+    a, b = now, now - change
+
+    def residuals(X, goal):
+        r = values(X) - goal
+        return np.where(angle, _wrap(r), r) * scale
+
+    z, alive, tt, dt = np.zeros((D, cols[-1])), np.ones(D, bool), 0.0, 0.125
+    while tt < 1.0 and alive.any():
+        step = min(dt, 1.0 - tt)
+        sel = np.flatnonzero(alive)
+        goal = a[sel] + (tt + step) * (b[sel] - a[sel])
+        zs, scale = z[sel], np.where(angle, 1.0, 1.0 / Ls[sel, None])
+        for _ in range(30):  # Gauss-Newton, as planar.dimensions._Problem.newton, design by design
+            r = residuals(X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs), goal)
+            go = np.max(np.abs(r), axis=1, initial=0.0) > 1e-14
+            if not go.any():
+                break
+            Xs = X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs)
+            J = jacobian(Xs)
+            dx = np.einsum("dkr,dr->dk", np.linalg.pinv(J), r)
+            dx *= np.minimum(1.0, 0.25 / np.maximum(np.max(np.abs(dx), axis=1, initial=0.0), 1e-300))[:, None]
+            zs = np.where(go[:, None], zs - dx * Ls[sel, None], zs)
+        r = residuals(X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs), goal)
+        ok = np.max(np.abs(r), axis=1, initial=0.0) <= 1e-12
+        z[sel] = zs
+        alive[sel[~ok]] = False
+        tt, dt = tt + step, min(2 * step, 0.25)
+    Xa = X(z)
+    for i, j, k in t.triangles:  # the assembly mode drawn is kept
+        before, after = _turns(X0, i, j, k), _turns(Xa, i, j, k)
+        alive &= ~((np.abs(before) > 1e-9 * Ls**2) & (np.sign(before) != np.sign(after)))
+    for n in pos:
+        pos[n][:, need] = Xa[:, site[n]].T
+    for c, cv in zip(t.cons, cons):
+        if "at" in c.data:
+            cv.data["at"][:, need] = Xa[:, site[_key(c.data["at"])]].T
+    return alive
+
+
+def _directions(X, i, j):
+    d = X[:, j] - X[:, i]
+    return np.arctan2(d[:, 1], d[:, 0])
+
+
+def _turns(X, a, b, c):
+    d, e = X[:, b] - X[:, a], X[:, c] - X[:, a]
+    return d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0]
+
+
+def _extent(pos, joints, D):
+    """The designs' characteristic lengths (D,), as :func:`planar.model._char_length`."""
+    every = [np.broadcast_to(p, (2, D)) for p in pos.values()]
+    every += [np.broadcast_to(p, (2, D)) for c in joints for _, p in c.touch_points()]
+    radii = [np.broadcast_to(c.data[k], (D,)) for c in joints for k in ("radius", "radius_a", "radius_b")
+             if k in c.data]
+    L = np.zeros(D)
+    if every:
+        every = np.stack(every, axis=2)
+        L = np.max(every, axis=2) - np.min(every, axis=2)
+        L = np.maximum(L[0], L[1])
+    for r in radii:
+        L = np.maximum(L, r)
+    return np.where(L > np.sqrt(np.finfo(float).tiny), L, 1.0)
+
+
 def _numeric(v):
     return not isinstance(v, (bool, str, np.bool_)) and v is not None and np.asarray(v).dtype.kind in "iuf"
 
@@ -105,7 +249,31 @@ class _Template:
         self.keys = [(i, k) for i, c in enumerate(self.cons) for k, v in c.data.items() if _numeric(v)]
         self.spec_bodies = [b for b, s in list(mech._bodies.items())[1:] if isinstance(s, float)]
         L = _char_length(mech._points, mech._joints)
-        _, site, _ = _sites(mech._points, mech._joints, L)
+        X0, site, bases = _sites(mech._points, mech._joints, L)
+        self.site = site
+        # each site's place in a design: a named point, or a joint's datum (the first met)
+        self.sources = {}
+        for n in mech._points:
+            self.sources.setdefault(site[n], ("point", n))
+        for i, j in enumerate(mech._joints):
+            for key in _PLACES:
+                if j.data.get(key) is not None and not isinstance(j, Revolute):
+                    self.sources.setdefault(site[_key(j.data[key])], ("datum", i, key))
+        # and its motion in the assembly: free, held, or along a line (a slider's on the ground,
+        # or the frame's direction from the first pivot) that a design may turn
+        pivots = list(dict.fromkeys(site[j.name] for j in mech._joints if GROUND in j.bodies
+                                    and isinstance(j, Revolute)))
+        self.bases = []
+        for i, B in enumerate(bases):
+            if B.shape[1] != 1:
+                self.bases.append(B.shape[1])
+            elif len(pivots) > 1 and i == pivots[1]:
+                self.bases.append(("pivot", pivots[0]))
+            else:
+                k = next((k for k, j in enumerate(mech._joints) if isinstance(j, Slot) and j.bodies[0] == GROUND
+                          and site[_key(j.data["at"])] == i), None)
+                self.bases.append(("slot", k) if k is not None else None)
+        self.triangles = [(a, b, c) for a, b, c, _ in _mode_triangles(mech, site)]
         self.lines = {}  # body -> the names (p, q) of its line, or None
         for b, spec in list(mech._bodies.items())[1:]:
             self.lines[b] = spec if isinstance(spec, tuple) else _rule_line(mech, b, lambda p, q: site[p] != site[q])
@@ -141,18 +309,12 @@ def tables(mech, model, mechs):
     # the constraints with every design's numbers, designs last (components first)
     cons = [type(c)(c.name, c.bodies, **{k: (np.moveaxis(data[(i, k)], 0, -1) if (i, k) in data else v)
                                          for k, v in c.data.items()}) for i, c in enumerate(t.cons)]
-    pos = {n: P[:, k].T for k, n in enumerate(t.names)}  # (2, D)
-    touch = [p for c in cons[: len(mech._joints)] for _, p in c.touch_points()]
-    every = np.concatenate([P.transpose(2, 0, 1)] + [np.broadcast_to(p[:, :, None], (2, D, 1)) for p in touch], axis=2)
-    radii = [np.broadcast_to(c.data[k], (D,)) for c in cons[: len(mech._joints)]
-             for k in ("radius", "radius_a", "radius_b") if k in c.data]
-    L = np.max(np.concatenate([np.ptp(every, axis=2).T] + [r[:, None] for r in radii], axis=1), axis=1) \
-        if every.shape[2] else np.zeros(D)
-    L = np.where(L > np.sqrt(np.finfo(float).tiny), L, 1.0)
+    pos = {n: P[:, k].T.copy() for k, n in enumerate(t.names)}  # (2, D)
+    L = _extent(pos, cons[: len(mech._joints)], D)
     # the same points coincide as in the template (so its lines and sites are every design's)
     good = np.all(_apart(P, L) == _apart(t.P, t.L), axis=(1, 2))
 
-    # 1. the drawn sketch must hold its dimensions and starts (compiling would move it)
+    # 1. the sketch assembled to hold its dimensions and starts, where it does not as drawn
     def direction(p, q):
         d = pos[q] - pos[p]
         return np.arctan2(d[1], d[0])
@@ -173,7 +335,23 @@ def tables(mech, model, mechs):
             u = cv.data["direction"] if "direction" in c.data else cv.data["axis"]
             o = cv.data.get("origin", np.zeros((2, 1)))
             off = np.maximum(off, np.abs(np.sum((cv.data["at"] - o) * u, axis=0) - starts[c.name]) / L)
-    good &= off <= (5e-15 if mech._dimensions else 1e-9)
+    if mech._dimensions:
+        need = np.flatnonzero(good & (off > 5e-15))  # (below, compiling moves nothing: as drawn, bit for bit)
+        if need.size:
+            before = {n: p[:, need] for n, p in pos.items()}
+            good[need] &= _assemble(t, pos, cons, spec, dims, starts, L, need)
+            for b, line in t.lines.items():  # a body's angle given: turned with its line, if that moved
+                if isinstance(mech._bodies[b], float) and line is not None:
+                    d0 = before[line[1]] - before[line[0]]
+                    moved = np.any((pos[line[0]][:, need] != before[line[0]]) |
+                                   (pos[line[1]][:, need] != before[line[1]]), axis=0)
+                    turn = direction(*line)[need] - np.arctan2(d0[1], d0[0])
+                    drawn[b][need] = np.where(moved, spec[b][need] + turn, spec[b][need])
+                elif line is not None:
+                    drawn[b] = 0.0 + direction(*line)
+            L = _extent(pos, cons[: len(mech._joints)], D)
+    else:
+        good &= off <= 1e-9
 
     # 2. angles and frames as compiling sets them, the starts' turns included
     angles = dict(drawn)
