@@ -26,7 +26,7 @@ cannot be compiled keeps its error.
 True
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -306,6 +306,40 @@ def tables(mech, model, mechs):
     spec = {b: np.array([m._bodies[b] for m in ms], float) for b in t.spec_bodies}
     dims = np.array([[d.length for d in m._dimensions] for m in ms], float).reshape(D, -1)
     starts = {s: np.array([m._starts[s] for m in ms], float) for s in t.starts}
+    out, bad = _build(t, P, data, spec, dims, starts, next((k for k, m in enumerate(ms) if m is mech), None))
+    return out and replace(out, index=np.array(take)[out.index]), sorted(rest + [take[k] for k in bad])
+
+
+def varied(mech, model, numbers):
+    """(:class:`Tables`, the positions of the designs it does not take) of the designs of
+    ``mech`` (``model`` its compiled model) that differ from it by the ``numbers`` (D,
+    dicts): its stated distances "a-b" and its drivers' starts (by the driver's name), the
+    others as ``mech`` has them. Its sketch as drawn is every design's first guess."""
+    t = _Template(mech, model)
+    D = len(numbers)
+    col = lambda name, v: [x.get(name, v) for x in numbers]  # noqa: E731
+    try:
+        dims = np.array([col(f"{d.a}-{d.b}", d.length) for d in mech._dimensions], float).T.reshape(D, -1)
+        starts = {s: np.array(col(s, mech._starts[s]), float) for s in t.starts}
+    except (TypeError, ValueError):  # not numbers: each design alone says which
+        return None, list(range(D))
+    ok = np.all(np.isfinite(dims) & (dims > 0), axis=1) & np.all([np.isfinite(v) for v in starts.values()] or
+                                                                [np.ones(D, bool)], axis=0)
+    P = np.repeat(t.P, D, axis=0)
+    data = {key: np.repeat(np.asarray(_data(mech, *key), float)[None], D, axis=0) for key in t.keys}
+    spec = {b: np.full(D, mech._bodies[b]) for b in t.spec_bodies}
+    out, bad = _build(t, P, data, spec, dims, starts, None)
+    bad = sorted(set(bad) | set(np.flatnonzero(~ok).tolist()))
+    return (out.take(np.flatnonzero(np.isin(out.index, bad, invert=True))) if out is not None else None), bad
+
+
+def _build(t, P, data, spec, dims, starts, at):
+    """(:class:`Tables` of the designs it takes, indexed 0..D-1; the others) from the designs'
+    numbers: named points ``P`` (D, points, 2), joint data ``data`` {(constraint, key): (D, ...)},
+    bodies' given angles ``spec``, stated lengths ``dims`` (D, stated), drivers' ``starts``;
+    ``at`` the position of the template among them, or None."""
+    mech, model = t.mech, t.model
+    D = len(P)
     # the constraints with every design's numbers, designs last (components first)
     cons = [type(c)(c.name, c.bodies, **{k: (np.moveaxis(data[(i, k)], 0, -1) if (i, k) in data else v)
                                          for k, v in c.data.items()}) for i, c in enumerate(t.cons)]
@@ -373,7 +407,6 @@ def tables(mech, model, mechs):
                   axis=1).T.reshape(D, -1) if len(bodies) > 1 else np.zeros((D, 0))
 
     # 3. each constraint's body-fixed parameters, over the designs
-    at = next((k for k, m in enumerate(ms) if m is mech), None)
     Ps = []
     for i, (c, cv) in enumerate(zip(t.cons, cons)):
         ref = _ref_params(model, i)
@@ -417,9 +450,9 @@ def tables(mech, model, mechs):
         d = pos[n] - np.broadcast_to(origins[name], (2, D))
         c, s = np.cos(angles[name]), np.sin(angles[name])
         points[n] = (b, np.stack([c * d[0] + s * d[1], -s * d[0] + c * d[1]], axis=1))
-    out = Tables(model, np.array(take), system, q0, u0, L, points)
+    out = Tables(model, np.arange(D), system, q0, u0, L, points)
     keep = np.flatnonzero(good)
-    return (out.take(keep) if keep.size else None), sorted(rest + [take[k] for k in np.flatnonzero(~good)])
+    return (out.take(keep) if keep.size else None), np.flatnonzero(~good).tolist()
 
 
 def _data(m, i, k):

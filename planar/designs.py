@@ -25,7 +25,9 @@ and the error's message in ``errors``. One bad design never loses a study.
 {'crank': 1.5}
 """
 
+import copy
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -34,7 +36,8 @@ from planar.blocks import plan as block_plan
 from planar.errors import InputError, PlanarError
 from planar.events import NEAR_CURVE
 from planar.geometry import perp
-from planar.model import _compile, _resolve
+from planar.dimensions import Dimension
+from planar.model import Mechanism, _compile, _finite, _positive, _resolve
 from planar.results import POSED, VALID, Status, Sweep
 from planar.sweep import CHUNK, _anchors, _Branch, _final, _output_columns, run_sweep
 
@@ -65,6 +68,53 @@ def _plain(v):
     if isinstance(v, np.ndarray):
         return tuple(x.item() for x in v)
     return v.item() if isinstance(v, np.generic) else v
+
+
+class Vary:
+    """The designs of ``mechanism`` that differ from it by numbers only, as a builder for
+    :func:`sweep_designs`: ``Vary(m)(**numbers)`` is ``m`` with the stated distances named
+    "a-b" (:meth:`planar.Mechanism.distance`) and the starts of its drivers, named as the
+    drivers, set to ``numbers`` (the others as ``m`` has them; ``numbers`` lists them all).
+    A study of a ``Vary`` builds no Mechanism per design: the designs' tables come from the
+    numbers at once, every sketch assembled from ``m``'s drawing together
+    (:func:`planar.design_tables.varied`).
+
+    >>> from planar.mechanisms import four_bar
+    >>> family = Vary(four_bar(coupler_point=(1.0, 0.5)))
+    >>> family.numbers
+    {'O2-O4': 4.0, 'O2-A': 2.0, 'A-B': 3.0, 'O4-B': 4.0, 'A-C': 1.118033988749895, 'B-C': 2.0615528128088303, 'crank': 0.0}
+    >>> study = sweep_designs(family, {"O2-A": [1.0, 1.5]}, np.radians(np.arange(0, 360, 45)))
+    >>> bool(study.ok.all()), study.batched.tolist(), study[1].model.sketch.position("A").round(12).tolist()
+    (True, [True, True], [1.5, 0.0])
+    """
+
+    def __init__(self, mechanism):
+        if not isinstance(mechanism, Mechanism):
+            raise InputError(f"Vary takes a planar.Mechanism, got {type(mechanism).__name__}")
+        self.mechanism = copy.deepcopy(mechanism)  # the study's: later edits to the caller's do not reach it
+
+    @cached_property
+    def numbers(self):
+        """name -> the value ``mechanism`` has: its stated distances, then its drivers' starts."""
+        return {f"{d.a}-{d.b}": d.length for d in self.mechanism._dimensions} | dict(self.mechanism._starts)
+
+    @cached_property
+    def model(self):
+        return _compile_unplanned(self.mechanism)
+
+    def check(self, numbers):
+        unknown = sorted(set(numbers) - set(self.numbers))
+        if unknown:
+            raise InputError(f"{unknown} are no numbers of mechanism {self.mechanism.name!r}: it has "
+                             f"{sorted(self.numbers)} (stated distances 'a-b' and drivers' starts)")
+
+    def __call__(self, **numbers):
+        self.check(numbers)
+        m = copy.deepcopy(self.mechanism)
+        m._dimensions = [Dimension(d.a, d.b, _positive(numbers.get(f"{d.a}-{d.b}", d.length), f"distance {d.a}-{d.b}"))
+                         for d in m._dimensions]
+        m._starts = {k: float(_finite(numbers.get(k, v), f"start of driver {k!r}", ())) for k, v in m._starts.items()}
+        return m
 
 
 BATCH = 1024  # designs swept together: the batch's temporaries stay ~BATCH * N * 1 kB
@@ -181,25 +231,42 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     fixed = {} if fixed is None else dict(fixed)
     D = hi - lo
     mechs, errors, models = [None] * D, [None] * D, {}
-    for d in range(D):
-        try:
-            mechs[d] = build(**fixed, **table[lo + d])
-        except InputError:
-            raise  # the call is wrong for every design: say so once
-        except PlanarError as e:
-            errors[d] = f"design {lo + d} {table[lo + d]}: {e}"
+    vary = isinstance(build, Vary)
+
+    def mechanism(d):  # design d's Mechanism, built when first needed (None, with its error, if it cannot be)
+        if mechs[d] is None and errors[d] is None:
+            try:
+                mechs[d] = build(**fixed, **table[lo + d])
+            except InputError:
+                raise  # the call is wrong for every design: say so once
+            except PlanarError as e:
+                errors[d] = f"design {lo + d} {table[lo + d]}: {e}"
+        return mechs[d]
 
     def alone(d):  # design d compiled by itself (None, with its error, if it cannot be)
         if d not in models:
             try:
-                models[d] = _compile_unplanned(mechs[d])
+                models[d] = _compile_unplanned(mechanism(d)) if mechanism(d) is not None else None
             except PlanarError as e:
                 models[d], errors[d] = None, f"design {lo + d} {table[lo + d]}: {e}"
         return models[d]
 
     # the designs' tables, a structure at a time: built at once from their numbers where they
     # can be (design_tables), else from each design compiled alone
-    groups, left = [], [d for d in range(D) if mechs[d] is not None]
+    groups, left = [], []
+    if vary:  # no Mechanism per design: the tables from the numbers
+        numbers = [dict(fixed, **table[lo + d]) for d in range(D)]
+        for x in numbers:
+            build.check(x)
+        t, rest = design_tables.varied(build.mechanism, build.model, numbers)
+        left = [d for d in rest if alone(d) is not None]
+        if t is not None:
+            same = [d for d in left if _structure(models[d]) == _structure(build.model)]
+            groups.append(design_tables.join([t] + ([design_tables.from_models([models[d] for d in same], same)]
+                                                    if same else [])))
+            left = [d for d in left if d not in same]
+    else:
+        left = [d for d in range(D) if mechanism(d) is not None]
     while left:
         ref = next((d for d in left if alone(d) is not None), None)
         if ref is None:
@@ -233,7 +300,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             d = g.index[0]
             raise InputError(f"design {lo + d} {table[lo + d]} has {g.model.n} coordinates, design "
                              f"{lo + groups[0].index[0]} {ref.n}: a study sweeps designs of one structure")
-        _check_walks(g, U, options["max_step"], alone, models)
+        _check_walks(g, U, options["max_step"], alone)
     N, f = shapes.pop()
     Ud, Udd = ref._inputs(velocity, "velocity", N), ref._inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
@@ -274,11 +341,11 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     return _Part(lo, models, tuple(errors), batched, tuple(events), Ud, Udd, out, points, ref, build, fixed)
 
 
-def _check_walks(g, U, step, alone, models):
-    """Refuse the values (:func:`planar.arguments.values`) of the template of tables ``g``,
-    and the values whose walk from a design's sketch is too long, for its designs at once."""
+def _check_walks(g, U, step, alone):
+    """Refuse the values (:func:`planar.arguments.values`) whose walk from a design's sketch is
+    too long, for the designs of tables ``g`` at once (the first refused raises)."""
     ref = g.model
-    arguments.values(ref, U[next(d for d, m in models.items() if m is ref)], step)
+    arguments.values(ref, U[g.index[0]], step)  # (no values, too many)
     scale = np.where(ref.input_lengths, g.L[:, None], 1.0)
     u = np.stack([U[d] for d in g.index])
     with np.errstate(over="ignore", invalid="ignore"):
