@@ -84,8 +84,8 @@ class Vary:
     >>> family.numbers
     {'O2-O4': 4.0, 'O2-A': 2.0, 'A-B': 3.0, 'O4-B': 4.0, 'A-C': 1.118033988749895, 'B-C': 2.0615528128088303, 'crank': 0.0}
     >>> study = sweep_designs(family, {"O2-A": [1.0, 1.5]}, np.radians(np.arange(0, 360, 45)))
-    >>> bool(study.ok.all()), study.batched.tolist(), study[1].model.sketch.position("A").round(12).tolist()
-    (True, [True, True], [1.5, 0.0])
+    >>> bool(study.ok.all()), study.batched.tolist(), study[1].model.sketch.position("A").round(12).tolist() == [1.5, 0.0]
+    (True, [True, True], True)
     """
 
     def __init__(self, mechanism):
