@@ -178,7 +178,7 @@ def _assemble(t, pos, cons, spec, dims, starts, L, need):
                 break
             Xs = X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs)
             J = jacobian(Xs)
-            dx = np.einsum("dkr,dr->dk", np.linalg.pinv(J), r)
+            dx = _min_norm(J, r)
             dx *= np.minimum(1.0, 0.25 / np.maximum(np.max(np.abs(dx), axis=1, initial=0.0), 1e-300))[:, None]
             zs = np.where(go[:, None], zs - dx * Ls[sel, None], zs)
         r = residuals(X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs), goal)
@@ -196,6 +196,20 @@ def _assemble(t, pos, cons, spec, dims, starts, L, need):
         if "at" in c.data:
             cv.data["at"][:, need] = Xa[:, site[_key(c.data["at"])]].T
     return alive
+
+
+def _min_norm(J, r):
+    """The least-squares step of least norm, J+ r, per design: J^T (J J^T)^-1 r where the rows
+    of J are independent (cheap), the pseudo-inverse where they are not (redundant lengths)."""
+    A = np.einsum("drk,dsk->drs", J, J)
+    with np.errstate(all="ignore"):  # |det| over the product of the diagonal (Hadamard): 1 for orthogonal rows
+        full = np.linalg.det(A) / np.prod(np.diagonal(A, axis1=1, axis2=2), axis=1) > 1e-10
+    dx = np.empty(J.shape[::2])
+    if full.any():
+        dx[full] = np.einsum("drk,dr->dk", J[full], np.linalg.solve(A[full], r[full][:, :, None])[:, :, 0])
+    if not full.all():
+        dx[~full] = np.einsum("dkr,dr->dk", np.linalg.pinv(J[~full]), r[~full])
+    return dx
 
 
 def _directions(X, i, j):
@@ -439,6 +453,7 @@ def _build(t, P, data, spec, dims, starts, at):
                 for r in t.cons[i].sketch_rows:
                     g.P["c"][:, k, r] = Phi[:, model.row_adr[i] + r]
         u0 = np.ascontiguousarray(Phi[:, t.n_joint_rows:])
+        system = System(system.n_bodies, system.m, tuple(replace(g) for g in system.groups))  # (the constants set)
         if model.redundant_rows.size:
             Phi, _ = system.evaluate(q0, np.concatenate([u0, ids], axis=1), jacobian=False)
             red = model.redundant_rows

@@ -150,15 +150,17 @@ def join(designs, parts, first=0):
         if p.out is None:
             continue
         dims = p.out.q.shape[1:] + p.out.U.shape[2:]
+        at = slice(p.lo - first, p.lo - first + len(p.errors))
         if out is None:
-            out, rates, template = _Results(len(designs), *dims), (p.Ud, p.Udd), p.template
+            whole = p.lo == first and len(p.errors) == len(designs)  # one batch: its arrays are the study's
+            out, rates, template = p.out if whole else _Results(len(designs), *dims), (p.Ud, p.Udd), p.template
             points = {n: (b, np.full((len(designs), 2), np.nan)) for n, (b, _) in p.points.items()}
         elif dims != out.q.shape[1:] + out.U.shape[2:]:
             raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
                              f"{out.q.shape[1:] + out.U.shape[2:]}: a study sweeps designs of one structure over "
                              "one number of values")
-        at = slice(p.lo - first, p.lo - first + len(p.errors))
-        out.put(at, p.out)
+        if out is not p.out:
+            out.put(at, p.out)
         for n, (b, S) in points.items():
             if n in p.points and p.points[n][0] == b:
                 S[at] = p.points[n][1]
