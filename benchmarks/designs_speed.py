@@ -1,7 +1,10 @@
 """Many designs of one structure: D random crank-rocker four-bars with coupler points, each over
 N = 180 crank angles (positions, velocities and accelerations), swept by planar.sweep_designs
 1024 designs at a time (the chunked path's unit of work: each chunk's results are checked and let
-go, as a study on a cluster writes them to its store), beside
+go, as a study on a cluster writes them to its store), the designs given two ways: to the
+catalogue's builder (planar.mechanisms.four_bar, a Mechanism built per design, "builder") and as
+the numbers of one dimensioned four-bar (planar.Vary: its stated lengths, no Mechanism per
+design, "Vary"), beside
 
 - the closed form vectorised over all designs at once (tests/oracles.py: four_bar),
 - planar's per-design loop (build, compile and sweep each design alone; at D <= --loop-up-to,
@@ -43,14 +46,15 @@ GROUND = 4.0
 
 
 def designs(D, seed=0):
-    """D crank-rockers: ground 4, crank shortest with s + l < 0.9 (p + q), coupler points."""
+    """D crank-rockers: ground 4, crank shortest with s + l < 0.9 (p + q), coupler points (p, q)
+    with q > 0 (left of A -> B, the side of the family's drawing)."""
     rng = np.random.default_rng(seed)
     out = {k: [] for k in ("crank", "coupler", "rocker", "coupler_point")}
     while len(out["crank"]) < D:
         r2, r3, r4 = rng.uniform(0.5, 1.5), rng.uniform(2.5, 5.0), rng.uniform(2.5, 5.0)
         s, p, q, l = sorted([GROUND, r2, r3, r4])
         if s == r2 and s + l < 0.9 * (p + q):
-            for k, v in zip(out, (r2, r3, r4, tuple(rng.uniform(-1.0, 1.0, 2)))):
+            for k, v in zip(out, (r2, r3, r4, (rng.uniform(-1.0, 1.0), rng.uniform(0.1, 1.0)))):
                 out[k].append(v)
     return out
 
@@ -66,13 +70,26 @@ def chunk(table, lo, hi):
     return {k: v[lo:hi] for k, v in table.items()}
 
 
-def chunked(table, D):
+FAMILY = planar.Vary(four_bar(GROUND, 1.0, 3.5, 3.5, coupler_point=(0.5, 0.5)))
+
+
+def numbers(table):
+    """The designs as the family's numbers: the links' lengths and C's distances from A and B."""
+    pq, r3 = np.array(table["coupler_point"]), np.array(table["coupler"])
+    return {"O2-A": table["crank"], "A-B": table["coupler"], "O4-B": table["rocker"],
+            "A-C": np.hypot(pq[:, 0], pq[:, 1]), "B-C": np.hypot(r3 - pq[:, 0], pq[:, 1])}
+
+
+def chunked(table, D, vary):
     """planar.sweep_designs over the designs BATCH at a time; the largest error of C against
     the closed form (every chunk's results let go once checked)."""
     err = 0.0
     for lo in range(0, D, BATCH):
         part = chunk(table, lo, min(lo + BATCH, D))
-        study = planar.sweep_designs(four_bar, part, TH, fixed=dict(ground=GROUND))
+        if vary:
+            study = planar.sweep_designs(FAMILY, numbers(part), TH)
+        else:
+            study = planar.sweep_designs(four_bar, part, TH, fixed=dict(ground=GROUND))
         assert study.ok.all() and study.batched.all()
         cf = closed_form(part)
         err = max(err, np.abs(study.position("C") - cf["C"]).max(), np.abs(study.velocity("C") - cf["C_vel"]).max(),
@@ -133,15 +150,18 @@ def main(argv=None):
     peer = importlib.util.find_spec("pylinkage") is not None
     if peer:
         pylinkage_loop(designs(2), 2)  # numba compiles (or loads) its loops once, outside the timings
+    chunked(designs(2), 2, True)  # (the family's template compiled, once a process)
     print(f"four-bar designs x {N} crank angles; times in seconds (best of 3 for the closed form); "
           f"loops timed on at most {args.loop} designs and scaled to D")
-    print(f"{'D':>7} {'D x N':>9} {'closed form':>12} {'batch':>9} {'x closed':>9} {'us/value':>9} "
-          f"{'max |C err|':>12} {'planar loop':>12} {'x closed':>9} {'pylinkage loop':>15} {'x closed':>9} "
-          f"{'pylinkage err':>14}")
+    print(f"{'D':>7} {'D x N':>9} {'closed form':>12} {'builder':>9} {'x closed':>9} {'Vary':>9} {'x closed':>9} "
+          f"{'us/value':>9} {'max |C err|':>12} {'planar loop':>12} {'x closed':>9} {'pylinkage loop':>15} "
+          f"{'x closed':>9} {'pylinkage err':>14}")
     for D in args.designs:
         table = designs(D)
         t_cf, _ = timed(lambda: closed_form(table), 3)
-        t_b, err = timed(lambda: chunked(table, D))
+        t_b, err_b = timed(lambda: chunked(table, D, False))
+        t_v, err = timed(lambda: chunked(table, D, True))
+        err = max(err, err_b)
         k = min(D, args.loop)
         loop = pyl = "-"
         if D <= args.loop_up_to:
@@ -156,11 +176,12 @@ def main(argv=None):
             pyl = f"{t_p:>15.2f} {t_p / t_cf:>9.0f} {e_p:>14.1e}"
         else:
             pyl = f"{'(not installed)':>15} {'-':>9} {'-':>14}"
-        print(f"{D:>7} {D * N:>9} {t_cf:>12.4f} {t_b:>9.3f} {t_b / t_cf:>9.0f} {1e6 * t_b / (D * N):>9.2f} "
+        print(f"{D:>7} {D * N:>9} {t_cf:>12.4f} {t_b:>9.3f} {t_b / t_cf:>9.1f} {t_v:>9.3f} {t_v / t_cf:>9.1f} "
+              f"{1e6 * t_v / (D * N):>9.2f} "
               f"{err:>12.1e} {loop} {pyl}", flush=True)
     table = designs(2 * BATCH, seed=1)
     tracemalloc.start()
-    chunked(table, 2 * BATCH)
+    chunked(table, 2 * BATCH, True)
     peak = tracemalloc.get_traced_memory()[1] / 2**20
     tracemalloc.stop()
     print(f"peak memory of the chunked path ({BATCH} designs x {N} values a chunk, two chunks): {peak:.0f} MiB")
