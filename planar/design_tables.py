@@ -92,7 +92,8 @@ def _assemble(t, pos, cons, spec, dims, starts, L, need):
         return np.zeros(D, bool)
     X0 = np.empty((D, S, 2))
     for i, src in t.sources.items():
-        X0[:, i] = (pos[src[1]] if src[0] == "point" else np.broadcast_to(cons[src[1]].data[src[2]], (2, L.size))).T[need]
+        at = pos[src[1]] if src[0] == "point" else np.broadcast_to(cons[src[1]].data[src[2]], (2, L.size))
+        X0[:, i] = at.T[need]
     widths = [b if isinstance(b, int) else 1 for b in t.bases]
     cols = np.cumsum([0] + widths)
     B = np.zeros((D, S, 2, cols[-1]))
