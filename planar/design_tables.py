@@ -76,9 +76,15 @@ def join(parts):
                                                        for k in g.P}, g.rows, g.cols, g.inputs, True)
                    for i, g in enumerate(first.system.groups))
     cat = lambda f: np.concatenate([getattr(p, f) for p in parts])  # noqa: E731
+    points = {}  # every part's named points, NaN where a part has none (points are no joints: one structure)
+    for p in parts:
+        for n, (b, _) in p.points.items():
+            points.setdefault(n, b)
+    points = {n: (b, np.concatenate([p.points[n][1] if n in p.points and p.points[n][0] == b
+                                     else np.full((len(p.index), 2), np.nan) for p in parts]))
+              for n, b in points.items()}
     return Tables(first.model, cat("index"), System(first.system.n_bodies, first.system.m, groups), cat("q0"),
-                  cat("u0"), cat("L"), {n: (b, np.concatenate([p.points[n][1] for p in parts]))
-                                        for n, (b, _) in first.points.items()})
+                  cat("u0"), cat("L"), points)
 
 
 def _assemble(t, pos, cons, spec, dims, starts, L, need):

@@ -155,16 +155,16 @@ def join(designs, parts, first=0):
         if out is None:
             whole = p.lo == first and len(p.errors) == len(designs)  # one batch: its arrays are the study's
             out, rates, template = p.out if whole else _Results(len(designs), *dims), (p.Ud, p.Udd), p.template
-            points = {n: (b, np.full((len(designs), 2), np.nan)) for n, (b, _) in p.points.items()}
         elif dims != out.q.shape[1:] + out.U.shape[2:]:
             raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
                              f"{out.q.shape[1:] + out.U.shape[2:]}: a study sweeps designs of one structure over "
                              "one number of values")
         if out is not p.out:
             out.put(at, p.out)
-        for n, (b, S) in points.items():
-            if n in p.points and p.points[n][0] == b:
-                S[at] = p.points[n][1]
+        for n, (b, S) in p.points.items():
+            body = points.setdefault(n, (b, np.full((len(designs), 2), np.nan)))
+            if body[0] == b:
+                body[1][at] = S
         p.out = None
     if out is None:
         raise InputError("no design could be built: " + "; ".join(reasons))
@@ -335,12 +335,12 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             continue
         out.put(d, s)
         events[d] = s.events
-    points = {}
-    for n, (b, _) in ref.points.items():
-        points[n] = (ref.body_names[b], np.full((D, 2), np.nan))
-        for g in tables:
-            if n in g.points and g.model.body_names[g.points[n][0]] == points[n][0]:
-                points[n][1][g.index] = g.points[n][1]
+    points = {}  # every structure's named points (on the body the first names), NaN where a design has none
+    for g in tables:
+        for n, (b, S) in g.points.items():
+            body = points.setdefault(n, (g.model.body_names[b], np.full((D, 2), np.nan)))
+            if body[0] == g.model.body_names[b]:
+                body[1][g.index] = S
     return _Part(lo, models, tuple(errors), batched, tuple(events), Ud, Udd, out, points, ref, build, fixed)
 
 

@@ -322,3 +322,17 @@ def test_any_batch_of_designs_with_coupler_points_is_each_design_swept_alone(row
         np.testing.assert_allclose(study.q[d][ok], alone.q[ok], rtol=0, atol=1e-11)
         if not numbers:
             np.testing.assert_allclose(study.position("C")[d][ok], alone.position("C")[ok], rtol=0, atol=1e-11)
+
+
+def test_designs_of_other_structures_and_points_some_designs_lack():
+    ds = [dict(crank=1.0), dict(crank=1.2, coupler_point=(1.0, 0.5)), dict(crank=1.1),
+          dict(crank=1.3, coupler_point=(1.0, 0.0)), dict(crank=0.3, rocker=0.2)]
+    study = sweep_designs(four_bar, ds, TH, fixed=dict(ground=4.0, coupler=3.5))
+    assert study.batched.tolist() == [True, True, True, True, False] and study.errors[4] is not None
+    C = study.position("C")
+    assert np.isnan(C[[0, 2, 4]]).all()
+    for d in (0, 1, 2, 3):
+        alone = four_bar(ground=4.0, coupler=3.5, **ds[d]).sweep(TH)
+        np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
+        if d in (1, 3):
+            np.testing.assert_allclose(C[d], alone.position("C"), rtol=0, atol=1e-12)
