@@ -2,8 +2,10 @@
 
 A *design* is one set of keyword arguments to a builder (a catalogue function such as
 :func:`planar.mechanisms.four_bar`, or any function of yours returning a
-:class:`planar.Mechanism`: lengths, points, starts, the numbers of ``Mechanism.distance``).
-:func:`sweep_designs` builds and compiles each design, then sweeps all of them at once: the
+:class:`planar.Mechanism`: lengths, points, starts, the numbers of ``Mechanism.distance``),
+or one mechanism's numbers (:class:`Vary`: no Mechanism is built per design).
+:func:`sweep_designs` compiles one design of each structure and builds the others' tables
+from their numbers at once (:mod:`planar.design_tables`), then sweeps all of them at once: the
 design axis is folded into the solver's batch axis (each configuration reads its own design's
 joint parameters, :meth:`planar.system.System.over_designs`), so one continuation and one
 Newton loop serve every design. The results are (D, N, ...) arrays.
