@@ -9,7 +9,7 @@ from importlib.metadata import PackageNotFoundError, version as _dist_version
 
 from planar.errors import (AssemblyError, ConnectivityError, FileFormatError, IndeterminateWarning, InputError,
                            MobilityError, ModelError, PlanarError, RedundancyError)
-from planar.designs import DesignSweep, sweep_designs
+from planar.designs import DesignSweep, Vary, sweep_designs
 from planar.dimensions import Dyad
 from planar.mass import bar, disc, plate
 from planar.model import Body, Mechanism, Model
@@ -27,7 +27,8 @@ def _version():
 __version__: str = _version()
 
 __all__ = [
-    "Mechanism", "Model", "Body", "Dyad", "Sweep", "Status", "sweep_designs", "DesignSweep", "bar", "disc", "plate",
+    "Mechanism", "Model", "Body", "Dyad", "Sweep", "Status", "sweep_designs", "DesignSweep", "Vary", "bar", "disc",
+    "plate",
     "PlanarError", "ModelError", "ConnectivityError", "MobilityError", "RedundancyError",
     "AssemblyError", "InputError", "FileFormatError", "IndeterminateWarning",
 ]

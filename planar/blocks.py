@@ -117,15 +117,15 @@ class Plan:
     kinds: np.ndarray  # ZERO, CONST or VAR per Jacobian value slot of ``system``
     values: np.ndarray  # the slots' values at a sample pose (those of the CONST slots held by the stages)
 
-    def over_designs(self, systems, q, u, col_scale):
-        """(plan, same): this plan for designs of its structure (``systems``, one per design:
-        :meth:`planar.system.System.over_designs`; ``u`` carries the design index in its last
-        column; ``col_scale``: the model's column scales). Entries constant in this plan but not
+    def over_designs(self, system, q, u, col_scale):
+        """(plan, same): this plan for designs of its structure (``system``: its parameters per
+        design, :meth:`planar.system.System.over_designs`; ``u`` carries the design index in its
+        last column; ``col_scale``: the model's column scales). Entries constant in this plan but not
         the same in every design are left variable (a ground pivot's place in the Jacobian
         varies with the ground length); ``same`` (D,) is False for a design with a non-zero
         where this plan has a structural zero (it needs a plan of its own). Both are read at
         the designs' sketches ``q`` (D, n) and at poses off them."""
-        system = self.system.over_designs(systems)
+        system = system.restrict(self.rows)  # the constraints this plan keeps, as it keeps them
         # at the sketches and at poses off them, as the plan's kinds were sampled
         off = q + np.random.default_rng(1).normal(size=q.shape[1]) * col_scale
         with np.errstate(all="ignore"):

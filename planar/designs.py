@@ -2,8 +2,10 @@
 
 A *design* is one set of keyword arguments to a builder (a catalogue function such as
 :func:`planar.mechanisms.four_bar`, or any function of yours returning a
-:class:`planar.Mechanism`: lengths, points, starts, the numbers of ``Mechanism.distance``).
-:func:`sweep_designs` builds and compiles each design, then sweeps all of them at once: the
+:class:`planar.Mechanism`: lengths, points, starts, the numbers of ``Mechanism.distance``),
+or one mechanism's numbers (:class:`Vary`: no Mechanism is built per design).
+:func:`sweep_designs` compiles one design of each structure and builds the others' tables
+from their numbers at once (:mod:`planar.design_tables`), then sweeps all of them at once: the
 design axis is folded into the solver's batch axis (each configuration reads its own design's
 joint parameters, :meth:`planar.system.System.over_designs`), so one continuation and one
 Newton loop serve every design. The results are (D, N, ...) arrays.
@@ -25,16 +27,19 @@ and the error's message in ``errors``. One bad design never loses a study.
 {'crank': 1.5}
 """
 
+import copy
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
-from planar import arguments
+from planar import arguments, design_tables
 from planar.blocks import plan as block_plan
 from planar.errors import InputError, PlanarError
 from planar.events import NEAR_CURVE
 from planar.geometry import perp
-from planar.model import _compile, _resolve
+from planar.dimensions import Dimension
+from planar.model import Mechanism, _compile, _finite, _positive, _resolve
 from planar.results import POSED, VALID, Status, Sweep
 from planar.sweep import CHUNK, _anchors, _Branch, _final, _output_columns, run_sweep
 
@@ -67,6 +72,54 @@ def _plain(v):
     return v.item() if isinstance(v, np.generic) else v
 
 
+class Vary:
+    """The designs of ``mechanism`` that differ from it by numbers only, as a builder for
+    :func:`sweep_designs`: ``Vary(m)(**numbers)`` is ``m`` with the stated distances named
+    "a-b" (:meth:`planar.Mechanism.distance`) and the starts of its drivers, named as the
+    drivers, set to ``numbers`` (the others as ``m`` has them; ``numbers`` lists them all).
+    A study of a ``Vary`` builds no Mechanism per design: the designs' tables come from the
+    numbers at once, every sketch assembled from ``m``'s drawing together
+    (:func:`planar.design_tables.varied`).
+
+    >>> from planar.mechanisms import four_bar
+    >>> family = Vary(four_bar(coupler_point=(1.0, 0.5)))
+    >>> list(family.numbers)
+    ['O2-O4', 'O2-A', 'A-B', 'O4-B', 'A-C', 'B-C', 'crank']
+    >>> study = sweep_designs(family, {"O2-A": [1.0, 1.5]}, np.radians(np.arange(0, 360, 45)))
+    >>> A = study[1].model.sketch.position("A")
+    >>> bool(study.ok.all()), study.batched.tolist(), bool(np.allclose(A, [1.5, 0.0], rtol=0, atol=1e-12))
+    (True, [True, True], True)
+    """
+
+    def __init__(self, mechanism):
+        if not isinstance(mechanism, Mechanism):
+            raise InputError(f"Vary takes a planar.Mechanism, got {type(mechanism).__name__}")
+        self.mechanism = copy.deepcopy(mechanism)  # the study's: later edits to the caller's do not reach it
+
+    @cached_property
+    def numbers(self):
+        """name -> the value ``mechanism`` has: its stated distances, then its drivers' starts."""
+        return {f"{d.a}-{d.b}": d.length for d in self.mechanism._dimensions} | dict(self.mechanism._starts)
+
+    @cached_property
+    def model(self):
+        return _compile_unplanned(self.mechanism)
+
+    def check(self, numbers):
+        unknown = sorted(set(numbers) - set(self.numbers))
+        if unknown:
+            raise InputError(f"{unknown} are no numbers of mechanism {self.mechanism.name!r}: it has "
+                             f"{sorted(self.numbers)} (stated distances 'a-b' and drivers' starts)")
+
+    def __call__(self, **numbers):
+        self.check(numbers)
+        m = copy.deepcopy(self.mechanism)
+        m._dimensions = [Dimension(d.a, d.b, _positive(numbers.get(f"{d.a}-{d.b}", d.length), f"distance {d.a}-{d.b}"))
+                         for d in m._dimensions]
+        m._starts = {k: float(_finite(numbers.get(k, v), f"start of driver {k!r}", ())) for k, v in m._starts.items()}
+        return m
+
+
 BATCH = 1024  # designs swept together: the batch's temporaries stay ~BATCH * N * 1 kB
 
 
@@ -93,26 +146,56 @@ def join(designs, parts, first=0):
     """The :class:`DesignSweep` of ``designs`` (the table's from index ``first`` on) from its
     batches ``parts`` (an iterable: each batch's arrays are copied into the study's as it
     comes, then let go)."""
-    out, kept, errors, rates = None, [], [], None
+    out, kept, reasons, rates, points, template = None, [], [], None, {}, None
     for p in parts:
         kept.append(p)
-        errors.extend(e for e in p.errors if e is not None)
+        reasons.extend(e for e in p.errors if e is not None)
         if p.out is None:
             continue
         dims = p.out.q.shape[1:] + p.out.U.shape[2:]
+        at = slice(p.lo - first, p.lo - first + len(p.errors))
         if out is None:
-            out, rates = _Results(len(designs), *dims), (p.Ud, p.Udd)
+            whole = p.lo == first and len(p.errors) == len(designs)  # one batch: its arrays are the study's
+            out, rates, template = p.out if whole else _Results(len(designs), *dims), (p.Ud, p.Udd), p.template
         elif dims != out.q.shape[1:] + out.U.shape[2:]:
             raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
                              f"{out.q.shape[1:] + out.U.shape[2:]}: a study sweeps designs of one structure over "
                              "one number of values")
-        out.put(slice(p.lo - first, p.lo - first + len(p.errors)), p.out)
+        if out is not p.out:
+            out.put(at, p.out)
+        for n, (b, S) in p.points.items():
+            body = points.setdefault(n, (b, np.full((len(designs), 2), np.nan)))
+            if body[0] == b:
+                body[1][at] = S
         p.out = None
     if out is None:
-        raise InputError("no design could be built: " + "; ".join(errors))
-    return DesignSweep(tuple(designs), sum((p.models for p in kept), ()), sum((p.errors for p in kept), ()),
+        raise InputError("no design could be built: " + "; ".join(reasons))
+    errors = sum((tuple(p.errors) for p in kept), ())
+    known = {p.lo - first + d: m for p in kept for d, m in p.models.items()}
+    return DesignSweep(tuple(designs), _Models(kept[0].build, kept[0].fixed, tuple(designs), errors, known), errors,
                        np.concatenate([p.batched for p in kept]), sum((p.events for p in kept), ()), *rates,
-                       **out.arrays())
+                       points=points, template=template, **out.arrays())
+
+
+class _Models:
+    """Each design's :class:`planar.Model`, compiled when first asked for (the batch builds
+    its tables without one); None for a design that could not be built."""
+
+    def __init__(self, build, fixed, designs, errors, known):
+        self.build, self.fixed, self.designs, self.errors, self.known = build, fixed, designs, errors, known
+
+    def __len__(self):
+        return len(self.designs)
+
+    def __getitem__(self, d):
+        if self.errors[d] is not None:
+            return None
+        if d not in self.known:
+            self.known[d] = _compile_unplanned(self.build(**self.fixed, **self.designs[d]))
+        return self.known[d]
+
+    def __iter__(self):
+        return (self[d] for d in range(len(self)))
 
 
 def study_options(batch, options):
@@ -127,73 +210,125 @@ def study_options(batch, options):
 
 @dataclass(eq=False)
 class _Part:
-    """One batch of a study: designs lo.. of the table, their models (None where ``errors``
-    says why), ``batched`` and ``events`` per design, the input rates and the arrays
-    (:class:`_Results`, None when no design of the batch could be built)."""
+    """One batch of a study: designs lo.. of the table, the models compiled alone (design ->
+    Model), ``errors`` (None, or why the design could not be built), ``batched`` and ``events``
+    per design, the input rates, the arrays (:class:`_Results`, None when no design of the
+    batch could be built), the named points (name -> (body name, (D, 2) body-fixed)), the
+    first structure's model (``template``) and the builder, to compile a design when asked."""
 
     lo: int
-    models: tuple
-    errors: tuple
+    models: dict
+    errors: list
     batched: np.ndarray
     events: tuple
     Ud: np.ndarray
     Udd: np.ndarray
     out: object
+    points: dict
+    template: object
+    build: object
+    fixed: dict
 
 
 def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, options):
     """Designs lo..hi of ``table`` swept as one batch (``options`` as :func:`study_options`
     returns them): a :class:`_Part`."""
     fixed = {} if fixed is None else dict(fixed)
-    models, errors, U = [], [], {}
-    for d in range(lo, hi):
-        try:
-            model = _compile_unplanned(build(**fixed, **table[d]))
-            U[d - lo] = model._inputs(_values_of(values, table[d], d, len(model.drivers)), "values")
-            arguments.values(model, U[d - lo], options["max_step"])
-            models.append(model)
-            errors.append(None)
-        except InputError:
-            raise  # the call is wrong for every design: say so once
-        except PlanarError as e:
-            models.append(None)
-            errors.append(f"design {d} {table[d]}: {e}")
-    good = sorted(U)
     D = hi - lo
-    if not good:
-        return _Part(lo, tuple(models), tuple(errors), np.zeros(D, bool), ((),) * D, None, None, None)
-    ref = models[good[0]]
-    shapes = {U[d].shape for d in good}
+    mechs, errors, models = [None] * D, [None] * D, {}
+    vary = isinstance(build, Vary)
+
+    def mechanism(d):  # design d's Mechanism, built when first needed (None, with its error, if it cannot be)
+        if mechs[d] is None and errors[d] is None:
+            try:
+                mechs[d] = build(**fixed, **table[lo + d])
+            except InputError:
+                raise  # the call is wrong for every design: say so once
+            except PlanarError as e:
+                errors[d] = f"design {lo + d} {table[lo + d]}: {e}"
+        return mechs[d]
+
+    def alone(d):  # design d compiled by itself (None, with its error, if it cannot be)
+        if d not in models:
+            try:
+                models[d] = _compile_unplanned(mechanism(d)) if mechanism(d) is not None else None
+            except PlanarError as e:
+                models[d], errors[d] = None, f"design {lo + d} {table[lo + d]}: {e}"
+        return models[d]
+
+    # the designs' tables, a structure at a time: built at once from their numbers where they
+    # can be (design_tables), else from each design compiled alone
+    groups, left = [], []
+    if vary:  # no Mechanism per design: the tables from the numbers
+        numbers = [dict(fixed, **table[lo + d]) for d in range(D)]
+        for x in numbers:
+            build.check(x)
+        t, rest = design_tables.varied(build.mechanism, build.model, numbers)
+        left = [d for d in rest if alone(d) is not None]
+        if t is not None:
+            same = [d for d in left if _structure(models[d]) == _structure(build.model)]
+            groups.append(design_tables.join([t] + ([design_tables.from_models([models[d] for d in same], same)]
+                                                    if same else [])))
+            left = [d for d in left if d not in same]
+    else:
+        left = [d for d in range(D) if mechanism(d) is not None]
+    while left:
+        ref = next((d for d in left if alone(d) is not None), None)
+        if ref is None:
+            break
+        t, rest = design_tables.tables(mechs[ref], models[ref], [mechs[d] for d in left])
+        rest = [left[k] for k in rest]
+        same = [d for d in rest if alone(d) is not None and _structure(models[d]) == _structure(models[ref])]
+        parts = ([replace(t, index=np.array(left)[t.index])] if t is not None else [])
+        if same:
+            parts.append(design_tables.from_models([models[d] for d in same], same))
+        groups.append(design_tables.join(parts))
+        left = [d for d in rest if models[d] is not None and d not in same]
+    if not groups:
+        return _Part(lo, models, tuple(errors), np.zeros(D, bool), ((),) * D, None, None, None, {}, None, build, fixed)
+    ref = groups[0].model
+    U = {}
+    shared = None
+    for g in groups:
+        for d in g.index:
+            v = _values_of(values, table[lo + d], lo + d, len(ref.drivers))
+            if v is values and shared is not None:
+                U[d] = shared
+                continue
+            U[d] = ref._inputs(v, "values")
+            shared = U[d] if v is values else shared
+    shapes = {U[d].shape for d in U}
     if len(shapes) > 1:
         raise InputError(f"values give designs different numbers of points {sorted(shapes)}: a study needs one N")
-    for d in good:
-        if models[d].n != ref.n:
-            raise InputError(f"design {lo + d} {table[lo + d]} has {models[d].n} coordinates, design "
-                             f"{lo + good[0]} {ref.n}: a study sweeps designs of one structure")
+    for g in groups:
+        if g.model.n != ref.n:
+            d = g.index[0]
+            raise InputError(f"design {lo + d} {table[lo + d]} has {g.model.n} coordinates, design "
+                             f"{lo + groups[0].index[0]} {ref.n}: a study sweeps designs of one structure")
+        _check_walks(g, U, options["max_step"], alone)
     N, f = shapes.pop()
     Ud, Udd = ref._inputs(velocity, "velocity", N), ref._inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
     out = _Results(D, N, ref.n, f)
-    for d in good:
+    for d in U:
         out.U[d] = U[d]
     batched = np.zeros(D, bool)
-    left = good
-    while left:  # the designs that share the first one's structure and plan, then the others
-        first = models[left[0]]
-        group = [d for d in left if _structure(models[d]) == _structure(first)]
-        retry = []
+    tables = list(groups)
+    while groups:  # each group on its first design's plan; the designs it does not fit, again
+        g = groups.pop(0)
         try:
-            block_plan(first)  # the structure is drivable (else each design is swept alone, and refused)
+            block_plan(g.model)  # the structure is drivable (else each design is swept alone, and refused)
         except PlanarError:
-            pass
-        else:
-            batched[group], fits = _batch([models[d] for d in group], out, np.array(group), Ud, Udd,
-                                          options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
-            retry = [d for d, f in zip(group[1:], fits[1:]) if not f]  # (the first fits its own plan)
-        left = sorted(set(left) - set(group) | set(retry))
+            continue
+        ok, fits = _batch(g, out, Ud, Udd, options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
+        batched[g.index] = ok
+        retry = np.flatnonzero(~fits)
+        retry = retry[retry > 0]  # (the first fits its own plan)
+        if retry.size and alone(g.index[retry[0]]) is not None:
+            groups.insert(0, replace(g.take(retry), model=models[g.index[retry[0]]]))
     events = [()] * D
-    for d in good:
-        if batched[d]:
+    for d in sorted(U):
+        if batched[d] or alone(d) is None:
             continue
         try:  # swept alone: its events located, each value its status
             s = models[d].sweep(U[d], Ud, Udd, **options)
@@ -202,7 +337,28 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             continue
         out.put(d, s)
         events[d] = s.events
-    return _Part(lo, tuple(models), tuple(errors), batched, tuple(events), Ud, Udd, out)
+    points = {}  # every structure's named points (on the body the first names), NaN where a design has none
+    for g in tables:
+        for n, (b, S) in g.points.items():
+            body = points.setdefault(n, (g.model.body_names[b], np.full((D, 2), np.nan)))
+            if body[0] == g.model.body_names[b]:
+                body[1][g.index] = S
+    return _Part(lo, models, tuple(errors), batched, tuple(events), Ud, Udd, out, points, ref, build, fixed)
+
+
+def _check_walks(g, U, step, alone):
+    """Refuse the values (:func:`planar.arguments.values`) whose walk from a design's sketch is
+    too long, for the designs of tables ``g`` at once (the first refused raises)."""
+    ref = g.model
+    arguments.values(ref, U[g.index[0]], step)  # (no values, too many)
+    scale = np.where(ref.input_lengths, g.L[:, None], 1.0)
+    u = np.stack([U[d] for d in g.index])
+    with np.errstate(over="ignore", invalid="ignore"):
+        jumps = np.abs(np.diff(np.concatenate([g.u0[:, None], u], axis=1), axis=1)) / scale[:, None]
+        steps = np.sum(np.max(jumps, axis=2), axis=1) / step
+    for k in np.flatnonzero(~(steps <= arguments.MAX_STEPS)):
+        if alone(g.index[k]) is not None:
+            arguments.values(alone(g.index[k]), U[g.index[k]], step)
 
 
 def _values_of(values, design, d, f):
@@ -253,37 +409,36 @@ class _Results:
         return {k: v for k, v in vars(self).items() if k != "U"} | {"inputs": self.U}
 
 
-def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
-    """Sweep the designs ``models`` (one structure) together on the first one's plan, writing
-    rows ``rows`` of ``out``. Returns (ok, fits), each (D,): ``ok`` for the designs every value
-    of which was certified regular, ``fits`` for those the plan holds (a design with a non-zero
-    where the first has a structural zero, as a slider along x, needs another)."""
-    ref = models[0]
-    D = len(models)
+def _batch(t, out, Ud, Udd, tol, max_step, outputs):
+    """Sweep the designs of tables ``t`` (:class:`planar.design_tables.Tables`) together on
+    their template's plan, writing their rows ``t.index`` of ``out``. Returns (ok, fits), each
+    (D,): ``ok`` for the designs every value of which was certified regular, ``fits`` for
+    those the plan holds (a design with a non-zero where the template has a structural zero,
+    as a slider along x, needs another)."""
+    ref, rows = t.model, t.index
+    D = len(rows)
     U = out.U[rows]
     N, n = U.shape[1], ref.n
-    q = np.stack([m.q0 for m in models])
-    u = np.stack([m.u0 for m in models])
+    q, u = t.q0.copy(), t.u0.copy()
     every = np.arange(D)
     ids = np.arange(D, dtype=float)[:, None]
 
     def at(u, d):  # inputs with the design index of each configuration in a last column
         return np.concatenate([u, ids[d]], axis=1)
 
-    p, fits = block_plan(ref, _output_columns(ref, outputs)).over_designs([m.system for m in models], q, at(u, every),
-                                                                         ref.col_scale)
+    p, fits = block_plan(ref, _output_columns(ref, outputs)).over_designs(t.system, q, at(u, every), ref.col_scale)
     br = _Branch(ref, p, tol)
     with np.errstate(all="ignore"):
         ref_signs, sing = br.modes(q, at(u, every))
     ok = fits & (sing >= NEAR_CURVE)
-    scale = np.array([np.where(m.input_lengths, 1.0 / m.L, 1.0) for m in models])
+    scale = np.where(ref.input_lengths, 1.0 / t.L[:, None], 1.0)
 
     # 1. the walk over the anchors of every design, all designs a step at a time
     found = {}  # the anchors depend on the values and the input scales only: once per pair
-    for d, m in enumerate(models):
+    for d in range(D):
         key = (U[d].tobytes(), scale[d].tobytes())
         if key not in found:
-            found[key] = _anchors(m, U[d], max_step)
+            found[key] = _anchors(_Scales(ref.input_lengths, t.L[d]), U[d], max_step)
     anchors = np.unique(np.concatenate(list(found.values())))
     Qa = np.empty((anchors.size, D, n))
     act = np.flatnonzero(ok)
@@ -333,19 +488,29 @@ def _batch(models, out, rows, Ud, Udd, tol, max_step, outputs):
     return ok, fits
 
 
+@dataclass(frozen=True)
+class _Scales:
+    """What the anchors of a design's walk depend on (as :func:`planar.sweep._anchors` reads a model)."""
+
+    input_lengths: np.ndarray
+    L: float
+
+
 @dataclass(frozen=True, eq=False)
 class DesignSweep:
     """Results of :func:`sweep_designs`, all arrays with a leading design axis: ``inputs``
     (D, N, f), ``q``, ``qd``, ``qdd`` (D, N, n), ``status``, ``residual``, ``iterations``,
     ``singularity``, ``branch``, ``gap`` (D, N), as :class:`planar.Sweep` holds them for one
-    design; ``models`` (None where ``errors`` says why the design could not be built or
-    assembled: NaN, status NOT_ASSEMBLABLE), ``batched`` (D,) True for the designs swept in
-    the batch, ``events`` per design. ``position(name)`` (D, N, 2), ``angle(body)`` (D, N),
-    ... name the outputs; ``study[d]`` is design d's :class:`planar.Sweep`.
+    design; ``models`` (each design's :class:`planar.Model`, compiled when asked for; None
+    where ``errors`` says why the design could not be built or assembled: NaN, status
+    NOT_ASSEMBLABLE), ``batched`` (D,) True for the designs swept in the batch, ``events`` per
+    design, ``points`` name -> (body, (D, 2) the point in the body's frame), ``template`` the
+    first design's model. ``position(name)`` (D, N, 2), ``angle(body)`` (D, N), ... name the
+    outputs; ``study[d]`` is design d's :class:`planar.Sweep`.
     """
 
     designs: tuple
-    models: tuple
+    models: _Models
     errors: tuple
     batched: np.ndarray
     events: tuple
@@ -361,6 +526,8 @@ class DesignSweep:
     singularity: np.ndarray
     branch: np.ndarray
     gap: np.ndarray
+    points: dict  # name -> (body name, (D, 2) the point in the body's frame, per design)
+    template: object  # the first design's model: the bodies' names and coordinates
 
     def __post_init__(self):
         for v in vars(self).values():
@@ -376,7 +543,7 @@ class DesignSweep:
 
     def __getitem__(self, d):
         """Design d's :class:`planar.Sweep` (None for a design that could not be built)."""
-        if self.models[d] is None:
+        if self.errors[d] is not None:
             return None
         return Sweep(self.models[d], self.inputs[d], self.input_rates, self.input_accelerations, self.q[d],
                      self.qd[d], self.qdd[d], self.status[d], self.residual[d], self.iterations[d],
@@ -401,19 +568,18 @@ class DesignSweep:
         return POSED[self.status]
 
     def _body(self, body, arr):
-        """(x, y, phi) of ``body`` in ``arr`` (D, N, n): the body is found in the first model."""
-        m = next(m for m in self.models if m is not None)
-        b = m.body_id(body)
+        """(x, y, phi) of ``body`` in ``arr`` (D, N, n)."""
+        b = self.template.body_id(body)
         if b == 0:
             return (np.zeros(arr.shape[:2]),) * 3
         return arr[..., 3 * b - 3], arr[..., 3 * b - 2], arr[..., 3 * b - 1]
 
     def _point(self, name):
         """(body name, S): the point's world offset from its body's frame (D, N, 2)."""
-        found = [m.point(name) if m is not None else None for m in self.models]
-        b = next(f[0] for f in found if f is not None)
-        s = np.array([f[1] if f is not None else (np.nan, np.nan) for f in found])[:, None, :]
-        body = next(m for m in self.models if m is not None).body_names[b]
+        if name not in self.points:
+            self.template.point(name)  # raises, naming the points there are
+        body, s = self.points[name]
+        s = s[:, None, :]
         phi = self._body(body, self.q)[2]
         c, sn = np.cos(phi), np.sin(phi)
         return body, np.stack((c * s[..., 0] - sn * s[..., 1], sn * s[..., 0] + c * s[..., 1]), axis=-1)
@@ -446,6 +612,6 @@ class DesignSweep:
     def coordinate(self, joint, derivative=0):
         out = np.full((len(self), self.N), np.nan)
         for d in range(len(self)):
-            if self.models[d] is not None:
+            if self.errors[d] is None:
                 out[d] = self[d].coordinate(joint, derivative)
         return out

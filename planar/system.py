@@ -35,8 +35,12 @@ class Group:
     @cached_property
     def kernel_P(self):
         """``P`` as the kernels take it (views: the model's sketch constants reach them); per
-        design (D, K, a, b) -> (b, a, K, D), the design axis where the configurations go."""
-        return {key: v.T for key, v in self.P.items()} if self.per_design else kernel_params(self.P)
+        design (D, K, a, b) -> (b, a, K, D), the design axis where the configurations go, a
+        contiguous copy (so a gather of designs reads whole rows; a group per design is made
+        with its final tables)."""
+        if self.per_design:
+            return {key: np.ascontiguousarray(v.T) for key, v in self.P.items()}
+        return kernel_params(self.P)
 
     @cached_property
     def slots(self):
@@ -48,7 +52,9 @@ class Group:
         P = self.kernel_P
         if self.per_design:
             d = u[sl, -1].astype(np.intp)
-            P = {key: v[..., d] for key, v in P.items()}
+            D = self.members.size and next(iter(self.P.values())).shape[0]
+            if d.size != D or np.any(d != np.arange(D)):  # (every design once, in order: no gather)
+                P = {key: v[..., d] for key, v in P.items()}
         if self.inputs[0] < 0 or u is None:
             return P
         # a driver row is g(q) - u: the input values (1, K, N) stand in the constant c

@@ -6,7 +6,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import planar
-from planar.designs import DesignSweep, sweep_designs
+from planar import design_tables
+from planar.designs import DesignSweep, Vary, sweep_designs
+from planar.results import POSED
 from planar.mechanisms import (four_bar, gear_train, geared_five_bar, inverted_slider_crank, open_chain,
                                planetary_gear_train, rack_and_pinion, rolling_wheel, slider_crank, watt_six_bar)
 from tests import oracles
@@ -227,3 +229,110 @@ def test_values_may_be_one_row_per_design():
     np.testing.assert_array_equal(same.q, study.q)
     with pytest.raises(planar.InputError, match="one row per design"):
         sweep_designs(four_bar, {"start": starts}, U[:2], fixed=fixed)
+
+
+# ---- the tables built at once, and designs as a mechanism's numbers ---------------------------
+
+def _tables_against_alone(t, mechs):
+    for k, d in enumerate(t.index):
+        m = mechs[d].compile()
+        np.testing.assert_allclose(t.q0[k], m.q0, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(t.u0[k], m.u0, rtol=0, atol=1e-12)
+        assert abs(t.L[k] - m.L) <= 1e-12 * m.L
+        for g, h in zip(t.system.groups, m.system.groups):
+            assert g.kind is h.kind and g.P.keys() == h.P.keys()
+            for key in g.P:
+                np.testing.assert_allclose(g.P[key][k], h.P[key], rtol=0, atol=1e-12)
+        for name, (b, S) in t.points.items():
+            assert m.points[name][0] == b
+            np.testing.assert_allclose(S[k], m.points[name][1], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(CATALOGUE))
+def test_the_tables_built_at_once_are_each_design_compiled_alone(name):
+    build, designs, _ = CATALOGUE[name]
+    mechs = [build(**d) for d in designs]
+    t, alone = design_tables.tables(mechs[0], mechs[0].compile(), mechs)
+    assert alone == [] and t.index.tolist() == list(range(len(designs)))
+    _tables_against_alone(t, mechs)
+
+
+def test_sketches_drawn_roughly_are_assembled_at_once_and_a_design_that_cannot_be_is_left_alone():
+    mechs = [_dimensioned_four_bar(c, cp, 3.0) for c, cp in [(0.8, 3.6), (1.0, 3.4), (1.3, 3.9), (0.3, 0.2)]]
+    t, alone = design_tables.tables(mechs[0], mechs[0].compile(), mechs)
+    assert t.index.tolist() == [0, 1, 2] and alone == [3]
+    _tables_against_alone(t, mechs)
+    with pytest.raises(planar.AssemblyError):
+        mechs[3].compile()
+
+
+def test_a_mechanisms_numbers_vary_without_a_mechanism_per_design_and_match_freudenstein():
+    rng = np.random.default_rng(7)
+    designs = _crank_rockers(rng, 12)
+    family = Vary(_dimensioned_four_bar(1.0, 3.5, 3.5))
+    numbers = [{"O2-O4": d["ground"], "O2-A": d["crank"], "A-B": d["coupler"], "O4-B": d["rocker"], "crank": d["start"]}
+               for d in designs]
+    study = sweep_designs(family, numbers, lambda x: x["crank"] + TH, 1.3, 0.4)
+    assert study.batched.all() and study.ok.all() and family.model is study.template
+    col = lambda k: np.array([d[k] for d in designs])[:, None]  # noqa: E731
+    cf = oracles.freudenstein(col("ground"), col("crank"), col("coupler"), col("rocker"), col("start") + TH)
+    B = cf["C"] + np.stack([col("coupler") * np.cos(cf["th3"]), col("coupler") * np.sin(cf["th3"])], -1)
+    np.testing.assert_allclose(study.position("B"), B, rtol=0, atol=1e-12)
+    for d in (0, 5, 11):
+        alone = family(**numbers[d]).compile().sweep(numbers[d]["crank"] + TH, 1.3, 0.4)
+        np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(study.qdd[d], alone.qdd, rtol=0, atol=1e-9)
+    with pytest.raises(planar.InputError, match="no numbers of mechanism"):
+        sweep_designs(family, {"O2-B": [1.0]}, TH)
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.floats(0.3, 5.0), st.floats(0.3, 5.0), st.floats(0.3, 5.0), st.floats(-np.pi, np.pi),
+                          st.floats(-1.5, 1.5), st.floats(-1.5, 1.5), st.booleans()), min_size=1, max_size=6),
+       st.booleans())
+def test_any_batch_of_designs_with_coupler_points_is_each_design_swept_alone(rows, numbers):
+    """Random four-bars with coupler points, either assembly mode, regular or not (some cannot
+    be assembled, some meet limits or branch events), from the builder or as a dimensioned
+    mechanism's numbers: the batch reports what each design swept alone does."""
+    U = np.linspace(-1.0, 1.0, 21)
+    if numbers:
+        build = Vary(_dimensioned_four_bar(1.0, 3.5, 3.5))
+        designs = [{"O2-A": a, "A-B": b, "O4-B": c, "crank": s} for a, b, c, s, *_ in rows]
+        start = "crank"
+    else:
+        build = four_bar
+        designs = [dict(crank=a, coupler=b, rocker=c, start=s, coupler_point=(p, q), crossed=x)
+                   for a, b, c, s, p, q, x in rows]
+        start = "start"
+    try:
+        study = sweep_designs(build, designs, lambda d: d[start] + U)
+    except planar.InputError as e:  # no design assembles
+        assert "no design could be built" in str(e)
+        return
+    for d, design in enumerate(designs):
+        try:
+            alone = build(**design).compile().sweep(design[start] + U)
+        except planar.PlanarError:
+            assert study[d] is None and study.errors[d] is not None
+            assert (study.status[d] == planar.Status.NOT_ASSEMBLABLE).all()
+            continue
+        np.testing.assert_array_equal(study.status[d], alone.status)
+        assert len(study.events[d]) == len(alone.events)
+        ok = POSED[alone.status]
+        np.testing.assert_allclose(study.q[d][ok], alone.q[ok], rtol=0, atol=1e-11)
+        if not numbers:
+            np.testing.assert_allclose(study.position("C")[d][ok], alone.position("C")[ok], rtol=0, atol=1e-11)
+
+
+def test_designs_of_other_structures_and_points_some_designs_lack():
+    ds = [dict(crank=1.0), dict(crank=1.2, coupler_point=(1.0, 0.5)), dict(crank=1.1),
+          dict(crank=1.3, coupler_point=(1.0, 0.0)), dict(crank=0.3, rocker=0.2)]
+    study = sweep_designs(four_bar, ds, TH, fixed=dict(ground=4.0, coupler=3.5))
+    assert study.batched.tolist() == [True, True, True, True, False] and study.errors[4] is not None
+    C = study.position("C")
+    assert np.isnan(C[[0, 2, 4]]).all()
+    for d in (0, 1, 2, 3):
+        alone = four_bar(ground=4.0, coupler=3.5, **ds[d]).sweep(TH)
+        np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
+        if d in (1, 3):
+            np.testing.assert_allclose(C[d], alone.position("C"), rtol=0, atol=1e-12)
