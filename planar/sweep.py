@@ -562,6 +562,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     if start is None:  # (a known pose was reached from the sketch: it passed)
         _check_sketch(model, p)
     origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
+    # values given out of order (one input) are solved in the order of the input, from the end
+    # nearer the start, and put back in the asked order at the end: each is walked to from its
+    # neighbour in input, where a jumping sweep would walk back and forth across the range and
+    # search again for the range past each gap it meets
+    order = _input_order(U, origin[1][0])
+    if order is not None:
+        U, Ud, Udd, U_in = U[order], Ud[order], Udd[order], U_in[order]
+        shift = None if shift is None else (shift[0][order], shift[1])
     state = origin
     limits = []  # (limit event, direction of the input that hit it)
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
@@ -699,7 +707,53 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
-    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift)
+    jumps = (stops, None)
+    if order is not None:
+        # values asked one after the other with a limit the walk met between them: a jump
+        inv = np.empty_like(order)
+        inv[order] = np.arange(N)
+        prev = np.where(order > 0, inv[np.maximum(order - 1, 0)], -1)  # the value asked before each
+        cand = np.flatnonzero(prev >= 0)
+        if limits and cand.size:
+            cand = cand[past(U[prev[cand]], U[cand])]
+        jumps = (cand if limits else [], prev)
+    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
+                   order, origin[1])
+
+
+def _input_order(U, u0):
+    """The order in which to solve the values U (N, 1) of one input given out of order (turning
+    back at least once): sorted, ascending or descending from the end nearer the start's
+    input ``u0`` (stable: repeated values keep their order). None for values in order.
+
+    >>> _input_order(np.array([[0.0], [2.0], [1.0]]), 0.0).tolist(), _input_order(np.array([[0.0], [2.0], [1.0]]), 3.0).tolist()
+    ([0, 2, 1], [1, 2, 0])
+    """
+    if U.shape[1] != 1 or U.shape[0] < 3:
+        return None
+    v = U[:, 0]
+    d = np.diff(v)
+    if np.all(d >= 0) or np.all(d <= 0):
+        return None
+    down = v.max() - u0 < u0 - v.min()
+    return np.argsort(-v if down else v, kind="stable")
+
+
+def _asked_order(model, U, order, events, u0):
+    """The events of values solved in the order of the input (``U``, one input, in that order;
+    ``order`` their asked positions), indexed in the asked order: the first value asked at or
+    past each singular position seen from the start's input ``u0`` (a near-singular stretch:
+    its closest value)."""
+    N, tol = len(U), EVENT_TOL / float(_scale(model)[0])
+    out = []
+    for e in events:
+        i = int(order[min(e.index, N - 1)])
+        d = np.sign(float(e.input) - float(u0[0]))
+        if e.kind != "near_singular" and d != 0:
+            at = np.flatnonzero((U[:, 0] - float(e.input)) * d >= -tol)
+            i = int(order[at].min()) if at.size else i
+        out.append(replace(e, index=i))
+    return sorted(out, key=lambda e: e.index)
 
 
 def _further(failed, j, u_j, u):
@@ -718,12 +772,18 @@ def _input_before(u0, U, last, idx):
     return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], u0)
 
 
-def _mark_jumps(status, stops):
+def _mark_jumps(status, stops, prev=None):
     """JUMPED for the first value past each limit the walk stopped at (``stops``: the events'
     indices) where it is valid and the value before it posed: the branch was re-entered past the
-    limit with no unassemblable value between to show the gap (a pair of limits inside one step)."""
+    limit with no unassemblable value between to show the gap (a pair of limits inside one step).
+    With ``prev`` (values solved out of the asked order: the index of the value asked before
+    each, -1 for none), ``stops`` are the values with a limit between them and that value."""
     posed, valid = POSED_MASK[status], VALID_MASK[status]
     for j in stops:
+        if prev is not None:
+            if valid[j] and posed[prev[j]]:
+                status[j] = Status.JUMPED
+            continue
         j += int(j < status.size and status[j] == Status.LIMIT)
         if 0 < j < status.size and valid[j] and posed[j - 1]:
             status[j] = Status.JUMPED
@@ -1115,9 +1175,12 @@ def _redundant(model, full):
     return np.max(np.abs(full[:, red] * model.row_scale[red]), axis=1)
 
 
-def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift):
-    """The results of the solved values; ``shift`` (k, (P, D)): value i was solved k[i]
-    periods P back (the input values ``U_in``), its pose shifted back by k[i] D."""
+def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
+            order=None, u0=None):
+    """The results of the solved values; ``jumps`` (stops, prev) for :func:`_mark_jumps`;
+    ``shift`` (k, (P, D)): value i was solved k[i] periods P back (the input values ``U_in``),
+    its pose shifted back by k[i] D; ``order`` (values solved in the order of the input from
+    the start's input ``u0``): the asked position of each, where the results are put back."""
     N, n = q.shape
     p = br.p
     idx = np.flatnonzero(solved & ~done)
@@ -1149,9 +1212,20 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         _, g = least_squares_gap(model, guess, U[i])
         gap[i] = g
         status[i] = np.where((g > GAP) | beyond[i], Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
-    _mark_jumps(status, stops)
+    _mark_jumps(status, *jumps)
     events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
+    residual, iters, sing, branch = out.residual, out.iters, out.sing, out.branch
+    qd, qdd = out.qd, out.qdd
+    if order is not None:
+        events = tuple(_asked_order(model, U, order, events, u0))
+        inv = np.empty_like(order)
+        inv[order] = np.arange(N)
+        q, status, residual, iters, sing, branch = (a[inv] for a in (q, status, residual, iters, sing, branch))
+        U, Ud, Udd, U_in, gap = U[inv], Ud[inv], Udd[inv], U_in[inv], gap[inv]
+        if out.rates:
+            qd, qdd = qd[inv], qdd[inv]
+        shift = None if shift is None else (shift[0][inv], shift[1])
     if shift is not None:
         k, (P, D) = shift
         whole = np.round(D / (2 * np.pi))
@@ -1160,8 +1234,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         events = tuple(replace(e, input=_add_turns(e.input, at(e) * round(P / (2 * np.pi))),
                                q=None if e.q is None else _add_turns(e.q, at(e) * whole)) for e in events)
         U = U_in
-    return Sweep(model, U, Ud, Udd, q, out.qd, out.qdd, status, out.residual,
-                 out.iters, out.sing, out.branch, gap, events)
+    return Sweep(model, U, Ud, Udd, q, qd, qdd, status, residual, iters, sing, branch, gap, events)
 
 
 def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):

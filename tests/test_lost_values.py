@@ -185,3 +185,82 @@ def test_a_four_bar_started_next_to_a_limit_loses_no_value(case, crossed, over, 
     res = m.sweep(U[::-1] if backwards else U)
     o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1 if crossed else 1)
     assert_no_lost_value(res, [(a, b)], o["th3"])
+
+
+def two_intervals(draw, ranges, margin=0.05):
+    """A start drawn inside one of two input intervals over a turn (``ranges``), within
+    1e-9..1e-1 of one of its ends or anywhere in it."""
+    a, b = ranges[draw(st.integers(0, 1))]
+    if draw(st.booleans()):
+        d = min(10 ** draw(st.floats(-9, -1)), (b - a) / 2)
+        return a + d if draw(st.booleans()) else b - d
+    return draw(st.floats(a + 1e-9, b - 1e-9))
+
+
+@st.composite
+def two_interval_four_bars(draw):
+    """A crank-driven four-bar whose crank reaches two separate intervals over a turn (the
+    dyad folds flat and stretches out on both sides of the ground line), and a start."""
+    r = draw(st.tuples(length, length, length, length))
+    ranges = oracles.four_bar_input_limits(*r)
+    assume(len(ranges) == 2 and min(b - a for a, b in ranges) > 0.05)
+    assume(min(ranges[1][0] - ranges[0][1], ranges[0][0] + 2 * np.pi - ranges[1][1]) > 0.05)
+    return r, two_intervals(draw, ranges), ranges
+
+
+@st.composite
+def two_interval_slider_cranks(draw):
+    """A crank-driven slider-crank whose crank reaches two separate intervals over a turn (an
+    offset and a rod shorter than the crank), and a start."""
+    r2, r3, e = draw(length), draw(length), draw(st.floats(-3, 3))
+    ranges = oracles.slider_crank_limits(r2, r3, e, "crank")
+    assume(len(ranges) == 2 and min(b - a for a, b in ranges) > 0.05)
+    assume(min(ranges[1][0] - ranges[0][1], ranges[0][0] + 2 * np.pi - ranges[1][1]) > 0.05)
+    return (r2, r3, e), two_intervals(draw, ranges), ranges
+
+
+def jumping(draw, start):
+    """Values over a turn around the start, in random order, some repeated."""
+    values = draw(st.lists(st.floats(-np.pi, np.pi), min_size=1, max_size=60))
+    values += values[: draw(st.integers(0, 10))]
+    return start + np.array(draw(st.permutations(values)))
+
+
+def assert_limits_named(res, ranges):
+    """Every NOT_ASSEMBLABLE value names a located limit, an end of the closed form's ranges."""
+    out = res.status == Status.NOT_ASSEMBLABLE
+    if out.any():
+        ends = np.array([x for ab in ranges for x in ab])
+        lim = res.nearest_limit[out]
+        assert np.isfinite(lim).all()
+        off = np.abs(np.angle(np.exp(1j * (lim[:, None] - ends[None, :])))).min(axis=1)
+        assert off.max() < 1e-9, off.max()
+
+
+@PROPS
+@given(case=two_interval_four_bars(), crossed=st.booleans(), data=st.data())
+def test_a_four_bar_whose_crank_reaches_two_intervals_loses_no_value(case, crossed, data):
+    r, start, ranges = case
+    m = four_bar(*r, crossed=crossed, start=start)
+    U = jumping(data.draw, start)
+    with Evaluations() as count:
+        res = m.sweep(U)
+    o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1 if crossed else 1)
+    assert_no_lost_value(res, ranges, o["th3"])
+    assert_limits_named(res, ranges)
+    # the values in the order of the input: the range and each gap crossed once (~100-400)
+    assert count.calls <= 1500, count.calls
+
+
+@PROPS
+@given(case=two_interval_slider_cranks(), crossed=st.booleans(), data=st.data())
+def test_a_slider_crank_whose_crank_reaches_two_intervals_loses_no_value(case, crossed, data):
+    (r2, r3, e), start, ranges = case
+    m = slider_crank(r2, r3, offset=e, crossed=crossed, start=start)
+    U = jumping(data.draw, start)
+    with Evaluations() as count:
+        res = m.sweep(U)
+    o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e, sigma=-1 if crossed else 1)
+    assert_no_lost_value(res, ranges, o["th3"])
+    assert_limits_named(res, ranges)
+    assert count.calls <= 1500, count.calls
