@@ -234,7 +234,8 @@ class _Walker:
             if start is not None:
                 n = len(self.events)
                 got = self.walk(*start, signs, target, index)
-                per = self.period() if got[0] == "limit" else None
+                # (a value within half a turn, no whole period away, goes the direct way only)
+                per = self.period() if got[0] == "limit" and (k or abs(d) > np.pi) else None
                 # the other way round when the value was far (whole periods away: either way is
                 # as good) or the other way is the shorter (P / 2 >= pi): a rocking input's value in the next
                 # period's range, but not a value in the gap just past the limit met
@@ -315,18 +316,22 @@ class _Walker:
         another mode, the way round through a limit. None if none found."""
         br = self.br
         best = None
+        # the first few targets and a few spread over the rest: a least-squares search of each
+        # of hundreds of values would cost more than the walk
+        pick = np.unique(np.r_[np.arange(min(len(targets), 4 * tries)),
+                               np.linspace(0, len(targets) - 1, 2 * tries).astype(int)])
         for g in guesses:
-            ql, gap = least_squares_gap(br.m, np.repeat(g[None], len(targets), 0), targets)
+            ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick])
             near = np.flatnonzero(gap <= GAP)
             # the first few, and a few spread over the rest: next to a limit's far side Newton
             # may find only the other mode, where a value further on enters the branch
             for c in np.unique(np.r_[near[:tries], near[np.linspace(0, near.size - 1, tries).astype(int)]]
                                if near.size else near):
-                if best is not None and c >= best[0]:
+                if best is not None and pick[c] >= best[0]:
                     break
-                qe = self.enter([ql[c]], signs, targets[c])
+                qe = self.enter([ql[c]], signs, targets[pick[c]])
                 if qe is not None:
-                    best = (int(c), qe)
+                    best = (int(pick[c]), qe)
                     break
         return best
 
@@ -512,12 +517,12 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     signs = np.zeros((N, len(p.blocks)), np.int8)  # the blocks' modes at each solved value
     events = []
 
-    def walk(start, i, lo, back=None):
+    def walk(start, i, lo, back=None, periodic=True):
         """Walk from ``start`` (q, u, signs) to value i; events get the index of the first
         value after ``lo`` at or past them (walking back from value ``back`` > i: the first
         value from i on at or past them in the sweep's own direction)."""
         k = len(walker.events)
-        got = walker.walk(*start, U[i], int(i), periodic=True)
+        got = walker.walk(*start, U[i], int(i), periodic=periodic)
 
         def index(u_star):
             if back is None:
@@ -543,13 +548,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         far = limits and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
         return _past_limit(limits, u_from, u_to, walker.period() if far else None)
 
-    # far values of an input that turns fully are solved whole periods back, nearer the sketch
-    # (the pose is periodic: the same up to whole turns of its angles), and shifted back at the
-    # end: angles of 1e6 rad would carry rounding of 1e-10 rad into the constraints
+    # far values of an angle input whose pose is periodic (the same up to whole turns of its
+    # angles: an input that turns fully, or a rocking input's range a period on) are solved
+    # whole periods back, nearer the sketch, and shifted back at the end: angles of 1e6 rad
+    # would carry rounding of 1e-10 rad into the constraints
     U_in, shift = U, None
     if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
         per = walker.period()
-        if per is not None and walker.turns:
+        if per is not None:
             start = None  # the sketch, whole periods back, is nearer than any known pose
             block = per[0] * np.ceil(FAR / per[0])
             k = np.trunc((U[:, 0] - model.u0[0]) / block) * (block / per[0])
@@ -695,7 +701,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     for j in list(stops):
         if 0 < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
             reach = np.flatnonzero(_scaled_norm(model, U[:j] - U[j]) <= TURN)
-            walk((q[j], U[j], signs[j]), int(reach[0] if reach.size else j - 1), -1, back=j)
+            # (the direct way: only the limit it meets is wanted)
+            walk((q[j], U[j], signs[j]), int(reach[0] if reach.size else j - 1), -1, back=j, periodic=False)
     at_event = _at_events(model, U, events)
     for i, ev in at_event.items():
         q[i], solved[i], done[i] = ev.q, True, True
@@ -709,13 +716,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
     jumps = (stops, None)
     if order is not None:
-        # values asked one after the other with a limit the walk met between them: a jump
+        # values asked one after the other with a limit the walk met between them (the direct
+        # way): a jump
         inv = np.empty_like(order)
         inv[order] = np.arange(N)
         prev = np.where(order > 0, inv[np.maximum(order - 1, 0)], -1)  # the value asked before each
         cand = np.flatnonzero(prev >= 0)
         if limits and cand.size:
-            cand = cand[past(U[prev[cand]], U[cand])]
+            cand = cand[_past_limit(limits, U[prev[cand]], U[cand])]
         jumps = (cand if limits else [], prev)
     return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
@@ -1159,8 +1167,10 @@ def _final(br, q, U, Ud, Udd):
     st = status_of(sing)
     if m.redundant_rows.size:
         st = np.where(red_res > 1e3 * tol, Status.INCONSISTENT, st)
-    # a point on a singular position converges only linearly: its position still holds
-    st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
+    # a point on a singular position converges only linearly, and next to one (singularity s)
+    # Newton's steps stay at the rounding over s, above the step test: their positions still hold
+    held = ((st == Status.SINGULAR) & (res <= 1e3 * tol)) | ((st == Status.NEAR_SINGULAR) & (res <= tol))
+    st = np.where(conv | held, st, Status.NOT_CONVERGED)
     if br.rates:
         qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
     return dict(q=q, qd=qd, qdd=qdd, conv=conv, off=off,

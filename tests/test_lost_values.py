@@ -11,8 +11,9 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 from planar.blocks import Plan
-from planar.mechanisms import four_bar, slider_crank
-from planar.results import POSED, Status
+from planar.errors import PlanarError
+from planar.mechanisms import four_bar, slider_crank, watt_six_bar
+from planar.results import POSED, VALID, Status
 from tests import oracles
 
 # a sweep with far, repeated and out-of-order values costs ~0.1-0.5 s: 40 examples in CI, the
@@ -220,10 +221,12 @@ def two_interval_slider_cranks(draw):
 
 
 def jumping(draw, start):
-    """Values over a turn around the start, in random order, some repeated."""
+    """Values over a turn around the start, in random order (or in order up or down), some
+    repeated."""
     values = draw(st.lists(st.floats(-np.pi, np.pi), min_size=1, max_size=60))
     values += values[: draw(st.integers(0, 10))]
-    return start + np.array(draw(st.permutations(values)))
+    values = draw(st.sampled_from([sorted(values), sorted(values)[::-1], draw(st.permutations(values))]))
+    return start + np.array(values)
 
 
 def assert_limits_named(res, ranges):
@@ -264,3 +267,51 @@ def test_a_slider_crank_whose_crank_reaches_two_intervals_loses_no_value(case, c
     assert_no_lost_value(res, ranges, o["th3"])
     assert_limits_named(res, ranges)
     assert count.calls <= 1500, count.calls
+
+
+def test_a_watt_six_bar_on_a_parallelogram_keeps_its_branch_past_its_change_points():
+    m = watt_six_bar(4, 1, 4, 1, start=0.3)
+    res = m.sweep(np.arange(0.3, 0.3 + 4 * np.pi, 0.023))  # two turns, four change points
+    assert res.ok.all(), res
+    assert [e.kind for e in res.events if e.kind != "near_singular"] == ["bifurcation"] * 4
+    # the first loop stays a parallelogram: its rocker turns with the crank
+    np.testing.assert_allclose(np.sin(res.angle("rocker") - res.angle("crank")), 0, atol=1e-10)
+
+
+def jumps(res, points, factor=20.0):
+    """(value, point, move, predicted) where a point moves between two valid values far more
+    than its speed there predicts (a jump between circuits not reported JUMPED)."""
+    u, ok = res.inputs[:, 0], VALID[res.status]
+    both = np.flatnonzero(ok[:-1] & ok[1:] & (res.status[1:] != Status.JUMPED))
+    found = []
+    for P in points:
+        x, v = res.position(P), np.linalg.norm(res.velocity(P), axis=1)
+        move = np.linalg.norm(x[both + 1] - x[both], axis=1)
+        pred = 0.5 * (v[both] + v[both + 1]) * np.abs(u[both + 1] - u[both])
+        bad = move > factor * pred + 1e-6 * res.model.L
+        found += [(int(i), P, float(d), float(e)) for i, d, e in zip(both[bad], move[bad], pred[bad])]
+    return found
+
+
+@st.composite
+def grashof_boundary_watt_six_bars(draw):
+    """The arguments of a Watt six-bar whose first loop is on the Grashof boundary (s + l = p + q:
+    change points), with random points, second dyad, assembly modes and start."""
+    s, p, q = sorted(draw(st.tuples(st.floats(0.5, 4), st.floats(0.5, 4), st.floats(0.5, 4))))
+    point = st.tuples(st.floats(-3, 3), st.floats(-3, 3))
+    return dict(zip(("ground", "crank", "coupler", "rocker"), draw(st.permutations([s, p, q, p + q - s]))),
+                coupler_point=draw(point), rocker_point=draw(point), link_5=draw(st.floats(1, 6)),
+                link_6=draw(st.floats(1, 6)), crossed=draw(st.booleans()), crossed_2=draw(st.booleans()),
+                start=draw(st.floats(-np.pi, np.pi)))
+
+
+@settings(max_examples=settings.default.max_examples if LONG else 10, deadline=None)
+@given(args=grashof_boundary_watt_six_bars())
+def test_a_watt_six_bar_on_the_grashof_boundary_does_not_jump_between_valid_values(args):
+    try:
+        m = watt_six_bar(**args).compile()
+        res = m.sweep(np.arange(args["start"], args["start"] + 2 * np.pi, 0.023))
+    except PlanarError:  # a sketch that does not assemble, or drawn on a singular position
+        assume(False)
+    assert not jumps(res, ["B", "C", "D", "E"])
+    assert not np.any(res.status == Status.NOT_CONVERGED)
