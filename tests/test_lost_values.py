@@ -308,6 +308,9 @@ def grashof_boundary_watt_six_bars(draw):
 @settings(max_examples=settings.default.max_examples if LONG else 10, deadline=None)
 @given(args=grashof_boundary_watt_six_bars())
 def test_a_watt_six_bar_on_the_grashof_boundary_does_not_jump_between_valid_values(args):
+    # a sketch within ~1e-8 of the change point (crank along the ground) is an ambiguous start
+    # that the walk may not leave (hardening.md): not drawn here
+    assume(abs(np.sin(args["start"])) > 1e-6)
     try:
         m = watt_six_bar(**args).compile()
         res = m.sweep(np.arange(args["start"], args["start"] + 2 * np.pi, 0.023))
