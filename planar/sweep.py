@@ -247,7 +247,9 @@ class _Walker:
                 kept = self.events[n:]
                 del self.events[n:]
                 again = self.walk(*other, signs, target, index)
-                if again[0] == "limit":
+                # the other way round keeps the assembly modes: through a change point it comes
+                # back in other modes, where the walk the direct way would re-enter in these
+                if again[0] == "limit" or (again[0] == "ok" and not np.all(again[2] == signs)):
                     self.events[n:] = kept
                     return got
                 return again
