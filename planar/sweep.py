@@ -234,7 +234,8 @@ class _Walker:
             if start is not None:
                 n = len(self.events)
                 got = self.walk(*start, signs, target, index)
-                per = self.period() if got[0] == "limit" else None
+                # (a value within half a turn, no whole period away, goes the direct way only)
+                per = self.period() if got[0] == "limit" and (k or abs(d) > np.pi) else None
                 # the other way round when the value was far (whole periods away: either way is
                 # as good) or the other way is the shorter (P / 2 >= pi): a rocking input's value in the next
                 # period's range, but not a value in the gap just past the limit met
@@ -246,7 +247,9 @@ class _Walker:
                 kept = self.events[n:]
                 del self.events[n:]
                 again = self.walk(*other, signs, target, index)
-                if again[0] == "limit":
+                # the other way round keeps the assembly modes: through a change point it comes
+                # back in other modes, where the walk the direct way would re-enter in these
+                if again[0] == "limit" or (again[0] == "ok" and not np.all(again[2] == signs)):
                     self.events[n:] = kept
                     return got
                 return again
@@ -315,18 +318,22 @@ class _Walker:
         another mode, the way round through a limit. None if none found."""
         br = self.br
         best = None
+        # the first few targets and a few spread over the rest: a least-squares search of each
+        # of hundreds of values would cost more than the walk
+        pick = np.unique(np.r_[np.arange(min(len(targets), 4 * tries)),
+                               np.linspace(0, len(targets) - 1, 2 * tries).astype(int)])
         for g in guesses:
-            ql, gap = least_squares_gap(br.m, np.repeat(g[None], len(targets), 0), targets)
+            ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick])
             near = np.flatnonzero(gap <= GAP)
             # the first few, and a few spread over the rest: next to a limit's far side Newton
             # may find only the other mode, where a value further on enters the branch
             for c in np.unique(np.r_[near[:tries], near[np.linspace(0, near.size - 1, tries).astype(int)]]
                                if near.size else near):
-                if best is not None and c >= best[0]:
+                if best is not None and pick[c] >= best[0]:
                     break
-                qe = self.enter([ql[c]], signs, targets[c])
+                qe = self.enter([ql[c]], signs, targets[pick[c]])
                 if qe is not None:
-                    best = (int(c), qe)
+                    best = (int(pick[c]), qe)
                     break
         return best
 
@@ -512,12 +519,12 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     signs = np.zeros((N, len(p.blocks)), np.int8)  # the blocks' modes at each solved value
     events = []
 
-    def walk(start, i, lo, back=None):
+    def walk(start, i, lo, back=None, periodic=True):
         """Walk from ``start`` (q, u, signs) to value i; events get the index of the first
         value after ``lo`` at or past them (walking back from value ``back`` > i: the first
         value from i on at or past them in the sweep's own direction)."""
         k = len(walker.events)
-        got = walker.walk(*start, U[i], int(i), periodic=True)
+        got = walker.walk(*start, U[i], int(i), periodic=periodic)
 
         def index(u_star):
             if back is None:
@@ -543,13 +550,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         far = limits and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
         return _past_limit(limits, u_from, u_to, walker.period() if far else None)
 
-    # far values of an input that turns fully are solved whole periods back, nearer the sketch
-    # (the pose is periodic: the same up to whole turns of its angles), and shifted back at the
-    # end: angles of 1e6 rad would carry rounding of 1e-10 rad into the constraints
+    # far values of an angle input whose pose is periodic (the same up to whole turns of its
+    # angles: an input that turns fully, or a rocking input's range a period on) are solved
+    # whole periods back, nearer the sketch, and shifted back at the end: angles of 1e6 rad
+    # would carry rounding of 1e-10 rad into the constraints
     U_in, shift = U, None
     if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
         per = walker.period()
-        if per is not None and walker.turns:
+        if per is not None:
             start = None  # the sketch, whole periods back, is nearer than any known pose
             block = per[0] * np.ceil(FAR / per[0])
             k = np.trunc((U[:, 0] - model.u0[0]) / block) * (block / per[0])
@@ -562,6 +570,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     if start is None:  # (a known pose was reached from the sketch: it passed)
         _check_sketch(model, p)
     origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
+    # values given out of order (one input) are solved in the order of the input, from the end
+    # nearer the start, and put back in the asked order at the end: each is walked to from its
+    # neighbour in input, where a jumping sweep would walk back and forth across the range and
+    # search again for the range past each gap it meets
+    order = _input_order(U, origin[1][0])
+    if order is not None:
+        U, Ud, Udd, U_in = U[order], Ud[order], Udd[order], U_in[order]
+        shift = None if shift is None else (shift[0][order], shift[1])
     state = origin
     limits = []  # (limit event, direction of the input that hit it)
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
@@ -687,7 +703,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     for j in list(stops):
         if 0 < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
             reach = np.flatnonzero(_scaled_norm(model, U[:j] - U[j]) <= TURN)
-            walk((q[j], U[j], signs[j]), int(reach[0] if reach.size else j - 1), -1, back=j)
+            # (the direct way: only the limit it meets is wanted)
+            walk((q[j], U[j], signs[j]), int(reach[0] if reach.size else j - 1), -1, back=j, periodic=False)
     at_event = _at_events(model, U, events)
     for i, ev in at_event.items():
         q[i], solved[i], done[i] = ev.q, True, True
@@ -699,7 +716,54 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
-    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift)
+    jumps = (stops, None)
+    if order is not None:
+        # values asked one after the other with a limit the walk met between them (the direct
+        # way): a jump
+        inv = np.empty_like(order)
+        inv[order] = np.arange(N)
+        prev = np.where(order > 0, inv[np.maximum(order - 1, 0)], -1)  # the value asked before each
+        cand = np.flatnonzero(prev >= 0)
+        if limits and cand.size:
+            cand = cand[_past_limit(limits, U[prev[cand]], U[cand])]
+        jumps = (cand if limits else [], prev)
+    return _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
+                   order, origin[1])
+
+
+def _input_order(U, u0):
+    """The order in which to solve the values U (N, 1) of one input given out of order (turning
+    back at least once): sorted, ascending or descending from the end nearer the start's
+    input ``u0`` (stable: repeated values keep their order). None for values in order.
+
+    >>> _input_order(np.array([[0.0], [2.0], [1.0]]), 0.0).tolist(), _input_order(np.array([[0.0], [2.0], [1.0]]), 3.0).tolist()
+    ([0, 2, 1], [1, 2, 0])
+    """
+    if U.shape[1] != 1 or U.shape[0] < 3:
+        return None
+    v = U[:, 0]
+    d = np.diff(v)
+    if np.all(d >= 0) or np.all(d <= 0):
+        return None
+    down = v.max() - u0 < u0 - v.min()
+    return np.argsort(-v if down else v, kind="stable")
+
+
+def _asked_order(model, U, order, events, u0):
+    """The events of values solved in the order of the input (``U``, one input, in that order;
+    ``order`` their asked positions), indexed in the asked order: the first value asked at or
+    past each singular position seen from the start's input ``u0`` (a near-singular stretch:
+    its closest value)."""
+    N, tol = len(U), EVENT_TOL / float(_scale(model)[0])
+    out = []
+    for e in events:
+        i = int(order[min(e.index, N - 1)])
+        d = np.sign(float(e.input) - float(u0[0]))
+        if e.kind != "near_singular" and d != 0:
+            at = np.flatnonzero((U[:, 0] - float(e.input)) * d >= -tol)
+            i = int(order[at].min()) if at.size else i
+        out.append(replace(e, index=i))
+    return sorted(out, key=lambda e: e.index)
 
 
 def _further(failed, j, u_j, u):
@@ -718,12 +782,18 @@ def _input_before(u0, U, last, idx):
     return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], u0)
 
 
-def _mark_jumps(status, stops):
+def _mark_jumps(status, stops, prev=None):
     """JUMPED for the first value past each limit the walk stopped at (``stops``: the events'
     indices) where it is valid and the value before it posed: the branch was re-entered past the
-    limit with no unassemblable value between to show the gap (a pair of limits inside one step)."""
+    limit with no unassemblable value between to show the gap (a pair of limits inside one step).
+    With ``prev`` (values solved out of the asked order: the index of the value asked before
+    each, -1 for none), ``stops`` are the values with a limit between them and that value."""
     posed, valid = POSED_MASK[status], VALID_MASK[status]
     for j in stops:
+        if prev is not None:
+            if valid[j] and posed[prev[j]]:
+                status[j] = Status.JUMPED
+            continue
         j += int(j < status.size and status[j] == Status.LIMIT)
         if 0 < j < status.size and valid[j] and posed[j - 1]:
             status[j] = Status.JUMPED
@@ -1099,8 +1169,10 @@ def _final(br, q, U, Ud, Udd):
     st = status_of(sing)
     if m.redundant_rows.size:
         st = np.where(red_res > 1e3 * tol, Status.INCONSISTENT, st)
-    # a point on a singular position converges only linearly: its position still holds
-    st = np.where(conv | ((st == Status.SINGULAR) & (res <= 1e3 * tol)), st, Status.NOT_CONVERGED)
+    # a point on a singular position converges only linearly, and next to one (singularity s)
+    # Newton's steps stay at the rounding over s, above the step test: their positions still hold
+    held = ((st == Status.SINGULAR) & (res <= 1e3 * tol)) | ((st == Status.NEAR_SINGULAR) & (res <= tol))
+    st = np.where(conv | held, st, Status.NOT_CONVERGED)
     if br.rates:
         qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
     return dict(q=q, qd=qd, qdd=qdd, conv=conv, off=off,
@@ -1115,9 +1187,12 @@ def _redundant(model, full):
     return np.max(np.abs(full[:, red] * model.row_scale[red]), axis=1)
 
 
-def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, stops, U_in, shift):
-    """The results of the solved values; ``shift`` (k, (P, D)): value i was solved k[i]
-    periods P back (the input values ``U_in``), its pose shifted back by k[i] D."""
+def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
+            order=None, u0=None):
+    """The results of the solved values; ``jumps`` (stops, prev) for :func:`_mark_jumps`;
+    ``shift`` (k, (P, D)): value i was solved k[i] periods P back (the input values ``U_in``),
+    its pose shifted back by k[i] D; ``order`` (values solved in the order of the input from
+    the start's input ``u0``): the asked position of each, where the results are put back."""
     N, n = q.shape
     p = br.p
     idx = np.flatnonzero(solved & ~done)
@@ -1149,9 +1224,20 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         _, g = least_squares_gap(model, guess, U[i])
         gap[i] = g
         status[i] = np.where((g > GAP) | beyond[i], Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
-    _mark_jumps(status, stops)
+    _mark_jumps(status, *jumps)
     events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
+    residual, iters, sing, branch = out.residual, out.iters, out.sing, out.branch
+    qd, qdd = out.qd, out.qdd
+    if order is not None:
+        events = tuple(_asked_order(model, U, order, events, u0))
+        inv = np.empty_like(order)
+        inv[order] = np.arange(N)
+        q, status, residual, iters, sing, branch = (a[inv] for a in (q, status, residual, iters, sing, branch))
+        U, Ud, Udd, U_in, gap = U[inv], Ud[inv], Udd[inv], U_in[inv], gap[inv]
+        if out.rates:
+            qd, qdd = qd[inv], qdd[inv]
+        shift = None if shift is None else (shift[0][inv], shift[1])
     if shift is not None:
         k, (P, D) = shift
         whole = np.round(D / (2 * np.pi))
@@ -1160,8 +1246,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         events = tuple(replace(e, input=_add_turns(e.input, at(e) * round(P / (2 * np.pi))),
                                q=None if e.q is None else _add_turns(e.q, at(e) * whole)) for e in events)
         U = U_in
-    return Sweep(model, U, Ud, Udd, q, out.qd, out.qdd, status, out.residual,
-                 out.iters, out.sing, out.branch, gap, events)
+    return Sweep(model, U, Ud, Udd, q, qd, qdd, status, residual, iters, sing, branch, gap, events)
 
 
 def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
