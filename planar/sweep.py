@@ -337,6 +337,29 @@ class _Walker:
                     break
         return best
 
+    def enter_by_period(self, qs, us, signs, targets, tries=8):
+        """(index, pose, modes) of the first of ``targets`` (M, 1) within a step of a pose solved
+        on the branch (``qs``, ``us``, ``signs``) moved by whole periods of the input
+        (:meth:`period`): the same pose shifted by whole turns, walked to from there. Exact where
+        the search of :meth:`enter_any` finds only another circuit (values past a limit pair that
+        are a turn on from the stretch already solved). None if none."""
+        if targets.shape[1] != 1 or not len(us) or self.period() is None:
+            return None
+        P, _ = self.period()
+        t = targets[:4096, 0]
+        n = np.round((t[:, None] - us[None, :, 0]) / P)
+        off = np.where(n != 0, np.abs(t[:, None] - us[None, :, 0] - n * P), np.inf)
+        j = np.argmin(off, axis=1)
+        for c in np.flatnonzero(off[np.arange(t.size), j] <= self.max_step)[:tries]:
+            k = int(j[c])
+            image = self._shorten(qs[k], us[k], signs[k], n[c, k])
+            if image is None:
+                continue
+            got = self.walk(*image, signs[k], targets[c], int(c))
+            if got[0] == "ok":
+                return int(c), got[1], got[2]
+        return None
+
     def enter(self, guesses, signs, target):
         """Re-enter the motion range at ``target`` from guesses of the same branch."""
         br = self.br
@@ -620,15 +643,21 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             continue
         if got[0] == "limit":
             state = (got[2][0], got[2][1], state[2])
-        # out of reach: the next anchor that assembles on the branch, by one batched search
-        found = walker.enter_any([state[0], model.q0], chosen, U[anchors[k:]])
+        # out of reach: the next anchor that assembles on the branch, a whole period on from a
+        # value solved, else by one batched search
+        known = np.flatnonzero(solved)
+        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:]])
+        upto = anchors.size if found is None else k + found[0]
+        nearer = walker.enter_any([state[0], model.q0], chosen, U[anchors[k:upto]]) if upto > k else None
+        if nearer is not None:
+            found = (*nearer, chosen)
         if found is None:
             break
-        c, qe = found
+        c, qe, se = found
         k += c
         i = anchors[k]
-        q[i], solved[i], signs[i] = qe, True, chosen
-        state, lo = (qe, U[i], chosen), i
+        q[i], solved[i], signs[i] = qe, True, se
+        state, lo = (qe, U[i], se), i
         k += 1
 
     # 2. every other value from an anchor of its own stretch (no event in between): first a
