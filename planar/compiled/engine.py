@@ -480,13 +480,26 @@ _ready = False
 
 def ready():
     """Compile the drivers (once per installation: numba caches them on disk) or load them,
-    saying so on stderr when it compiles. A change to what they compile in besides this file (a
-    joint's kernels, the shared constants: :func:`_stamp`) drops the cached code first."""
+    saying so on stderr, with the steps, while it compiles."""
     global _ready
     if _ready:
         return
     _ready = True
     stamp = _stamp()
+    todo = _missing(stamp)
+    start = time.perf_counter()
+    for k, (fn, path) in enumerate(todo, 1):
+        sys.stderr.write(f"planar: compiling the numba engine, once per installation: {k}/{len(todo)}, the "
+                         f"{'parallel' if fn is loop else 'serial'} loop ({time.perf_counter() - start:.0f} s so far)\n")
+        sys.stderr.flush()
+        _compile(fn, path, stamp)
+    if todo:
+        sys.stderr.write(f"planar: compiled the numba engine in {time.perf_counter() - start:.0f} s\n")
+
+
+def _missing(stamp):
+    """[(driver, its stamp file)] of the drivers with no machine code on disk for ``stamp``: numba
+    keys its cache on this file only, so a stamp of the rest (:func:`_stamp`) is kept beside it."""
     todo = []
     for fn in (serial, loop):
         path = os.path.join(fn._cache._cache_path, fn.__name__ + ".planar-stamp")
@@ -495,22 +508,20 @@ def ready():
                 same = f.read() == stamp
         except OSError:
             same = False
-        if not (same and fn._cache._cache_file._load_index()):  # no machine code of these kernels on disk
+        if not (same and fn._cache._cache_file._load_index()):
             todo.append((fn, path))
-    start = time.perf_counter()
-    for k, (fn, path) in enumerate(todo, 1):
-        sys.stderr.write(f"planar: compiling the numba engine, once per installation: {k}/{len(todo)}, the "
-                         f"{'parallel' if fn is loop else 'serial'} loop ({time.perf_counter() - start:.0f} s so far)\n")
-        sys.stderr.flush()
-        fn._cache.flush()
-        _warm(fn is loop)
-        try:
-            with open(path, "w") as f:
-                f.write(stamp)
-        except OSError:  # an unwritable cache: this process keeps what it compiled
-            pass
-    if todo:
-        sys.stderr.write(f"planar: compiled the numba engine in {time.perf_counter() - start:.0f} s\n")
+    return todo
+
+
+def _compile(fn, path, stamp):
+    """Drop the cached code of ``fn``, compile it afresh (numba caches it) and stamp it."""
+    fn._cache.flush()
+    _warm(fn is loop)
+    try:
+        with open(path, "w") as f:
+            f.write(stamp)
+    except OSError:  # an unwritable cache: this process keeps what it compiled
+        pass
 
 
 def _warm(parallel):
