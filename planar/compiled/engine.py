@@ -33,35 +33,56 @@ ST_SOLVED, ST_NEAR_SINGULAR, ST_SINGULAR, ST_INCONSISTENT, ST_BRANCH_EVENT = (
 # fast-math's "contract" only: LLVM may fuse a * b + c into one fused multiply-add (one rounding
 # instead of two); no other fast-math licence (the NaN and inf tests stay exact, nothing is
 # reassociated)
-_JIT = dict(cache=True, error_model="numpy", nogil=True, fastmath={"contract"})
-_piece = register_jitable(error_model="numpy")  # compiled into its callers
+_JIT: dict = dict(cache=True, error_model="numpy", nogil=True, fastmath={"contract"})
+# the joints' kernels and their pieces (plain functions: numba compiles them where the loop calls
+# them) and the loop's own pieces, inlined by numba (as separate functions they took 2-3x the time)
+_piece = register_jitable(inline="always", error_model="numpy")
+_inline = numba.njit(inline="always", error_model="numpy")
 
 for _fn in dict.fromkeys(scalar.PIECES + (certified,) + tuple(f for cls in kinds() for f in cls.scalar_kernels[1:])):
     _piece(_fn)
 
 
 def _dispatch(fns):
-    """call(code, *args): fns[code](*args), as branches the compiler sees through."""
+    """rows(code, p, c, f, s, phi, jac): fns[code](p, c, f, s, phi, jac), as a chain of branches
+    (explicit arguments: a chain passing ``*args`` cost twice the time per joint)."""
     head = fns[0]
     if len(fns) == 1:
-        def call(code, *args):
-            head(*args)
+        def rows(code, p, c, f, s, phi, jac):
+            head(p, c, f, s, phi, jac)
     else:
         tail = _dispatch(fns[1:])
 
-        def call(code, *args):
+        def rows(code, p, c, f, s, phi, jac):
             if code == 0:
-                head(*args)
+                head(p, c, f, s, phi, jac)
             else:
-                tail(code - 1, *args)
-    return _piece(call)
+                tail(code - 1, p, c, f, s, phi, jac)
+    return _piece(rows)
 
 
-_rows = _dispatch([cls.scalar_kernels[1] for cls in kinds()])  # (code, p, c, f, s, phi, jac)
-_gamma = _dispatch([cls.scalar_kernels[2] for cls in kinds()])  # (code, p, c, f, s, g)
+def _dispatch_gamma(fns):
+    """gamma(code, p, c, f, s, g): fns[code](p, c, f, s, g), as :func:`_dispatch`."""
+    head = fns[0]
+    if len(fns) == 1:
+        def gamma(code, p, c, f, s, g):
+            head(p, c, f, s, g)
+    else:
+        tail = _dispatch_gamma(fns[1:])
+
+        def gamma(code, p, c, f, s, g):
+            if code == 0:
+                head(p, c, f, s, g)
+            else:
+                tail(code - 1, p, c, f, s, g)
+    return _piece(gamma)
 
 
-@_piece
+_rows = _dispatch([cls.scalar_kernels[1] for cls in kinds()])
+_gamma = _dispatch_gamma([cls.scalar_kernels[2] for cls in kinds()])
+
+
+@_inline
 def _cos_sin(phi):
     """cos and sin of phi through t = tan(phi / 2), as planar.geometry.cos_sin."""
     t = np.tan(0.5 * phi)
@@ -69,13 +90,13 @@ def _cos_sin(phi):
     return wt - 1.0, t * wt
 
 
-@_piece
+@_inline
 def _mx(a, b):
     """max that propagates NaN, as numpy's max does (a pose that reads NaN never passes)."""
     return b if (b > a or b != b) else a
 
 
-@_piece
+@_inline
 def _lu_det(A, perm, k):
     """LU with partial pivoting of a k x k block in place, as planar.elimination._dense_lu: its
     det. U's diagonal is left as its reciprocals, which _lu_solve multiplies by. The sizes that
@@ -123,7 +144,7 @@ def _lu_det(A, perm, k):
     return det
 
 
-@_piece
+@_inline
 def _lu_solve(A, perm, z, y, k):
     """y with (P A) y = P z for the factors of _lu_det."""
     if k == 1:
@@ -145,7 +166,7 @@ def _lu_solve(A, perm, z, y, k):
         y[i] *= A[i, i]
 
 
-@_piece
+@_inline
 def _frames(q, qd, rates, fb, ref, near):
     """The bodies' rows of ``fb``: x, y, angle, its cos and sin (and with ``rates`` the body's
     velocity). cos and sin by ``_cos_sin``; ``near`` (a bulk value: within NEAR_ANGLE of its
@@ -169,7 +190,7 @@ def _frames(q, qd, rates, fb, ref, near):
             fb[b, 5], fb[b, 6], fb[b, 7] = qd[x], qd[x + 1], qd[a]
 
 
-@_piece
+@_inline
 def _evaluate(T, q, u, fb, Phi, Jv, c, phi, jac, ref, near):
     """Phi at q, and the Jacobian entries factor and solve read into Jv: each joint's kernel."""
     _frames(q, q, False, fb, ref, near)
@@ -184,7 +205,7 @@ def _evaluate(T, q, u, fb, Phi, Jv, c, phi, jac, ref, near):
             Jv[T.jac_to[e]] = jac[T.jac_r[e], T.jac_c[e]]
 
 
-@_piece
+@_inline
 def _gammas(T, q, qd, u, fb, Phi, c, g, ref, near):
     """gamma at q and the velocities qd into Phi: each joint's gamma kernel."""
     _frames(q, qd, True, fb, ref, near)
@@ -197,33 +218,48 @@ def _gammas(T, q, qd, u, fb, Phi, c, g, ref, near):
             Phi[T.jrows[j, r]] = g[r]
 
 
-@_piece
+@_inline
+def _forms(T, b, Jv, A, P, E, V):
+    """Block b's variables' scaled values into V, its forms' values into E (the Schur
+    complement's into A too) and the LU of the Schur complement: its det."""
+    B = T.blk[b]
+    vo, fo, r = B[B_VO], B[B_FO], B[B_R]
+    for i in range(B[B_NV]):
+        V[i] = Jv[T.var[vo + i]] * T.vscale[vo + i]
+    for f in range(fo, fo + B[B_NF]):
+        e = T.form0[f]
+        for t in range(T.form_at[f], T.form_at[f + 1]):
+            e += V[T.term_v[t]] * T.term_c[t]
+        E[f] = e
+    for i in range(r):
+        for j in range(r):
+            A[b, i, j] = E[fo + i * r + j]
+    return _lu_det(A[b], P[b], r) if r else 1.0
+
+
+@_inline
+def _constants(T, A, P, E, V):
+    """The factors of the blocks of constants (no variables), once per buffer."""
+    for b in range(T.blk.shape[0]):
+        if T.blk[b, B_NV] == 0:
+            _forms(T, b, E, A, P, E, V)  # (no variable reads Jv)
+
+
+@_inline
 def _factor(T, Jv, A, P, dets, E, V):
     """Each block by its elimination program (planar.elimination.Program._factor): the
-    variables' scaled values, the forms' values (the Schur complement's into A, all into E for
-    the solve), the LU of the Schur complement and the det's normalisation. Returns the
+    variables' scaled values, the forms' values, the LU of the Schur complement and the det's
+    normalisation; the blocks of constants were factored once (:func:`_constants`). Returns the
     singularity measure: the smallest normalised |det|, kept as sn / sd (the blocks' squared
     normalised dets dd / nm; NaN stays NaN), so one square root and one division per value."""
     sn, sd = 1.0, 1.0
     for b in range(T.blk.shape[0]):
         B = T.blk[b]
-        nv, vo, fo, r = B[B_NV], B[B_VO], B[B_FO], B[B_R]
-        for i in range(nv):
-            V[i] = Jv[T.var[vo + i]] * T.vscale[vo + i]
-        for f in range(fo, fo + B[B_NF]):
-            e = T.form0[f]
-            for t in range(T.form_at[f], T.form_at[f + 1]):
-                e += V[T.term_v[t]] * T.term_c[t]
-            E[f] = e
-        for i in range(r):
-            for j in range(r):
-                A[b, i, j] = E[fo + i * r + j]
-        if nv == 0:  # a block of constants: its det was normalised once
-            if r:
-                _lu_det(A[b], P[b], r)
+        if B[B_NV] == 0:  # a block of constants: its det was normalised once
             dets[b] = T.det_c[b]
             dd, nm = dets[b] * dets[b], 1.0
         else:
+            det = T.det0[b] * _forms(T, b, Jv, A, P, E, V)
             lam = 1.0
             if B[B_ANGLE]:  # the largest angle-column entry, at least lam's constant part, at most 1
                 lam = T.lam_c[b]
@@ -241,10 +277,11 @@ def _factor(T, Jv, A, P, dets, E, V):
                         s1 += V[T.n1_v[t]] * V[T.n1_v[t]]
                     s0 += s1 * lam * lam
                 nm *= s0
-            det = T.det0[b] * _lu_det(A[b], P[b], r) if r else T.det0[b]
             # the normalised det nd = det / sqrt(nm) * lam**lengths, capped by lam, as its square
             # dd / nm (the sign in dets; nm <= 0 reads 0 as in planar.elimination)
-            dd = det * det * lam ** (2 * B[B_LENGTHS]) if nm > 0 else 0.0
+            dd = det * det if nm > 0 else 0.0
+            for _ in range(B[B_LENGTHS]):
+                dd *= lam * lam
             if dd > lam * lam * nm:
                 dd, nm = lam * lam, 1.0
             dets[b] = det if dd > 0 else 0.0
@@ -253,7 +290,7 @@ def _factor(T, Jv, A, P, dets, E, V):
     return np.sqrt(sn / sd)
 
 
-@_piece
+@_inline
 def _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl):
     """x = J^-1 rhs forward through the blocks (planar.elimination.Program.solve each)."""
     zero = T.dims[D_NNZ] - 1  # the structural zero's slot
@@ -261,6 +298,14 @@ def _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl):
         B = T.blk[b]
         k, o, nw, uo, co, fo, r, ro, so, ns = B[B_K], B[B_O], B[B_NW], B[B_UO], B[B_CO], B[B_FO], B[B_R], B[B_RO], \
             B[B_SO], B[B_NS]
+        if k == 1:  # most blocks (pivots, driven coordinates): one row, by its pivot or its 1x1 LU
+            s = rhs[T.eqs[o]]
+            for w in range(nw):
+                e = T.coup[co + w]
+                if e != zero:
+                    s -= Jv[e] * x[T.up[uo + w]]
+            x[T.cols[o]] = s * T.brs[o] * (T.st_inv[so] if ns else A[b, 0, 0]) * T.bcs[o]
+            continue
         for i in range(k):
             s = rhs[T.eqs[o + i]]
             for w in range(nw):
@@ -287,7 +332,7 @@ def _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl):
             x[T.cols[o + i]] = xl[i] * T.bcs[o + i]
 
 
-@_piece
+@_inline
 def _rate(T, base, inputs, i, out, Jv, A, P, E, rhs, x, z, y, zs, xl):
     """Solve for a rate into out[i]: right-hand side ``base`` on the plan's rows (Phi holding
     gamma; None: zeros), the input's rate of that order added on the driver rows."""
@@ -301,7 +346,7 @@ def _rate(T, base, inputs, i, out, Jv, A, P, E, rhs, x, z, y, zs, xl):
         out[i, k] = x[k]
 
 
-@numba.njit(_nrt=False, **_JIT)
+@numba.njit(**dict(_JIT, _nrt=False))
 def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
             SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, W):
     """Values rows[lo:hi] (value m of this call is row i of the arrays it writes; STEP, OFF,
@@ -442,21 +487,23 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
             QDD[i, :] = np.nan
 
 
-@_piece
+@_inline
 def _buffers(T):
     """The work arrays of one thread's values (:func:`_values`)."""
     D = T.dims
     nb, kmax, rmax = T.blk.shape[0], D[D_KMAX], D[D_RMAX]
     fb = np.zeros((D[D_BODIES], 8))
     fb[0, 3] = 1.0  # the ground: at the origin, unrotated
+    A, P, E, V = np.empty((nb, rmax, rmax)), np.empty((nb, rmax), np.int64), np.empty(T.form0.size + 1), \
+        np.empty(D[D_NV] + 1)
+    _constants(T, A, P, E, V)
     return (fb, np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2), np.zeros(D[D_M]), np.zeros(D[D_NNZ]),
-            np.empty(T.prow.size), np.zeros(D[D_N] + 1), np.empty(kmax), np.empty(rmax),
-            np.empty((nb, rmax, rmax)), np.empty((nb, rmax), np.int64), np.empty(D[D_N]), np.empty(D[D_N]),
-            np.empty(nb, np.int8), np.empty(nb), np.zeros((D[D_BODIES], 3)), np.empty(T.form0.size + 1),
-            np.empty(D[D_NV] + 1), np.empty(rmax), np.empty(kmax), 1.0 / T.cs)
+            np.empty(T.prow.size), np.zeros(D[D_N] + 1), np.empty(kmax), np.empty(rmax), A, P, np.empty(D[D_N]),
+            np.empty(D[D_N]), np.empty(nb, np.int8), np.empty(nb), np.zeros((D[D_BODIES], 3)), E, V, np.empty(rmax),
+            np.empty(kmax), 1.0 / T.cs)
 
 
-@numba.njit(parallel=True, **_JIT)
+@numba.njit(**dict(_JIT, parallel=True))
 def loop(rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH,
          STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T):
     """The values in chunks on all cores, each with its own buffers."""
