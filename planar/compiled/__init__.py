@@ -18,11 +18,12 @@ each value's Hermite guess, up to STEPS Newton steps, the acceptance test, statu
 written in place into the sweep's arrays). Both call one of two drivers: ``loop`` (chunks of
 values on all cores) or ``serial`` (a chunk or less, on the calling thread).
 
-numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside this file, or
-where ``NUMBA_CACHE_DIR`` says, or numba's user cache directory when the package's is not
-writable): the first sweep of an installation compiles (with a message on stderr), every
-later one, of any mechanism, loads it. The cache is keyed on this file; a stamp of the
-kernels' source beside it (:func:`_stamp`) drops it when a kernel changes.
+numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside
+:mod:`planar.compiled.engine`, or where ``NUMBA_CACHE_DIR`` says, or numba's user cache
+directory when the installed package is not writable): the first sweep of an installation
+compiles (saying so on stderr), every later one, of any mechanism, loads it. numba keys the
+cache on the engine's file; a stamp of the kernels' source beside it drops it when a kernel
+changes.
 
 Results agree with the numpy engine to rounding (the same operations per step; but for a bulk
 value's cos and sin, taken from its anchor's by angle addition, reciprocals where the numpy
@@ -45,7 +46,7 @@ CHUNK = 1024  # values per task of the parallel loop (a call with fewer runs on 
 STEPS = 4  # Newton steps a batch value may take in the loop (while its last step is below engine.CLOSE)
 
 Tables = namedtuple("Tables", [
-    # joints: type code, rows, bodies, input column (-1: none), parameters, row constants, the
+    # joints: type code, number of rows, input column (-1: none), parameters, row constants, the
     # plan's rows they write, their bodies; the Jacobian entries read: joint j's are
     # jac_at[j]:jac_at[j + 1], each entry (row, column) of its block to Jv[jac_to]
     "code", "nr", "inp", "par", "jc", "jrows", "slots", "jac_at", "jac_r", "jac_c", "jac_to",
