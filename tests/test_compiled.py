@@ -103,8 +103,8 @@ def test_compiled_sweeps_of_random_dimensions_equal_the_numpy_sweeps(desc):
 @pytest.mark.numba
 def test_every_structure_runs_on_one_compiled_loop():
     # every call of the loop (final steps, anchors' Newton, the bulk pass, with and without
-    # rates) of any mechanism passes the same types: one machine-code specialisation per
-    # driver, compiled once, not one per structure or use
+    # rates) of any mechanism passes the same types: one machine-code specialisation, compiled
+    # once, not one per structure or use
     from planar.compiled import engine
 
     for model in (four_bar(4, 2, 3.5, 3, coupler_point=(1.0, 0.8)).compile(), geared_five_bar().compile(),
@@ -112,9 +112,9 @@ def test_every_structure_runs_on_one_compiled_loop():
         for n in (100, 3000):
             model.sweep(np.linspace(0, 1, n) + model.u0[0], engine="numba")
             model.sweep(np.linspace(0, 1, n) + model.u0[0], engine="numba", rates=False)
-    assert len(engine.loop.signatures) == 1 and len(engine.serial.signatures) == 1
-    assert engine._missing(engine._stamp()) == []  # on disk, for the kernels as they are
-    assert [fn for fn, _ in engine._missing("kernels changed")] == [engine.serial, engine.loop]
+    assert len(engine.loop.signatures) == 1 and len(engine._values.signatures) == 1
+    assert not engine._missing(engine._stamp())  # on disk, for the kernels as they are
+    assert engine._missing("kernels changed")  # a change to them: compiled afresh
 
 
 @pytest.mark.numba
@@ -160,17 +160,16 @@ def test_compiled_engine_without_numba_is_a_named_error(monkeypatch):
 
 @pytest.mark.numba
 def test_the_one_off_compile_says_so(monkeypatch, capsys):
-    # no machine code on disk: the first sweep compiles the two drivers, and says so step by step
+    # no machine code on disk: the first sweep compiles the engine, and says so
     from planar.compiled import engine
 
     done = []
     monkeypatch.setattr(engine, "_ready", False)
-    monkeypatch.setattr(engine, "_missing", lambda stamp: [(engine.serial, "s"), (engine.loop, "l")])
-    monkeypatch.setattr(engine, "_compile", lambda fn, path, stamp: done.append(path))
+    monkeypatch.setattr(engine, "_missing", lambda stamp: True)
+    monkeypatch.setattr(engine, "_compile", lambda stamp: done.append(stamp))
     engine.ready()
     err = capsys.readouterr().err
-    assert done == ["s", "l"]
-    assert "compiling the numba engine, once per installation: 1/2, the serial loop" in err
-    assert "2/2, the parallel loop" in err and "compiled the numba engine in" in err
+    assert done == [engine._stamp()]
+    assert "compiling the numba engine, once per installation" in err and "compiled the numba engine in" in err
     engine.ready()  # once per process
-    assert capsys.readouterr().err == "" and done == ["s", "l"]
+    assert capsys.readouterr().err == "" and len(done) == 1

@@ -15,8 +15,8 @@ Schur complements are factored by one LU with the sizes that occur (1 and 2) wri
 Two entries: :func:`final` (one Newton step from given poses, with modes and rates: the
 anchors' Newton iterations and kinematic coefficients) and :func:`fill` (the bulk of a sweep:
 each value's Hermite guess, up to STEPS Newton steps, the acceptance test, status and rates,
-written in place into the sweep's arrays). Both call one of two drivers: ``loop`` (chunks of
-values on all cores) or ``serial`` (a chunk or less, on the calling thread).
+written in place into the sweep's arrays). Both call the one loop (chunks of values on all
+cores; a chunk or less on the calling thread).
 
 numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside
 :mod:`planar.compiled.engine`, or where ``NUMBA_CACHE_DIR`` says, or numba's user cache
@@ -106,7 +106,7 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
     many steps, each value until its residual is below ``tol`` and its step below ``step_tol``
     (or its pose is no longer finite), the dict's values those of its last step."""
     N = q.shape[0]
-    T, run = _compiled(model, plan, N)
+    T, run = _compiled(model, plan)
     n, nb = T.dims[D_N], T.blk.shape[0]
     q = np.array(q, dtype=float, order="C")
     qd, qdd = (np.empty((N, n)), np.empty((N, n))) if rates else (np.empty((0, n)), np.empty((0, n)))
@@ -132,7 +132,7 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
     solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
     the general path, but for solved anchors among them, which keep their poses and modes."""
-    T, run = _compiled(model, plan, rows.size)
+    T, run = _compiled(model, plan)
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
@@ -153,14 +153,14 @@ def _rates_in(a):
     return np.require(a, float, ("C", "W"))
 
 
-def _compiled(model, plan, n):
-    """The tables and the driver for n values: the parallel loop, or one thread for a chunk."""
+def _compiled(model, plan):
+    """The tables and the loop."""
     from planar.compiled import engine
 
     if plan not in _TABLES:
         _TABLES[plan] = tables(model, plan)
     engine.ready()
-    return _TABLES[plan], (engine.loop if n > CHUNK else engine.serial)
+    return _TABLES[plan], engine.loop
 
 
 def tables(model, plan):

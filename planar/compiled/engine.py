@@ -2,13 +2,14 @@
 (:class:`planar.compiled.Tables`), compiled once and cached on disk by numba.
 
 Imported on the first ``engine="numba"`` sweep (it imports numba). :func:`ready` compiles the
-two drivers, or loads them from numba's cache, saying so on stderr when it compiles.
+loop, or loads it from numba's cache, saying so on stderr when it compiles.
 """
 
 import hashlib
 import inspect
 import os
 import sys
+import threading
 import time
 
 import numba
@@ -506,80 +507,89 @@ def _buffers(T):
 @numba.njit(**dict(_JIT, parallel=True))
 def loop(rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH,
          STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T):
-    """The values in chunks on all cores, each with its own buffers."""
+    """The values in chunks on all cores, each chunk with its own buffers; a chunk or less on
+    the calling thread (no threads to start)."""
     N = rows.shape[0]
+    if N <= CHUNK:
+        _values(0, N, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
+                SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, _buffers(T))
+        return
     for chunk in numba.prange((N + CHUNK - 1) // CHUNK):
         _values(chunk * CHUNK, min(N, (chunk + 1) * CHUNK), rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q,
                 U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE,
                 T, _buffers(T))
 
 
-@numba.njit(**_JIT)
-def serial(rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING,
-           BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T):
-    """One chunk or less: no threads to start."""
-    _values(0, rows.shape[0], rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES,
-            SIGNS, SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, _buffers(T))
-
-
 _ready = False
 
 
 def ready():
-    """Compile the drivers (once per installation: numba caches them on disk) or load them,
-    saying so on stderr, with the steps, while it compiles."""
+    """Compile the engine (once per installation: numba caches it on disk) or load it, saying
+    so on stderr, with the time it has taken every 10 s, while it compiles."""
     global _ready
     if _ready:
         return
     _ready = True
     stamp = _stamp()
-    todo = _missing(stamp)
+    if not _missing(stamp):
+        return
     start = time.perf_counter()
-    for k, (fn, path) in enumerate(todo, 1):
-        sys.stderr.write(f"planar: compiling the numba engine, once per installation: {k}/{len(todo)}, the "
-                         f"{'parallel' if fn is loop else 'serial'} loop ({time.perf_counter() - start:.0f} s so far)\n")
-        sys.stderr.flush()
-        _compile(fn, path, stamp)
-    if todo:
-        sys.stderr.write(f"planar: compiled the numba engine in {time.perf_counter() - start:.0f} s\n")
+    _say("planar: compiling the numba engine, once per installation (about a minute; every later sweep, of any "
+         "mechanism, loads it)")
+    done = threading.Event()
+
+    def tick():
+        while not done.wait(10.0):
+            _say(f"planar: compiling the numba engine: {time.perf_counter() - start:.0f} s")
+
+    threading.Thread(target=tick, daemon=True).start()
+    try:
+        _compile(stamp)
+    finally:
+        done.set()
+    _say(f"planar: compiled the numba engine in {time.perf_counter() - start:.0f} s")
+
+
+def _say(line):
+    sys.stderr.write(line + "\n")
+    sys.stderr.flush()
+
+
+def _stamp_file():
+    return os.path.join(loop._cache._cache_path, "engine.planar-stamp")
 
 
 def _missing(stamp):
-    """[(driver, its stamp file)] of the drivers with no machine code on disk for ``stamp``: numba
-    keys its cache on this file only, so a stamp of the rest (:func:`_stamp`) is kept beside it."""
-    todo = []
-    for fn in (serial, loop):
-        path = os.path.join(fn._cache._cache_path, fn.__name__ + ".planar-stamp")
-        try:
-            with open(path) as f:
-                same = f.read() == stamp
-        except OSError:
-            same = False
-        if not (same and fn._cache._cache_file._load_index()):
-            todo.append((fn, path))
-    return todo
-
-
-def _compile(fn, path, stamp):
-    """Drop the cached code of ``fn``, compile it afresh (numba caches it) and stamp it."""
-    fn._cache.flush()
-    _warm(fn is loop)
+    """Whether the machine code on disk is missing or stale: numba keys its cache on this file
+    only, so a stamp of the rest (:func:`_stamp`) is kept beside it."""
     try:
-        with open(path, "w") as f:
+        with open(_stamp_file()) as f:
+            same = f.read() == stamp
+    except OSError:
+        same = False
+    return not (same and all(fn._cache._cache_file._load_index() for fn in (_values, loop)))
+
+
+def _compile(stamp):
+    """Drop the cached code, compile afresh (numba caches it) and stamp it."""
+    for fn in (_values, loop):
+        fn._cache.flush()
+    _warm()
+    try:
+        with open(_stamp_file(), "w") as f:
             f.write(stamp)
     except OSError:  # an unwritable cache: this process keeps what it compiled
         pass
 
 
-def _warm(parallel):
-    """Compile a driver (its one signature) by a call on the sketch of a four-bar."""
+def _warm():
+    """Compile the loop (its one signature) by a call on the sketch of a four-bar."""
     from planar.blocks import plan
     from planar.compiled import final
     from planar.mechanisms import four_bar
 
     model = four_bar().compile()
-    N = CHUNK + 1 if parallel else 1
-    q, U = np.repeat(model.q0[None], N, axis=0), np.repeat(model.u0[None], N, axis=0)
+    q, U = model.q0[None].copy(), model.u0[None].copy()
     final(model, plan(model), q, U, np.ones_like(U), np.zeros_like(U))
 
 
