@@ -9,7 +9,8 @@ Prints, for ``engine="numba"``:
 - a new mechanism structure in a warm process: the first sweep of a structure the process has
   not seen, over the second;
 - the four-bar of ``peers.py`` swept over N values of a turn, full kinematics, against the
-  vectorised closed form on the same inputs (best of interleaved rounds).
+  vectorised closed form on the same inputs (best of interleaved rounds; wall time, and the
+  process's CPU time over all threads, the fairer measure on a shared machine).
 
     nice python3 benchmarks/compile_speed.py --sizes 1e5 1e6 --rounds 3
 """
@@ -85,21 +86,21 @@ def new_structures(rounds):
 
 
 def sweeps(sizes, rounds):
-    """{N: (planar seconds, closed form seconds)}, best of interleaved rounds."""
+    """{N: [planar seconds, closed form seconds, planar CPU seconds, closed form CPU seconds]},
+    best of interleaved rounds (CPU: of the process, all threads)."""
     from planar.mechanisms import four_bar
 
     model = four_bar(*LENGTHS, coupler_point=(1.0, 0.8)).compile()
     model.sweep(np.linspace(0, 2 * np.pi, 3000), engine="numba")
-    best = {n: [np.inf, np.inf] for n in sizes}
+    best = {n: [np.inf] * 4 for n in sizes}
     for _ in range(rounds):
         for n in sizes:
             U = np.linspace(0, 2 * np.pi, n)
-            t = time.perf_counter()
-            model.sweep(U, engine="numba")
-            best[n][0] = min(best[n][0], time.perf_counter() - t)
-            t = time.perf_counter()
-            closed_form(U)
-            best[n][1] = min(best[n][1], time.perf_counter() - t)
+            for k, run in enumerate((lambda: model.sweep(U, engine="numba"), lambda: closed_form(U))):
+                t, c = time.perf_counter(), time.process_time()
+                run()
+                best[n][k] = min(best[n][k], time.perf_counter() - t)
+                best[n][k + 2] = min(best[n][k + 2], time.process_time() - c)
     return best
 
 
@@ -124,10 +125,11 @@ def main(argv=None):
     sizes = [int(n) for n in args.sizes]
     if sizes:
         print(f"four-bar {LENGTHS} + coupler point, full kinematics, best of {args.rounds} interleaved rounds")
-        print("|         N | numba ms | closed form ms | numba / closed |")
-        print("|-----------|----------|----------------|----------------|")
-        for n, (t, tc) in sweeps(sizes, args.rounds).items():
-            print(f"| {n:9.0e} | {t * 1e3:8.1f} | {tc * 1e3:14.1f} | {t / tc:14.2f} |")
+        print("|         N | numba ms | closed form ms | numba / closed | numba CPU ms | closed CPU ms | CPU ratio |")
+        print("|-----------|----------|----------------|----------------|--------------|---------------|-----------|")
+        for n, (t, tc, c, cc) in sweeps(sizes, args.rounds).items():
+            print(f"| {n:9.0e} | {t * 1e3:8.1f} | {tc * 1e3:14.1f} | {t / tc:14.2f} | {c * 1e3:12.1f} | "
+                  f"{cc * 1e3:13.1f} | {c / cc:9.2f} |")
 
 
 if __name__ == "__main__":
