@@ -13,6 +13,7 @@ Prints, for ``engine="numba"``:
   process's CPU time over all threads, the fairer measure on a shared machine).
 
     nice python3 benchmarks/compile_speed.py --sizes 1e5 1e6 --rounds 3
+    nice python3 benchmarks/compile_speed.py --threads 1   # on a shared machine: no waiting threads
 """
 
 import argparse
@@ -108,9 +109,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=float, nargs="*", default=[1e5, 1e6], help="sweep sizes N against the closed form")
     ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (the best is kept)")
+    ap.add_argument("--threads", type=int, help="numba's threads for the sweeps (default: all cores)")
     args = ap.parse_args(argv)
     import numba
 
+    if args.threads:
+        numba.set_num_threads(args.threads)
     print(f"compiled engine (numba {numba.__version__}, {numba.get_num_threads()} threads)")
     with tempfile.TemporaryDirectory() as cache:
         (imp, ready, first, second), cpu = in_new_process(cache)
