@@ -68,7 +68,8 @@ Tables = namedtuple("Tables", [
     # per block: det0, lam's constant part, and a block of constants' normalised det
     "det0", "lam_c", "det_c",
     # sizes: bodies, rows, coordinates, Jacobian values (the last a zero), the largest block,
-    # the largest Schur complement, the most variables of a block
+    # the largest Schur complement, the most variables of a block, the most rows and bodies of a
+    # joint
     "dims",
 ])
 # the blk columns: size, offset into eqs/cols/brs/bcs and the norm's rows, upstream count and
@@ -76,7 +77,7 @@ Tables = namedtuple("Tables", [
 # offset, steps' count and offset, lam's variables' count and offset, flags
 (B_K, B_O, B_NW, B_UO, B_CO, B_NV, B_VO, B_NF, B_FO, B_R, B_RO, B_NS, B_SO, B_NL, B_LO, B_ANGLE, B_LENGTHS,
  B_WEIGHTED) = range(18)
-D_BODIES, D_M, D_N, D_NNZ, D_KMAX, D_RMAX, D_NV = range(7)
+D_BODIES, D_M, D_N, D_NNZ, D_KMAX, D_RMAX, D_NV, D_JROWS, D_JBODIES = range(9)
 
 
 def check(plan):
@@ -195,7 +196,8 @@ def tables(model, plan):
                              if (e := start + k + (r * nc + col) * K) in read])
     nj = len(J["code"])
     par = np.zeros((nj, max([len(p) for p in J["par"]] + [1])))
-    jc, jrows, slots = np.zeros((nj, 2)), np.zeros((nj, 2), np.int64), np.zeros((nj, 3), np.int64)
+    jr, jb = max(J["nr"] + [1]), max([len(b) for b in J["slots"]] + [1])
+    jc, jrows, slots = np.zeros((nj, jr)), np.zeros((nj, jr), np.int64), np.zeros((nj, jb), np.int64)
     for j in range(nj):
         par[j, : len(J["par"][j])], jc[j, : len(J["jc"][j])] = J["par"][j], J["jc"][j]
         jrows[j, : len(J["jrows"][j])], slots[j, : len(J["slots"][j])] = J["jrows"][j], J["slots"][j]
@@ -267,7 +269,8 @@ def tables(model, plan):
         i64(plan.rows), model.row_scale[plan.rows].astype(float), i64(plan.drivers), i64(plan.driver_inputs),
         i64(plan.cols), model.col_scale[plan.cols].astype(float), i64(red), model.row_scale[red].astype(float),
         blk, **flat, det0=det0, lam_c=lam_c, det_c=det_c,
-        dims=i64([sysm.n_bodies, sysm.m, model.n, nnz, kmax, rmax, max([P.var.shape[0] for P, _ in progs] + [1])]))
+        dims=i64([sysm.n_bodies, sysm.m, model.n, nnz, kmax, rmax, max([P.var.shape[0] for P, _ in progs] + [1]), jr,
+                  jb]))
 
 
 __all__ = ["check", "final", "fill", "tables", "Tables"]

@@ -16,7 +16,7 @@ import numba
 import numpy as np
 from numba.extending import register_jitable
 
-from planar.compiled import CHUNK, D_BODIES, D_KMAX, D_M, D_N, D_NNZ, D_NV, D_RMAX, kinds
+from planar.compiled import CHUNK, D_BODIES, D_JBODIES, D_JROWS, D_KMAX, D_M, D_N, D_NNZ, D_NV, D_RMAX, kinds
 from planar.compiled import B_ANGLE, B_CO, B_FO, B_K, B_LENGTHS, B_LO, B_NF, B_NL, B_NS, B_NV, B_NW, B_O, B_R
 from planar.compiled import B_RO, B_SO, B_UO, B_VO, B_WEIGHTED
 from planar.events import NEAR, SINGULAR
@@ -196,7 +196,8 @@ def _evaluate(T, q, u, fb, Phi, Jv, c, phi, jac, ref, near):
     """Phi at q, and the Jacobian entries factor and solve read into Jv: each joint's kernel."""
     _frames(q, q, False, fb, ref, near)
     for j in range(T.code.size):
-        c[0], c[1] = T.jc[j, 0], T.jc[j, 1]
+        for r in range(c.size):
+            c[r] = T.jc[j, r]
         if T.inp[j] >= 0:
             c[0] = u[T.inp[j]]
         _rows(T.code[j], T.par[j], c, fb, T.slots[j], phi, jac)
@@ -211,7 +212,8 @@ def _gammas(T, q, qd, u, fb, Phi, c, g, ref, near):
     """gamma at q and the velocities qd into Phi: each joint's gamma kernel."""
     _frames(q, qd, True, fb, ref, near)
     for j in range(T.code.size):
-        c[0], c[1] = T.jc[j, 0], T.jc[j, 1]
+        for r in range(c.size):
+            c[r] = T.jc[j, r]
         if T.inp[j] >= 0:
             c[0] = u[T.inp[j]]
         _gamma(T.code[j], T.par[j], c, fb, T.slots[j], g)
@@ -498,10 +500,11 @@ def _buffers(T):
     A, P, E, V = np.empty((nb, rmax, rmax)), np.empty((nb, rmax), np.int64), np.empty(T.form0.size + 1), \
         np.empty(D[D_NV] + 1)
     _constants(T, A, P, E, V)
-    return (fb, np.empty(2), np.empty(2), np.empty((2, 9)), np.empty(2), np.zeros(D[D_M]), np.zeros(D[D_NNZ]),
-            np.empty(T.prow.size), np.zeros(D[D_N] + 1), np.empty(kmax), np.empty(rmax), A, P, np.empty(D[D_N]),
-            np.empty(D[D_N]), np.empty(nb, np.int8), np.empty(nb), np.zeros((D[D_BODIES], 3)), E, V, np.empty(rmax),
-            np.empty(kmax), 1.0 / T.cs)
+    jr = D[D_JROWS]  # a joint's row constants, rows, Jacobian block and gamma
+    return (fb, np.empty(jr), np.empty(jr), np.empty((jr, 3 * D[D_JBODIES])), np.empty(jr), np.zeros(D[D_M]),
+            np.zeros(D[D_NNZ]), np.empty(T.prow.size), np.zeros(D[D_N] + 1), np.empty(kmax), np.empty(rmax), A, P,
+            np.empty(D[D_N]), np.empty(D[D_N]), np.empty(nb, np.int8), np.empty(nb), np.zeros((D[D_BODIES], 3)), E,
+            V, np.empty(rmax), np.empty(kmax), 1.0 / T.cs)
 
 
 @numba.njit(**dict(_JIT, parallel=True))
