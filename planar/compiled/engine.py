@@ -490,9 +490,10 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
             QDD[i, :] = np.nan
 
 
-@_inline
+@numba.njit(**_JIT)
 def _buffers(T):
-    """The work arrays of one thread's values (:func:`_values`)."""
+    """The work arrays of one thread's values (:func:`_values`). Compiled apart: inlined into the
+    parallel loop, its array expressions would each start the threads, even for a chunk or less."""
     D = T.dims
     nb, kmax, rmax = T.blk.shape[0], D[D_KMAX], D[D_RMAX]
     fb = np.zeros((D[D_BODIES], 8))
