@@ -3,7 +3,7 @@ planar/ where that extra cannot be imported (their tests skip themselves)."""
 
 import importlib.util
 
-OPTIONAL = {"planar/cluster.py": ("dask.distributed", "zarr"), "planar/compiled.py": ("numba",)}
+OPTIONAL = {"planar/cluster.py": ("dask.distributed", "zarr"), "planar/compiled/engine.py": ("numba",)}
 
 
 def _importable(name):

@@ -100,23 +100,21 @@ def test_compiled_sweeps_of_random_dimensions_equal_the_numpy_sweeps(desc):
     assert_same_sweeps(model, model.u0[0] + np.linspace(0, 2 * np.pi, 600))
 
 
-def test_designs_of_one_structure_share_one_compiled_loop():
-    models = [four_bar(4, 2, 3.5, 3).compile(), four_bar(5, 1.5, 4, 3.5).compile()]
-    T = [compiled.tables(m, plan(m)) for m in models]
-    assert not np.array_equal(T[0].par, T[1].par)
-    assert compiled.source(T[0]) == compiled.source(T[1])  # lengths, scales, sketch constants: data
-
-
 @pytest.mark.numba
-def test_a_sweep_compiles_each_driver_once():
+def test_every_structure_runs_on_one_compiled_loop():
     # every call of the loop (final steps, anchors' Newton, the bulk pass, with and without
-    # rates) passes the same types: one machine-code specialisation per driver, not one per use
-    model = four_bar(4, 2, 3.5, 3, coupler_point=(1.0, 0.8)).compile()
-    for n in (100, 3000):
-        model.sweep(np.linspace(0, 2 * np.pi, n), engine="numba")
-        model.sweep(np.linspace(0, 2 * np.pi, n), engine="numba", rates=False)
-    module = compiled._module(model, plan(model))
-    assert len(module.loop.signatures) == 1 and len(module.serial.signatures) == 1
+    # rates) of any mechanism passes the same types: one machine-code specialisation, compiled
+    # once, not one per structure or use
+    from planar.compiled import engine
+
+    for model in (four_bar(4, 2, 3.5, 3, coupler_point=(1.0, 0.8)).compile(), geared_five_bar().compile(),
+                  slider_crank(2, 5, offset=1, driver="slider").compile()):
+        for n in (100, 3000):
+            model.sweep(np.linspace(0, 1, n) + model.u0[0], engine="numba")
+            model.sweep(np.linspace(0, 1, n) + model.u0[0], engine="numba", rates=False)
+    assert len(engine.loop.signatures) == 1
+    assert not engine._missing(engine._stamp())  # on disk, for the kernels as they are
+    assert engine._missing("kernels changed")  # a change to them: compiled afresh
 
 
 @pytest.mark.numba
@@ -160,14 +158,18 @@ def test_compiled_engine_without_numba_is_a_named_error(monkeypatch):
         four_bar().sweep([0.0, 0.1], engine="numba")
 
 
-def test_a_new_structure_says_it_compiles(tmp_path, monkeypatch, capsys):
-    # a cache with no machine code of the source: the first sweep would compile, and says so
-    monkeypatch.setattr(compiled, "_cache_dir", lambda: tmp_path)
-    compiled._load(f"X = {tmp_path.name!r}\n")
-    assert "compiling the numba engine for this mechanism structure" in capsys.readouterr().err
-    cached = next(tmp_path.glob("plan_*.py"))
-    (tmp_path / "__pycache__").mkdir()
-    (tmp_path / "__pycache__" / f"{cached.stem}.loop-1.py311.nbi").touch()
-    sys.modules.pop(f"planar_{cached.stem}")
-    compiled._load(f"X = {tmp_path.name!r}\n")  # machine code on disk: loaded, not compiled
-    assert capsys.readouterr().err == ""
+@pytest.mark.numba
+def test_the_one_off_compile_says_so(monkeypatch, capsys):
+    # no machine code on disk: the first sweep compiles the engine, and says so
+    from planar.compiled import engine
+
+    done = []
+    monkeypatch.setattr(engine, "_ready", False)
+    monkeypatch.setattr(engine, "_missing", lambda stamp: True)
+    monkeypatch.setattr(engine, "_compile", lambda stamp: done.append(stamp))
+    engine.ready()
+    err = capsys.readouterr().err
+    assert done == [engine._stamp()]
+    assert "compiling the numba engine, once per installation" in err and "compiled the numba engine in" in err
+    engine.ready()  # once per process
+    assert capsys.readouterr().err == "" and len(done) == 1

@@ -137,12 +137,9 @@ def test_the_entries_a_kernel_may_skip_are_the_same_for_every_joint_and_pose(cls
 
 @pytest.mark.parametrize("cls", JOINT_TYPES, ids=lambda c: c.__name__)
 def test_scalar_kernels_equal_the_numpy_kernels(cls):
-    """The compiled path's kernels (planar/joints/scalar.py: one joint at one configuration)
-    give the numpy kernels' rows, Jacobian blocks and gamma, joint by joint."""
-    from planar.joints import scalar
-
-    keys, kernel, gamma = scalar.KERNELS[cls]
-    kernel, gamma = getattr(scalar, kernel), getattr(scalar, gamma)
+    """The compiled engine's kernels (each class's ``scalar_kernels``: one joint at one
+    configuration) give the numpy kernels' rows, Jacobian blocks and gamma, joint by joint."""
+    keys, kernel, gamma = cls.scalar_kernels
     rng = np.random.default_rng(5)
     P = group(cls, rng)
     P["c"] = rng.uniform(-1, 1, P["c"].shape)

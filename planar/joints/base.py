@@ -53,6 +53,9 @@ class Joint:
     length_rows: ClassVar[tuple]  # per row: True for a length, False for an angle
     sketch_rows: ClassVar[tuple] = ()  # rows whose constant c comes from the assembled sketch
     is_driver: ClassVar[bool] = False
+    # the scalar kernels of the compiled engine (planar.joints.scalar): (the parameters they read,
+    # kernel, gamma kernel); None: engine="numba" refuses the type
+    scalar_kernels: ClassVar[tuple | None] = None
 
     def __init__(self, name, bodies, **data):
         self.name = name

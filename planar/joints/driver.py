@@ -9,12 +9,42 @@ import numpy as np
 from planar.errors import FileFormatError
 from planar.geometry import cross_cf, dot_cf
 from planar.joints.base import LOCK, Joint, line_of, line_params
+from planar.joints import scalar
+
+
+# ---- the scalar kernels (planar.joints.scalar): one joint at one configuration, for the
+# compiled engine
+
+
+def travel_driver(p, c, f, s, phi, jac):
+    phi[0] = scalar.t_row(p, f, s, jac, 0) - c[0]  # the travel u.d
+
+
+def travel_driver_gamma(p, c, f, s, g):
+    g[0] = scalar.line_gammas(p, f, s)[1]
+
+
+def angle_driver(p, c, f, s, phi, jac):
+    scalar.lock_row(jac, 0)
+    phi[0] = f[s[1], 2] - f[s[0], 2] - c[0]
+
+
+def coordinate_driver(p, c, f, s, phi, jac):
+    sx, sy = scalar.vec(f, s, 0, p[0], p[1])
+    phi[0] = (f[s[0], 0] + sx) * p[2] + (f[s[0], 1] + sy) * p[3] - c[0]
+    jac[0, 0], jac[0, 1], jac[0, 2] = p[2], p[3], sx * p[3] - sy * p[2]
+
+
+def coordinate_driver_gamma(p, c, f, s, g):
+    sx, sy = scalar.vec(f, s, 0, p[0], p[1])
+    g[0] = (sx * p[2] + sy * p[3]) * f[s[0], 7] * f[s[0], 7]
 
 
 class AngleDriver(Joint):
     """Relative angle phi_b - phi_a (a revolute's angle; with a = ground, b's absolute angle)."""
 
     n_rows = 1
+    scalar_kernels = ((), angle_driver, scalar.linear_gamma)
     n_bodies = 2
     length_rows = (False,)
     is_driver = True
@@ -51,6 +81,7 @@ class TravelDriver(Joint):
     """Travel u.d of a point of body b along a line of body a, from the line's origin."""
 
     n_rows = 1
+    scalar_kernels = (("s", "u"), travel_driver, travel_driver_gamma)
     n_bodies = 2
     length_rows = (True,)
     is_driver = True
@@ -80,6 +111,7 @@ class CoordinateDriver(Joint):
     """World coordinate e.P of a body point along the fixed unit axis e (x or y)."""
 
     n_rows = 1
+    scalar_kernels = (("s", "e"), coordinate_driver, coordinate_driver_gamma)
     n_bodies = 1
     length_rows = (True,)
     is_driver = True

@@ -9,6 +9,40 @@ import numpy as np
 
 from planar.geometry import Frames, cross_cf, dot_cf, perp_cf
 from planar.joints.base import Joint, pair_rates, pair_row, point_pair, wrap, xy
+from planar.joints import scalar
+
+
+# ---- the scalar kernels (planar.joints.scalar): one joint at one configuration, for the
+# compiled engine
+
+
+def carrier_gear(p, c, f, s, phi, jac):
+    Ri, Rj = p[0], p[1]
+    phi[0] = Ri * (f[s[0], 2] - f[s[2], 2]) + Rj * (f[s[1], 2] - f[s[2], 2]) - c[0]
+    for k in range(9):
+        jac[0, k] = 0.0
+    jac[0, 2], jac[0, 5], jac[0, 8] = Ri, Rj, -(Ri + Rj)
+
+
+def gear(p, c, f, s, phi, jac):
+    phi[0] = scalar.rolling(p, c[0], f, s, jac, 0)[0]
+
+
+def gear_gamma(p, c, f, s, g):
+    g[0] = scalar.rolling_gamma(p, f, s)[0]
+
+
+def rolling_contact(p, c, f, s, phi, jac):
+    row, dx, dy, sax, say, sbx, sby = scalar.rolling(p, c[1], f, s, jac, 1)
+    D = abs(p[4] + p[5])
+    phi[0], phi[1] = (dx * dx + dy * dy - D * D) / (2 * D) - c[0], row
+    scalar.pair_row(jac, 0, dx / D, dy / D, (dx * say - dy * sax) / D, (sbx * dy - sby * dx) / D)
+
+
+def rolling_contact_gamma(p, c, f, s, g):
+    roll, dx, dy, ddx, ddy, qx, qy = scalar.rolling_gamma(p, f, s)
+    g[0] = -(ddx * ddx + ddy * ddy + dx * qx + dy * qy) / abs(p[4] + p[5])
+    g[1] = roll
 
 
 class CarrierGear(Joint):
@@ -21,6 +55,7 @@ class CarrierGear(Joint):
     """
 
     n_rows = 1
+    scalar_kernels = (("R",), carrier_gear, scalar.linear_gamma)
     n_bodies = 3
     length_rows = (True,)
     sketch_rows = (0,)
@@ -196,6 +231,7 @@ class Gear(Joint):
     """
 
     n_rows = 1
+    scalar_kernels = (("s", "R"), gear, gear_gamma)
     n_bodies = 2
     length_rows: ClassVar[tuple] = (True,)
     sketch_rows = (0,)
@@ -252,6 +288,7 @@ class RollingContact(Gear):
     contact row ``(d.d - D^2) / (2 D) = 0`` that holds the centre distance D = |R_i + s R_j|."""
 
     n_rows = 2
+    scalar_kernels = (("s", "R"), rolling_contact, rolling_contact_gamma)
     length_rows = (True, True)
     sketch_rows = (1,)
 

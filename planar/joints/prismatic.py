@@ -5,10 +5,33 @@ from typing import ClassVar
 import numpy as np
 
 from planar.joints.base import LOCK, Joint, line_of, line_params, xy
+from planar.joints import scalar
 from planar.joints.driver import TravelDriver
 
 # the file fields of a line joint: the pin's sketch point, the line's direction and origin
 LINE_FIELDS = {"at": ("point", True), "direction": ("vector", True), "origin": ("point", False)}
+
+
+# ---- the scalar kernels (planar.joints.scalar): one joint at one configuration, for the
+# compiled engine
+
+
+def slot(p, c, f, s, phi, jac):
+    phi[0] = scalar.h_row(p, f, s, jac, 0) - c[0]  # the normal distance n.d
+
+
+def slot_gamma(p, c, f, s, g):
+    g[0] = scalar.line_gammas(p, f, s)[0]
+
+
+def prismatic(p, c, f, s, phi, jac):
+    slot(p, c, f, s, phi, jac)  # and the relative angle locked
+    scalar.lock_row(jac, 1)
+    phi[1] = f[s[1], 2] - f[s[0], 2] - c[1]
+
+
+def prismatic_gamma(p, c, f, s, g):
+    g[0], g[1] = scalar.line_gammas(p, f, s)[0], 0.0
 
 
 class Slot(Joint):
@@ -18,6 +41,7 @@ class Slot(Joint):
     """
 
     n_rows = 1
+    scalar_kernels = (("s", "u"), slot, slot_gamma)
     n_bodies = 2
     length_rows: ClassVar[tuple] = (True,)
 
@@ -86,6 +110,7 @@ class Prismatic(Slot):
     sketch value (second row, an angle)."""
 
     n_rows = 2
+    scalar_kernels = (("s", "u"), prismatic, prismatic_gamma)
     length_rows = (True, False)
     sketch_rows = (1,)
 

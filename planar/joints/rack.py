@@ -3,6 +3,24 @@
 import numpy as np
 
 from planar.joints.base import Joint, line_of, xy
+from planar.joints import scalar
+
+
+# ---- the scalar kernels (planar.joints.scalar): one joint at one configuration, for the
+# compiled engine
+
+
+def rack_pinion(p, c, f, s, phi, jac):
+    sR = p[6]
+    phi[0] = scalar.h_row(p, f, s, jac, 0) - c[0]
+    phi[1] = scalar.t_row(p, f, s, jac, 1) + sR * (f[s[1], 2] - f[s[0], 2]) - c[1]
+    jac[1, 2] -= sR
+    jac[1, 5] += sR
+
+
+def rack_pinion_gamma(p, c, f, s, g):
+    g[0], g[1] = scalar.line_gammas(p, f, s)
+
 
 # the file fields of a circle rolling on a line: its radius and centre, the line, and the side
 CONTACT_FIELDS = {"radius": ("positive", True), "centre": ("point", True), "through": ("point", True),
@@ -19,6 +37,7 @@ class RackPinion(Joint):
     """
 
     n_rows = 2
+    scalar_kernels = (("s", "u", "sR"), rack_pinion, rack_pinion_gamma)
     n_bodies = 2
     length_rows = (True, True)
     sketch_rows = (1,)

@@ -3,6 +3,25 @@
 import numpy as np
 
 from planar.joints.base import Joint, pair_blocks, point_pair, xy
+from planar.joints import scalar
+
+
+# ---- the scalar kernels (planar.joints.scalar): one joint at one configuration, for the
+# compiled engine
+
+
+def revolute(p, c, f, s, phi, jac):
+    dx, dy, sax, say, sbx, sby = scalar.pair(p, f, s)
+    phi[0], phi[1] = dx - c[0], dy - c[1]
+    jac[0, 0], jac[0, 1], jac[0, 2], jac[0, 3], jac[0, 4], jac[0, 5] = -1.0, 0.0, say, 1.0, 0.0, -sby
+    jac[1, 0], jac[1, 1], jac[1, 2], jac[1, 3], jac[1, 4], jac[1, 5] = 0.0, -1.0, -sax, 0.0, 1.0, sbx
+
+
+def revolute_gamma(p, c, f, s, g):
+    sax, say = scalar.vec(f, s, 0, p[0], p[1])
+    sbx, sby = scalar.vec(f, s, 1, p[2], p[3])
+    wa2, wb2 = f[s[0], 7] * f[s[0], 7], f[s[1], 7] * f[s[1], 7]
+    g[0], g[1] = sbx * wb2 - sax * wa2, sby * wb2 - say * wa2
 
 
 class Revolute(Joint):
@@ -13,6 +32,7 @@ class Revolute(Joint):
     """
 
     n_rows = 2
+    scalar_kernels = (("s",), revolute, revolute_gamma)
     n_bodies = 2
     length_rows = (True, True)
 

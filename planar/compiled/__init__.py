@@ -1,0 +1,276 @@
+"""The compiled engine (``engine="numba"``, the ``fast`` extra): a sweep's per-value work in one
+loop of machine code, compiled once per installation.
+
+The numpy engine evaluates, factors and solves a whole batch of configurations per numpy call;
+its floor is the calls' passes over memory. Here the same plan (the block-triangular form of
+:mod:`planar.blocks`, with the same scaling, elimination programs and singularity measure)
+runs one configuration at a time. The loop is ordinary source, generic over the plan:
+:func:`tables` flattens a plan into arrays (each joint's type code, parameters, bodies and
+where its Jacobian entries go; each block's size, couplings and elimination program), and the
+loop reads them. Each joint type's scalar kernel comes from its class (``scalar_kernels``, see
+:mod:`planar.joints.scalar`); the loop picks it by the joint's type code, its index in
+:func:`kinds`, so the solver still never asks a joint's type. The blocks'
+Schur complements are factored by one LU with the sizes that occur (1 and 2) written out.
+
+Two entries: :func:`final` (one Newton step from given poses, with modes and rates: the
+anchors' Newton iterations and kinematic coefficients) and :func:`fill` (the bulk of a sweep:
+each value's Hermite guess, up to STEPS Newton steps, the acceptance test, status and rates,
+written in place into the sweep's arrays). Both call the one loop (chunks of values on all
+cores; a chunk or less on the calling thread).
+
+numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside
+:mod:`planar.compiled.engine`, or where ``NUMBA_CACHE_DIR`` says, or numba's user cache
+directory when the installed package is not writable): the first sweep of an installation
+compiles (saying so on stderr), every later one, of any mechanism, loads it. numba keys the
+cache on the engine's file; a stamp of the kernels' source beside it drops it when a kernel
+changes.
+
+Results agree with the numpy engine to rounding (the same operations per step; but for a bulk
+value's cos and sin, taken from its anchor's by angle addition, reciprocals where the numpy
+engine divides, the singularity measure from the blocks' squared normalised dets, one square
+root per value, and products and sums fused into multiply-adds where the compiler finds them;
+the numpy engine takes a value's further Newton steps in its general solver; the tests compare
+the two on every joint type and on random linkages).
+"""
+
+import importlib.util
+import weakref
+from collections import namedtuple
+
+import numpy as np
+
+from planar.errors import InputError
+
+_TABLES = weakref.WeakKeyDictionary()
+CHUNK = 1024  # values per task of the parallel loop (a call with fewer runs on one thread)
+STEPS = 4  # Newton steps a batch value may take in the loop (while its last step is below engine.CLOSE)
+
+Tables = namedtuple("Tables", [
+    # joints: type code, number of rows, input column (-1: none), parameters, row constants, the
+    # plan's rows they write, their bodies; the Jacobian entries read: joint j's are
+    # jac_at[j]:jac_at[j + 1], each entry (row, column) of its block to Jv[jac_to]
+    "code", "nr", "inp", "par", "jc", "jrows", "slots", "jac_at", "jac_r", "jac_c", "jac_to",
+    # the plan's rows and their scales; its driver rows and their input columns; the columns
+    # solved and their scales; the redundant rows and their scales
+    "prow", "rs", "drv", "drv_inp", "pcols", "cs", "red", "red_scale",
+    # blocks: per block its fields (the B_ columns below); flat: equations, columns and their
+    # scales; upstream columns; coupling entries
+    "blk", "eqs", "cols", "brs", "bcs", "up", "coup",
+    # the elimination programs (planar.elimination.Program), flat: the variables' value slots
+    # and scales; per form its constant and terms (form_at: where each form's terms start);
+    # the Schur complement's rows and columns; per constant-column step its pivot row and
+    # column, 1 / pivot and the ranges of its multipliers (row, multiplier) and its pivot row's
+    # (column, form); per row of the det's norm its constants and squared variables
+    # (unweighted and weighted); lam's variables
+    "var", "vscale", "form0", "form_at", "term_v", "term_c", "srows", "scols",
+    "st_p", "st_c", "st_inv", "mul_at", "mul_i", "mul_m", "us_at", "us_j", "us_f",
+    "nc0", "nc1", "n0_at", "n0_v", "n1_at", "n1_v", "lam_v",
+    # per block: det0, lam's constant part, and a block of constants' normalised det
+    "det0", "lam_c", "det_c",
+    # sizes: bodies, rows, coordinates, Jacobian values (the last a zero), the largest block,
+    # the largest Schur complement, the most variables of a block, the most rows and bodies of a
+    # joint
+    "dims",
+])
+# the blk columns: size, offset into eqs/cols/brs/bcs and the norm's rows, upstream count and
+# offset, offset of coup, variables' count and offset, forms' count and offset, Schur size and
+# offset, steps' count and offset, lam's variables' count and offset, flags
+(B_K, B_O, B_NW, B_UO, B_CO, B_NV, B_VO, B_NF, B_FO, B_R, B_RO, B_NS, B_SO, B_NL, B_LO, B_ANGLE, B_LENGTHS,
+ B_WEIGHTED) = range(18)
+D_BODIES, D_M, D_N, D_NNZ, D_KMAX, D_RMAX, D_NV, D_JROWS, D_JBODIES = range(9)
+
+
+def check(plan):
+    """Raise :class:`InputError` unless the compiled engine can run ``plan``."""
+    if importlib.util.find_spec("numba") is None:
+        raise InputError("engine='numba' needs numba: pip install 'planar-kinematics[fast]', or use engine='numpy'")
+    missing = sorted({g.kind.__name__ for g in plan.system.groups if g.kind.scalar_kernels is None})
+    if missing:
+        raise InputError(f"engine='numba': joint type(s) {missing} have no scalar kernels (the class's "
+                         f"scalar_kernels, planar/joints/scalar.py); use engine='numpy'")
+
+
+def kinds():
+    """The joint types the engine compiles, in the order of their type codes."""
+    from planar.joints import JOINT_TYPES
+
+    return tuple(cls for cls in JOINT_TYPES if cls.scalar_kernels is not None)
+
+
+def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0):
+    """One Newton step from guesses q (N, n) and, at the corrected poses, the rates with the
+    factorisation at the guesses, as the numpy engine's ``planar.sweep._step`` computes them: a
+    dict of q, qd, qdd, the scaled residual at the guess ``res``, the scaled ``step`` and
+    ``off`` (the same over its finite components: how far the pose moved), the blocks' det
+    ``signs``, the largest scaled redundant row ``red``, the singularity measure ``sing``, the
+    ``branch`` (the product of the signs) and ``iters``. With ``steps`` > 1, Newton: up to that
+    many steps, each value until its residual is below ``tol`` and its step below ``step_tol``
+    (or its pose is no longer finite), the dict's values those of its last step."""
+    N = q.shape[0]
+    T, run = _compiled(model, plan)
+    n, nb = T.dims[D_N], T.blk.shape[0]
+    q = np.array(q, dtype=float, order="C")
+    qd, qdd = (np.empty((N, n)), np.empty((N, n))) if rates else (np.empty((0, n)), np.empty((0, n)))
+    res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
+    signs, iters = np.empty((N, nb), np.int8), np.empty(N, np.int64)
+    no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
+    run(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, n)), np.zeros((0, nb), np.int8), float(tol),
+        float(step_tol), q, np.require(U, float, ("C", "W")), _rates_in(Ud), _rates_in(Udd), bool(rates), qd, qdd,
+        res, signs, sing, branch, step, off, red, no_b, np.zeros(0, np.int8), iters, no_b, no_b, T)
+    if not rates:  # as the numpy engine: one read-only NaN
+        qd = qdd = np.broadcast_to(np.nan, q.shape)
+    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch,
+                iters=iters)
+
+
+def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
+    """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between the
+    anchors around each, G[a] < row <= G[a + 1] (an anchor among them from the interval before
+    it, the first from the one after it), where ``adj[a]`` says the two bound one stretch (G
+    sorted; P the interpolants' coefficients of ``planar.sweep._quintic``, SA the anchors'
+    modes), with ``planar.sweep``'s final step and acceptance test: where a value passes, its
+    pose, rates, residual, modes, singularity, branch and status are written into the sweep's arrays
+    (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
+    solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
+    the general path, but for solved anchors among them, which keep their poses and modes."""
+    T, run = _compiled(model, plan)
+    ok = np.empty(rows.size, bool)
+    no = np.zeros(0)
+    S = sweep
+    run(np.ascontiguousarray(rows, np.int64), True, STEPS, np.ascontiguousarray(adj, bool),
+        np.ascontiguousarray(G, np.int64), np.ascontiguousarray(P, float), np.ascontiguousarray(SA, np.int8),
+        float(tol), 0.0, S["q"], S["U"], _rates_in(S["Ud"]), _rates_in(S["Udd"]), bool(rates), S["qd"], S["qdd"],
+        S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"], S["iters"], S["solved"], S["done"],
+        T)
+    return ok
+
+
+def _rates_in(a):
+    """Input rates (N, f) as the loop reads them, C-contiguous and writeable (numba compiles
+    read-only arrays apart): their one row where they repeat one row (a rate given once:
+    ``planar.Model._inputs``), which the loop reads for every value."""
+    if a.ndim == 2 and a.shape[0] > 1 and a.strides[0] == 0:
+        a = a[:1]
+    return np.require(a, float, ("C", "W"))
+
+
+def _compiled(model, plan):
+    """The tables and the loop."""
+    from planar.compiled import engine
+
+    if plan not in _TABLES:
+        _TABLES[plan] = tables(model, plan)
+    engine.ready()
+    return _TABLES[plan], engine.loop
+
+
+def tables(model, plan):
+    """The plan flattened into the arrays the loop reads (:class:`Tables`)."""
+    sysm = plan.system
+    nnz = sysm.entries[0].size + 1
+    B = plan.blocks
+    read = set()  # the Jacobian entries factor and solve read (the others are constants of the programs)
+    progs = [None] * len(B)
+    for st in plan.stages:
+        for g, b in enumerate(st.index):
+            progs[b] = (st.program, g)
+            read |= {int(v) for v in st.program.var[:, g]}
+    for blk in B:
+        read |= {int(e) for e in blk.coup}
+    read.discard(nnz - 1)
+    J = {k: [] for k in ("code", "nr", "inp", "par", "jc", "jrows", "slots", "jac")}
+    for g, (start, _, (n_rows, _, K)) in zip(sysm.groups, sysm._blocks):
+        keys = g.kind.scalar_kernels[0]
+        flat = [np.asarray(g.P[key], float).reshape(K, -1) for key in keys]
+        flat = np.concatenate(flat, axis=1) if flat else np.zeros((K, 0))
+        nc = 3 * g.bodies.shape[1]
+        for k in range(K):
+            J["code"].append(kinds().index(g.kind))
+            J["nr"].append(n_rows)
+            J["inp"].append(int(g.inputs[k]))
+            J["par"].append(flat[k])
+            J["jc"].append(np.asarray(g.P["c"][k], float).reshape(-1))
+            J["jrows"].append([int(r) for r in g.rows[k]])
+            J["slots"].append([int(b) for b in g.bodies[k]])
+            J["jac"].append([(r, col, e) for r in range(n_rows) for col in range(nc)
+                             if (e := start + k + (r * nc + col) * K) in read])
+    nj = len(J["code"])
+    par = np.zeros((nj, max([len(p) for p in J["par"]] + [1])))
+    jr, jb = max(J["nr"] + [1]), max([len(b) for b in J["slots"]] + [1])
+    jc, jrows, slots = np.zeros((nj, jr)), np.zeros((nj, jr), np.int64), np.zeros((nj, jb), np.int64)
+    for j in range(nj):
+        par[j, : len(J["par"][j])], jc[j, : len(J["jc"][j])] = J["par"][j], J["jc"][j]
+        jrows[j, : len(J["jrows"][j])], slots[j, : len(J["slots"][j])] = J["jrows"][j], J["slots"][j]
+    jac = [e for entries in J["jac"] for e in entries]
+    red = np.asarray(model.redundant_rows, int)
+    L = {k: [] for k in Tables._fields}
+    blk = np.zeros((len(B), 18), np.int64)
+    det0, lam_c, det_c = np.zeros(len(B)), np.zeros(len(B)), np.zeros(len(B))
+    for b, (block, (P, g)) in enumerate(zip(B, progs)):
+        nv, r = P.var.shape[0], len(P.rows)
+        blk[b, [B_K, B_O, B_NW, B_UO, B_CO]] = block.size, len(L["eqs"]), block.up.size, len(L["up"]), len(L["coup"])
+        blk[b, [B_NV, B_VO, B_NF, B_FO, B_R, B_RO]] = nv, len(L["var"]), P.form0.size, len(L["form0"]), r, len(L["srows"])
+        L["eqs"] += list(block.eqs)
+        L["cols"] += list(block.cols)
+        L["brs"] += list(block.rscale)
+        L["bcs"] += list(block.cscale)
+        L["up"] += list(block.up)
+        L["coup"] += list(block.coup)
+        L["var"] += list(P.var[:, g])
+        L["vscale"] += list(P.vscale[:, g, 0])
+        for f in range(P.form0.size):
+            L["form_at"].append(len(L["term_v"]))
+            L["form0"].append(P.form0[f])
+            ks = np.flatnonzero(P.forms[f])
+            L["term_v"] += list(ks)
+            L["term_c"] += list(P.forms[f, ks])
+        L["srows"] += list(P.rows)
+        L["scols"] += list(P.cols)
+        blk[b, [B_NS, B_SO]] = len(P.steps), len(L["st_p"])
+        for p, c, d, mults, us in P.steps:
+            L["st_p"].append(p)
+            L["st_c"].append(c)
+            L["st_inv"].append(1.0 / d)
+            L["mul_at"].append(len(L["mul_i"]))
+            L["mul_i"] += [i for i, _ in mults]
+            L["mul_m"] += [m for _, m in mults]
+            L["us_at"].append(len(L["us_j"]))
+            L["us_j"] += [j for j, _ in us]
+            L["us_f"] += [f for _, f in us]
+        lam_cb, lam_vb, any_angle, lengths = P.lam
+        for i in range(P.k):
+            L["nc0"].append(P.c0[i])
+            L["nc1"].append(P.c1[i])
+            L["n0_at"].append(len(L["n0_v"]))
+            L["n0_v"] += list(np.flatnonzero(P.M0[i]))
+            L["n1_at"].append(len(L["n1_v"]))
+            L["n1_v"] += list(np.flatnonzero(P.M1[i]))
+        blk[b, [B_NL, B_LO, B_ANGLE, B_LENGTHS, B_WEIGHTED]] = (len(lam_vb), len(L["lam_v"]), any_angle, lengths,
+                                                                 P.weighted)
+        L["lam_v"] += list(lam_vb)
+        det0[b], lam_c[b] = P.det0, lam_cb
+        if nv == 0:  # a block of constants: its normalised det once (as the numpy engine factors it)
+            det_c[b] = P.constant[3][g, 0]
+    # the range ends, so that item i's run is at[i]:at[i + 1]
+    for at, items in (("form_at", "term_v"), ("mul_at", "mul_i"), ("us_at", "us_j"), ("n0_at", "n0_v"),
+                      ("n1_at", "n1_v")):
+        L[at].append(len(L[items]))
+    ints = ("eqs", "cols", "up", "coup", "var", "form_at", "term_v", "srows", "scols", "st_p", "st_c", "mul_at",
+            "mul_i", "us_at", "us_j", "us_f", "n0_at", "n0_v", "n1_at", "n1_v", "lam_v")
+    flat = {k: np.array(L[k], np.int64 if k in ints else float) for k in ints + (
+        "brs", "bcs", "vscale", "form0", "term_c", "st_inv", "mul_m", "nc0", "nc1")}
+    kmax = max([b.size for b in B] + [1])
+    rmax = max([len(P.rows) for P, _ in progs] + [1])
+    i64 = (lambda a: np.array(a, np.int64))
+    return Tables(
+        i64(J["code"]), i64(J["nr"]), i64(J["inp"]), par, jc, jrows, slots,
+        i64(np.cumsum([0] + [len(e) for e in J["jac"]])), i64([r for r, _, _ in jac]), i64([c for _, c, _ in jac]),
+        i64([e for _, _, e in jac]),
+        i64(plan.rows), model.row_scale[plan.rows].astype(float), i64(plan.drivers), i64(plan.driver_inputs),
+        i64(plan.cols), model.col_scale[plan.cols].astype(float), i64(red), model.row_scale[red].astype(float),
+        blk, **flat, det0=det0, lam_c=lam_c, det_c=det_c,
+        dims=i64([sysm.n_bodies, sysm.m, model.n, nnz, kmax, rmax, max([P.var.shape[0] for P, _ in progs] + [1]), jr,
+                  jb]))
+
+
+__all__ = ["check", "final", "fill", "tables", "Tables"]
