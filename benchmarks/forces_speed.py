@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from planar.blocks import plan  # noqa: E402
 from planar.mechanisms import four_bar, gear_train, slider_crank, watt_six_bar  # noqa: E402
-from planar.system import _chunks  # noqa: E402
+from planar.system import chunks  # noqa: E402
 from sweep_speed import rounds  # noqa: E402
 from tests.test_forces import add_mass_points, virtual_power  # noqa: E402
 
@@ -42,7 +42,7 @@ def case(build):
 def factors(p, res):
     """The kinematic block factors at the solved poses of ``res``, chunk by chunk as
     ``forces()`` forms them."""
-    for sl in _chunks(len(res)):
+    for sl in chunks(len(res)):
         p.factor(p.evaluate(res.q[sl], res.inputs[sl])[2], dets=False)
 
 

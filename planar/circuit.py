@@ -39,7 +39,7 @@ from planar.errors import AssemblyError, InputError
 from planar.events import Event, Tracer, status_of
 from planar.results import Status, Sweep
 from planar.solver import newton
-from planar.sweep import _Branch, _scale
+from planar.sweep import Branch, input_scale
 
 TURN = 2 * np.pi
 MAX_TURNS = 12  # input travel, in turns, after which a circuit that has not closed is given up
@@ -58,7 +58,7 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
     if not whole or samples < 2:
         raise InputError(f"circuit samples must be a whole number of at least 2, got {samples!r}")
     p = block_plan(model)
-    tr = Tracer(model, p, model.q0, model.u0, model.u0 + TURN / _scale(model)[0], max_step)
+    tr = Tracer(model, p, model.q0, model.u0, model.u0 + TURN / input_scale(model)[0], max_step)
     Y, T, limits, marks = _trace(model, p, tr, max_step, tol)
     bounds = np.r_[0, limits, len(Y) - 1].astype(int)
     if samples < bounds.size:
@@ -85,7 +85,7 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
     Ud, Udd = (rising * v)[:, None], (rising * a)[:, None]
     # the assembly mode each value must keep: that of the trace points around it, where
     # they agree (not across a limit or a singular position)
-    br = _Branch(model, p, tol)
+    br = Branch(model, p, tol)
     signs = br.signs(_poses(tr, Y), _inputs(tr, Y))
     mode = np.where(np.all(signs[k] == signs[k + 1], axis=1)[:, None], signs[k], np.nan)
     U, out = _solve(br, tr, y, t, mode, Ud, Udd, max_step, on_limit)
@@ -217,7 +217,7 @@ def _back_at_start(model, p, tr, y, y1, t1, phi, tol):
     if not y[-1] < s <= y1[-1]:
         return None
     w = (s - y[-1]) / (y1[-1] - y[-1])
-    u = (model.u0 + s / _scale(model)[0])[None]
+    u = (model.u0 + s / input_scale(model)[0])[None]
     q, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u, tol=tol, max_iter=20, plan=p)
     d = (q[0] - model.q0) / model.col_scale
     d[phi] = np.angle(np.exp(1j * (q[0] - model.q0)[phi]))

@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from planar.dimensions import _wrap
+from planar.joints.base import wrap
 from planar.joints import AngleDriver
 from planar.joints.base import SketchFrames
 from planar.model import (_PLACES, GROUND, Revolute, Slot, _char_length, _key, _mode_triangles, _origins,
@@ -165,12 +165,12 @@ def _assemble(t, pos, cons, spec, dims, starts, L, need):
     scale = np.where(angle, 1.0, 1.0 / Ls[:, None])
     now = values(X0)
     target = np.stack([r[3] if r[3] is not None else now[:, k] for k, r in enumerate(rows)], axis=1)
-    change = np.where(angle, _wrap(now - target), now - target)
+    change = np.where(angle, wrap(now - target), now - target)
     a, b = now, now - change
 
     def residuals(X, goal):
         r = values(X) - goal
-        return np.where(angle, _wrap(r), r) * scale
+        return np.where(angle, wrap(r), r) * scale
 
     z, alive, tt, dt = np.zeros((D, cols[-1])), np.ones(D, bool), 0.0, 0.125
     while tt < 1.0 and alive.any():
@@ -385,7 +385,7 @@ def _build(t, P, data, spec, dims, starts, at):
             continue
         if isinstance(c, AngleDriver):
             a, b = c.bodies
-            off = np.maximum(off, np.abs(_wrap(drawn[b] - drawn[a] - starts[c.name])))
+            off = np.maximum(off, np.abs(wrap(drawn[b] - drawn[a] - starts[c.name])))
         elif "at" in c.data and (len(c.bodies) == 1 or c.bodies[0] == GROUND):
             u = cv.data["direction"] if "direction" in c.data else cv.data["axis"]
             o = cv.data.get("origin", np.zeros((2, 1)))

@@ -41,7 +41,7 @@ from planar.geometry import perp
 from planar.dimensions import Dimension
 from planar.model import Mechanism, _compile, _finite, _positive, _resolve
 from planar.results import POSED, VALID, Status, Sweep
-from planar.sweep import CHUNK, _anchors, _Branch, _final, _output_columns, run_sweep
+from planar.sweep import CHUNK, sweep_anchors, Branch, final_step, output_columns, run_sweep
 
 
 def design_table(designs):
@@ -426,8 +426,8 @@ def _batch(t, out, Ud, Udd, tol, max_step, outputs):
     def at(u, d):  # inputs with the design index of each configuration in a last column
         return np.concatenate([u, ids[d]], axis=1)
 
-    p, fits = block_plan(ref, _output_columns(ref, outputs)).over_designs(t.system, q, at(u, every), ref.col_scale)
-    br = _Branch(ref, p, tol)
+    p, fits = block_plan(ref, output_columns(ref, outputs)).over_designs(t.system, q, at(u, every), ref.col_scale)
+    br = Branch(ref, p, tol)
     with np.errstate(all="ignore"):
         ref_signs, sing = br.modes(q, at(u, every))
     ok = fits & (sing >= NEAR_CURVE)
@@ -438,7 +438,7 @@ def _batch(t, out, Ud, Udd, tol, max_step, outputs):
     for d in range(D):
         key = (U[d].tobytes(), scale[d].tobytes())
         if key not in found:
-            found[key] = _anchors(_Scales(ref.input_lengths, t.L[d]), U[d], max_step)
+            found[key] = sweep_anchors(_Scales(ref.input_lengths, t.L[d]), U[d], max_step)
     anchors = np.unique(np.concatenate(list(found.values())))
     Qa = np.empty((anchors.size, D, n))
     act = np.flatnonzero(ok)
@@ -473,7 +473,7 @@ def _batch(t, out, Ud, Udd, tol, max_step, outputs):
         move = np.flatnonzero(np.any(du != 0.0, axis=1))
         if move.size:
             q_pred[move] = br.predict(qa[move], at(ua[move], d[move]), du[move])[0]
-        f = _final(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
+        f = final_step(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
         good = br.accept(f["q"], q_pred, lambda s: qa[s], f["conv"], f["signs"], ref_signs[d], f["sing"], off=f["off"])
         good &= (f["status"] == Status.SOLVED) & (f["sing"] >= NEAR_CURVE)
         ok[np.unique(d[~good])] = False
@@ -490,7 +490,7 @@ def _batch(t, out, Ud, Udd, tol, max_step, outputs):
 
 @dataclass(frozen=True)
 class _Scales:
-    """What the anchors of a design's walk depend on (as :func:`planar.sweep._anchors` reads a model)."""
+    """What the anchors of a design's walk depend on (as :func:`planar.sweep.sweep_anchors` reads a model)."""
 
     input_lengths: np.ndarray
     L: float

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.errors import AssemblyError, ModelError
+from planar.joints.base import wrap
 
 
 def circle_circle(c1, r1, c2, r2, what="the two circles"):
@@ -105,10 +106,6 @@ class Dimension:
 
 # ---- the assembly: rows on the positions of the sketch's sites ------------------------------
 
-def _wrap(x):
-    return (x + np.pi) % (2 * np.pi) - np.pi
-
-
 @dataclass(frozen=True)
 class Row:
     """One equation on the site positions X (S, 2): ``value(X) = target``.
@@ -134,7 +131,7 @@ class Row:
 
     def residual(self, X, target):
         r = self.value(X) - target
-        return _wrap(r) if self.kind == "angle" else r
+        return wrap(r) if self.kind == "angle" else r
 
     def grad(self, X):
         """[(site, d value / d X[site])]."""

@@ -39,7 +39,7 @@ from planar.blocks import plan as block_plan
 from planar.errors import IndeterminateWarning, ModelError
 from planar.geometry import cross, perp
 from planar.results import Status
-from planar.system import _chunks
+from planar.system import chunks
 
 # values whose accelerations are sound: a BRANCH_EVENT sits where the multipliers are not unique
 _SOUND = (Status.SOLVED, Status.NEAR_SINGULAR)
@@ -132,7 +132,7 @@ def forces(res):
     qd, qdd = (np.where(sound[:, None], a, 0.0) for a in (res.qd, res.qdd))
     u = np.where(sound[:, None], res.inputs, model.u0)
     out, stand_in = None, _stand_ins(model)
-    for sl in _chunks(len(res)):
+    for sl in chunks(len(res)):
         part = _values(model, q[sl], qd[sl], qdd[sl], u[sl], stand_in)
         if out is None:  # the whole arrays, shaped as the first chunk's
             out = [np.empty((len(res),) + a.shape[1:]) for a in part[:4]]

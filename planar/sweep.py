@@ -73,15 +73,15 @@ def certified(off, sing):
     return (off <= CERT * sing) | (off <= ROUND)
 
 
-def _scale(model):
+def input_scale(model):
     return np.where(model.input_lengths, 1.0 / model.L, 1.0)
 
 
 def _scaled_norm(model, du):
-    return np.max(np.abs(du * _scale(model)), axis=-1)
+    return np.max(np.abs(du * input_scale(model)), axis=-1)
 
 
-class _Branch:
+class Branch:
     """Solves on one plan: Newton, modes, rates, predictors and the acceptance test."""
 
     def __init__(self, model, plan, tol, rates=True, engine="numpy"):
@@ -161,7 +161,7 @@ class _Branch:
         return ok
 
 
-class _Walker:
+class Walker:
     """Sequential continuation of one pose (batch of one), with events."""
 
     def __init__(self, br, max_step, other, rounds=ROUNDS):
@@ -405,7 +405,7 @@ def _add_turns(x, n):
 
 
 def _symmetry(br):
-    """See :meth:`_Walker.symmetry`: from the sketch, the driven angle moved by k turns and a
+    """See :meth:`Walker.symmetry`: from the sketch, the driven angle moved by k turns and a
     Newton solve at the input plus k turns, for k = 1 .. PERIODS."""
     m, p = br.m, br.p
     if m.input_lengths.size != 1 or m.input_lengths[0] or p.drivers.size != 1:
@@ -444,11 +444,11 @@ def _turns(br, d):
     return D
 
 
-def _anchors(model, U, max_step):
+def sweep_anchors(model, U, max_step):
     """Indices of the values where the sequential walk stops: the first, the last, values no
     further than ``max_step`` apart (:func:`_walk_anchors`, so each is one walk step) and (one
     input) each value where the input turns back, so the walk covers every value."""
-    idx, monotone = _walk_anchors(U, _scale(model), max_step)
+    idx, monotone = _walk_anchors(U, input_scale(model), max_step)
     turns = np.zeros(0, int)
     if not monotone and U.shape[1] == 1:
         d = np.sign(np.diff(U[:, 0]))
@@ -497,7 +497,7 @@ def _walk_anchors(U, scale, max_step):
             span *= 2
 
 
-def _output_columns(model, outputs):
+def output_columns(model, outputs):
     """Coordinates the named bodies, points, joints or inputs depend on."""
     if outputs is None:
         return None
@@ -531,10 +531,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
-    cols = _output_columns(model, outputs)
+    cols = output_columns(model, outputs)
     p = block_plan(model, cols)
-    br = _Branch(model, p, tol, bool(rates), engine)
-    walker = _Walker(br, max_step, branch == "other")
+    br = Branch(model, p, tol, bool(rates), engine)
+    walker = Walker(br, max_step, branch == "other")
     _keep_freed_memory()
     N, n = U.shape[0], model.n
     q = np.empty((N, n))  # rows not posed at the end are set NaN then
@@ -591,7 +591,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # 1. the sequential walk over anchors, from the assembled sketch
     chosen = br.signs(model.q0[None], model.u0[None])[0]
     if start is None:  # (a known pose was reached from the sketch: it passed)
-        _check_sketch(model, p)
+        check_sketch(model, p)
     origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
     # values given out of order (one input) are solved in the order of the input, from the end
     # nearer the start, and put back in the asked order at the end: each is walked to from its
@@ -604,7 +604,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     state = origin
     limits = []  # (limit event, direction of the input that hit it)
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
-    anchors = _anchors(model, U, max_step)
+    anchors = sweep_anchors(model, U, max_step)
     kin = _Kin()  # the anchors' kinematic coefficients where known (one input)
     coef = None  # those of the state, where known
     lo, k, wave = -1, 0, WAVE
@@ -673,11 +673,11 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
                 cuts=cuts, kin=kin)
     if U.shape[1] == 1:
-        finer, _ = _walk_anchors(U, _scale(model), max_step / FINER)
+        finer, _ = _walk_anchors(U, input_scale(model), max_step / FINER)
         finer = finer[todo[finer]]
         # their poses and modes only (the table needs no more): their rates and statuses come
         # with the bulk pass, which takes them again, or with the final step at the end
-        _from_anchors(anchors=anchors, targets=finer, **dict(fill, br=_Branch(model, p, tol, False, engine)))
+        _from_anchors(anchors=anchors, targets=finer, **dict(fill, br=Branch(model, p, tol, False, engine)))
         finer = finer[solved[finer]]
         done[finer] = False
         anchors = np.union1d(anchors, finer)
@@ -783,7 +783,7 @@ def _asked_order(model, U, order, events, u0):
     ``order`` their asked positions), indexed in the asked order: the first value asked at or
     past each singular position seen from the start's input ``u0`` (a near-singular stretch:
     its closest value)."""
-    N, tol = len(U), EVENT_TOL / float(_scale(model)[0])
+    N, tol = len(U), EVENT_TOL / float(input_scale(model)[0])
     out = []
     for e in events:
         i = int(order[min(e.index, N - 1)])
@@ -828,7 +828,7 @@ def _mark_jumps(status, stops, prev=None):
             status[j] = Status.JUMPED
 
 
-def _check_sketch(model, p):
+def check_sketch(model, p):
     """A sketch drawn on a singular position leaves the branch to follow undefined (a
     parallelogram drawn flat moves on as a parallelogram or as an antiparallelogram): refused,
     naming the bodies whose loop is singular there."""
@@ -923,7 +923,7 @@ def _from_anchors(br, U, Ud, Udd, q, signs, solved, done, out, q_pred, cuts, kin
                 qp[~b] = q[s1] + QU[k] * d1 + 0.5 * QUU[k] * d1**2
         else:
             qp, _ = br.predict(q[s_], U[s_], du)
-        r = _final(br, qp, U[at], Ud[at], Udd[at])
+        r = final_step(br, qp, U[at], Ud[at], Udd[at])
         ok = br.accept(r["q"], qp, lambda k: q[s_[k]], r["conv"], r["signs"], np.take(signs, s_, axis=0), r["sing"],
                        r["off"])
         if ok.all():
@@ -1074,7 +1074,7 @@ def _on_event(model, U, events):
 
 def _past_limit(limits, u_from, u_to, period=None):
     """(M,) True where a limit found moving in direction d lies between u_from and u_to (M, f).
-    ``period`` (P, D) of a pose periodic in its one input (:meth:`_Walker.period`): as the walk
+    ``period`` (P, D) of a pose periodic in its one input (:meth:`Walker.period`): as the walk
     goes, u_to less its whole periods from u_from, then the other way round (a period more or
     less), past a limit only where both ways are (the limits taken in the period each way)."""
     if period is None:
@@ -1167,7 +1167,7 @@ def _step(br, q, U, Ud, Udd):
                 sing=lu.sing, branch=np.prod(lu.signs, axis=1))
 
 
-def _final(br, q, U, Ud, Udd):
+def final_step(br, q, U, Ud, Udd):
     """Final poses from good guesses q, with their rates and statuses. One evaluation and one
     factorisation serve a Newton step, its certificate (the residual at the guess and the size
     of the correction) and, where the correction is at rounding level (ROUND, scaled), the
@@ -1227,7 +1227,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
     idx = np.flatnonzero(solved & ~done)
     for lo in range(0, idx.size, CHUNK):
         i = idx[lo : lo + CHUNK]
-        r = _final(br, q[i], U[i], Ud[i], Udd[i])
+        r = final_step(br, q[i], U[i], Ud[i], Udd[i])
         q[i] = r["q"]
         out.put(i, r)
     # every solved value has been put but those on events, which get their values there
@@ -1254,7 +1254,7 @@ def _finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_even
         gap[i] = g
         status[i] = np.where((g > GAP) | beyond[i], Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
     _mark_jumps(status, *jumps)
-    events = tuple(events) + tuple(_near_stretches(model, U, out.sing, status, events))
+    events = tuple(events) + tuple(near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
     residual, iters, sing, branch = out.residual, out.iters, out.sing, out.branch
     qd, qdd = out.qd, out.qdd
@@ -1289,7 +1289,7 @@ def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
             out.qd[i] = out.qdd[i] = np.nan
         out.sing[i], out.residual[i] = ev.singularity, np.nan
         out.status[i] = Status.LIMIT if ev.kind == "limit" else Status.SINGULAR
-    s = _scale(model)
+    s = input_scale(model)
     for ev in events:
         if ev.kind not in ("bifurcation", "singular") or U.shape[1] != 1:
             continue
@@ -1324,7 +1324,7 @@ def _on_branch(model, br, ev, u, ud, udd):
     (velocities) and 1/distance^3 (accelerations) there; these nodes are far enough not to."""
     T = ev.tangents[0]
     us = float(ev.input)
-    h = BRANCH_H / 4 / float(_scale(model)[0])
+    h = BRANCH_H / 4 / float(input_scale(model)[0])
     nodes = us + h * np.array([-4.0, -3.0, -2.0, -1.0, 1.0, 2.0, 3.0, 4.0])
     guess = ev.q[None] + (nodes - us)[:, None] * T[None]
     qn, conv, _, _ = br.solve(guess, nodes[:, None], max_iter=20)
@@ -1338,7 +1338,7 @@ def _on_branch(model, br, ev, u, ud, udd):
     return W @ qn, q_u * ud[:, None], q_u * udd[:, None] + (W @ quu) * (ud**2)[:, None]
 
 
-def _near_stretches(model, U, sing, status, events):
+def near_stretches(model, U, sing, status, events):
     """One near-singular event per run of valid values closer to another branch than
     NEAR_CURVE (the singularity measure), at its closest value, unless another event lies
     within the run or next to it (a limit or a crossing explains it)."""

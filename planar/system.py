@@ -147,7 +147,7 @@ class System:
         Jv = np.empty((self.entries[0].size + 1, N))
         Jv[-1] = 0.0
         blocks = [Jv[a:b].reshape(shape + (N,)) for a, b, shape in self._blocks]
-        for sl in _chunks(N):
+        for sl in chunks(N):
             full = self._full(q[sl])
             for g, block in zip(self.groups, blocks):
                 Phi[g.rows.T, sl], _ = g.kind.Phi_and_Phi_q(g.params(u, sl), g.frames(full), block[..., sl],
@@ -198,7 +198,7 @@ class System:
     def gamma(self, q, qd, u=None):
         """gamma (N, m) with Phi_q qdd = gamma, at configurations q and rates qd."""
         out = self._rows(q.shape[0])
-        for sl in _chunks(q.shape[0]):
+        for sl in chunks(q.shape[0]):
             full = self._full(q[sl], qd[sl])
             for g in self.groups:
                 out[g.rows.T, sl] = g.kind.gamma(g.params(u, sl), g.frames(full))
@@ -210,7 +210,7 @@ class System:
 _CHUNK = 4096
 
 
-def _chunks(N):
+def chunks(N):
     return [slice(a, a + _CHUNK) for a in range(0, N, _CHUNK)] or [slice(0, 0)]
 
 

@@ -164,18 +164,18 @@ def pose(model, value, velocity, acceleration, options):
     results are asked for (no ``outputs``) of the numpy engine, and the input is within the
     sweep's FAR of the sketch's. Then: the predictor from the known pose and its kinematic
     coefficients, Newton on the model's blocks to a rounding-level guess, and the sweep's
-    final step (:func:`planar.sweep._final`: the pose, its status and its rates from one
-    factorisation) with the sweep's acceptance test (:meth:`planar.sweep._Branch.accept`:
+    final step (:func:`planar.sweep.final_step`: the pose, its status and its rates from one
+    factorisation) with the sweep's acceptance test (:meth:`planar.sweep.Branch.accept`:
     converged, certified, the branch's assembly modes, close to the predictor). A value it
     cannot certify, or whose status is not SOLVED or NEAR_SINGULAR, is left to the sweep."""
     from planar.blocks import plan as block_plan
-    from planar.sweep import FAR, SPARSE, _Branch, _check_sketch, _final, _near_stretches, _scale
+    from planar.sweep import FAR, SPARSE, Branch, check_sketch, final_step, near_stretches, input_scale
 
     if (options.get("outputs") is not None or options.get("engine", "numpy") != "numpy" or model.u0.size != 1
             or options.get("branch", "smooth") not in ("smooth", "other")):
         return None  # (the sweep refuses a branch option it does not know)
     max_step = options.get("max_step", 0.05)
-    scale = float(_scale(model)[0])
+    scale = float(input_scale(model)[0])
     if not model.input_lengths[0] and abs(value - model.u0[0]) > FAR:
         return None  # (the sweep solves those whole periods back)
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
@@ -184,9 +184,9 @@ def pose(model, value, velocity, acceleration, options):
     if abs(du) * scale > SPARSE * max_step or value == poses.refused:
         return None
     p = block_plan(model)
-    br = _Branch(model, p, options.get("tol", 1e-12))
+    br = Branch(model, p, options.get("tol", 1e-12))
     if poses.signs is None:
-        _check_sketch(model, p)  # (a sketch on a singular position is refused, as the sweep does)
+        check_sketch(model, p)  # (a sketch on a singular position is refused, as the sweep does)
         poses.signs = br.signs(model.q0[None], model.u0[None])
     qk, uk = poses.q[k : k + 1], poses.u[k : k + 1, None]
     one, zero = np.ones((1, 1)), np.zeros((1, 1))
@@ -205,7 +205,7 @@ def pose(model, value, velocity, acceleration, options):
                 break
     # the sweep's final step at a unit input rate: its rates are the kinematic coefficients of
     # the new pose (the next move's predictor); the asked rates follow from them linearly
-    r = _final(br, q, U, one, zero)
+    r = final_step(br, q, U, one, zero)
     ok = br.accept(r["q"], q_pred, lambda rows: qk, r["conv"], r["signs"], poses.signs, r["sing"])[0]
     if not (ok and r["status"][0] in CLEAN):
         poses.refused = value
@@ -219,7 +219,7 @@ def pose(model, value, velocity, acceleration, options):
     status = r["status"].astype(np.int8)
     return Sweep(model, U, np.array([[velocity]]), np.array([[acceleration]]), q, qd, qdd, status, r["res"],
                  r["iters"], r["sing"], r["branch"], np.broadcast_to(np.nan, 1),
-                 tuple(_near_stretches(model, U, r["sing"], status, ())))
+                 tuple(near_stretches(model, U, r["sing"], status, ())))
 
 
 def _clean_end(res):

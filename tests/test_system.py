@@ -126,7 +126,7 @@ def test_evaluate_over_some_groups_writes_only_their_rows():
 
 @pytest.mark.parametrize("n", [0, 1, system._CHUNK - 1, system._CHUNK, 2 * system._CHUNK + 1])
 def test_chunks_cover_every_configuration_once_in_order(n):
-    chunks = system._chunks(n)
+    chunks = system.chunks(n)
     assert len(chunks) >= 1
     np.testing.assert_array_equal(np.concatenate([np.arange(n)[s] for s in chunks]), np.arange(n))
     assert all(len(range(n)[s]) <= system._CHUNK for s in chunks)

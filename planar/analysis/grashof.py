@@ -6,7 +6,7 @@ Grashof(kind='crank-rocker', excess=-1.0, input_turns=True)
 
 from dataclasses import dataclass
 
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 
 KINDS = ("drag-link", "crank-rocker", "double-rocker", "rocker-crank")  # by the shortest link
 LINKS = ("ground", "crank", "coupler", "rocker")
@@ -40,8 +40,8 @@ def grashof(ground, crank, coupler, rocker, *, driver="crank", rtol=1e-12):
     >>> grashof(4, 3, 3, 3).kind, grashof(4, 3, 3, 3).input_turns
     ('triple-rocker', False)
     """
-    r = _checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)
-    _checks.choice(driver, LINKS[1:], "driver")
+    r = checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)
+    checks.choice(driver, LINKS[1:], "driver")
     s, p, q, l = sorted(r)
     excess = (s + l) - (p + q)
     tied = abs(excess) <= rtol * l

@@ -19,7 +19,7 @@ import numpy as np
 from planar.blocks import plan as block_plan
 from planar.errors import InputError
 from planar.results import POSED
-from planar.sweep import _Branch, _Walker
+from planar.sweep import Branch, Walker
 
 TURN = 2 * np.pi
 
@@ -116,7 +116,7 @@ def _stretches(model, grid, tol, max_step):
     posed = POSED[res.status]
     limits = [e for e in res.events if e.kind == "limit"]
     out = []
-    br = _Branch(model, block_plan(model), tol)
+    br = Branch(model, block_plan(model), tol)
     for a, last in runs(posed):
         b = last + 1
         hi = None
@@ -140,7 +140,7 @@ def _between(u, a, b):
 
 def _walk_back(model, br, res, a, target, max_step):
     """The limit met walking from the pose of value a back towards ``target``."""
-    walker = _Walker(br, max_step, False)
+    walker = Walker(br, max_step, False)
     q, u = res.q[a], res.inputs[a]
     signs = br.signs(q[None], u[None])[0]
     got = walker.walk(q, u, signs, np.array([target]), a)

@@ -470,7 +470,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
                 else:
                     q[:] = np.nan
                 continue
-            # its status, as planar.events.status_of and planar.sweep._final give a converged value
+            # its status, as planar.events.status_of and planar.sweep.final_step give a converged value
             st = ST_SINGULAR if sing < SINGULAR else (ST_NEAR_SINGULAR if sing < NEAR else ST_SOLVED)
             if T.red.size and red > 1e3 * tol:
                 st = ST_INCONSISTENT

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from planar.errors import AssemblyError
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 from planar.mechanisms.sketch import along, circle_circle, left_of, polar
 from planar.model import Mechanism
 
@@ -82,13 +82,13 @@ def four_bar(ground: float = 4.0, crank: float = 2.0, coupler: float = 3.0, rock
     >>> bool(res.ok.all()), res.position("C").shape
     (True, (5, 2))
     """
-    r1, r2, r3, r4 = _checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)
-    th1 = _checks.number(frame_angle, "frame_angle")
-    start = _checks.number(start, "start")
-    _checks.choice(driver, DRIVERS, "driver")
-    pq = _checks.point_pair(coupler_point, "coupler_point")
+    r1, r2, r3, r4 = checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)
+    th1 = checks.number(frame_angle, "frame_angle")
+    start = checks.number(start, "start")
+    checks.choice(driver, DRIVERS, "driver")
+    pq = checks.point_pair(coupler_point, "coupler_point")
 
-    O2 = np.asarray(_checks.point_pair(pivot, "pivot", required=True), dtype=float)
+    O2 = np.asarray(checks.point_pair(pivot, "pivot", required=True), dtype=float)
     O4 = polar(O2, r1, th1)
     A, B = loop_pose(O2, O4, r2, r3, r4, driver, start, bool(crossed))
 

@@ -17,7 +17,7 @@ g = R4 / R2. The input is gear 2's angle.
 import numpy as np
 
 from planar.errors import AssemblyError
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 from planar.mechanisms.sketch import angle_of, circle_circle, polar
 from planar.model import Mechanism
 
@@ -54,9 +54,9 @@ def geared_five_bar(ground: float = 8.0, gear_radius_2: float = 3.0, gear_radius
     >>> float(np.degrees(m.compile().u0[0]).round(12))
     30.0
     """
-    r1, R2, R4, r5 = _checks.lengths(ground=ground, gear_radius_2=gear_radius_2, gear_radius_4=gear_radius_4,
+    r1, R2, R4, r5 = checks.lengths(ground=ground, gear_radius_2=gear_radius_2, gear_radius_4=gear_radius_4,
                                      link_5=link_5)
-    start = _checks.number(start, "start")
+    start = checks.number(start, "start")
     O2, O5 = np.zeros(2), np.array([r1, 0.0])
     # reference configuration: links 3 and 4 in line, so O2, B, C are collinear
     C = circle_circle(O2, R2 + 2 * R4, O5, r5, "the geared five-bar's reference configuration")[int(bool(crossed))]

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from planar.errors import ModelError
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 from planar.mechanisms.sketch import polar
 from planar.model import Mechanism
 
@@ -58,10 +58,10 @@ def rack_and_pinion(radius: float = 1.0, *, rack_angle: float = 0.0, driver: str
     >>> res.coordinate("slide").tolist()
     [0.0, 1.0]
     """
-    (R,) = _checks.lengths(radius=radius)
-    th = _checks.number(rack_angle, "rack_angle")
-    _checks.choice(driver, ("pinion", "rack"), "driver")
-    start = _checks.number(start, "start")
+    (R,) = checks.lengths(radius=radius)
+    th = checks.number(rack_angle, "rack_angle")
+    checks.choice(driver, ("pinion", "rack"), "driver")
+    start = checks.number(start, "start")
     u = polar((0, 0), 1.0, th)
     O2 = np.zeros(2)
     foot = polar(O2, R, th - np.pi / 2)
@@ -114,11 +114,11 @@ def rolling_wheel(radius: float = 1.0, *, track_radius: float | None = None, dri
     >>> res.position("centre").round(12).tolist()
     [[0.0, 1.0], [3.14159265359, 1.0]]
     """
-    (r,) = _checks.lengths(radius=radius)
-    _checks.choice(driver, ("wheel", "centre"), "driver")
-    start = _checks.number(start, "start")
+    (r,) = checks.lengths(radius=radius)
+    checks.choice(driver, ("wheel", "centre"), "driver")
+    start = checks.number(start, "start")
     if track_radius is not None:
-        (Rt,) = _checks.lengths(track_radius=track_radius)
+        (Rt,) = checks.lengths(track_radius=track_radius)
         if Rt <= r:
             raise ModelError(f"track_radius {Rt:.12g} must exceed the wheel's radius {r:.12g} for the wheel "
                              f"to roll inside it")
@@ -168,8 +168,8 @@ def gear_train(radii: Sequence[float] = (1.0, 2.0, 1.5), *, start: float = 0.0,
     >>> res.omega("gear3").tolist()
     [2.0, 2.0]
     """
-    R = _checks.length_list(radii, "radii", at_least=2)
-    start = _checks.number(start, "start")
+    R = checks.length_list(radii, "radii", at_least=2)
+    start = checks.number(start, "start")
     x = np.concatenate(([0.0], np.cumsum(np.add(R[:-1], R[1:]))))
 
     m = Mechanism(name)
@@ -222,15 +222,15 @@ def planetary_gear_train(sun: float = 1.0, planet: float = 0.5, *, planets: int 
     >>> res.omega("ring").round(12).tolist()
     [-0.5, -0.5]
     """
-    Rs, Rp = _checks.lengths(sun=sun, planet=planet)
+    Rs, Rp = checks.lengths(sun=sun, planet=planet)
     if not isinstance(planets, (int, np.integer)) or planets < 1:
         raise ModelError(f"planets must be a positive whole number, got {planets!r}")
-    _checks.choice(fixed, MEMBERS, "fixed")
-    _checks.choice(driver, MEMBERS, "driver")
+    checks.choice(fixed, MEMBERS, "fixed")
+    checks.choice(driver, MEMBERS, "driver")
     if driver == fixed:
         raise ModelError(f"the driver {driver!r} is the fixed member: drive one of "
                          f"{[b for b in MEMBERS if b != fixed]}")
-    start = _checks.number(start, "start")
+    start = checks.number(start, "start")
 
     m = Mechanism(name)
     body = {b: (m.ground if b == fixed else b) for b in MEMBERS}

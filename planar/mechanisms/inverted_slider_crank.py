@@ -14,7 +14,7 @@ r4 to its right; r3 is the slider's travel along that line.
 
 import numpy as np
 
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 from planar.mechanisms.sketch import circle_circle, circle_line, line_through, polar
 from planar.model import Mechanism
 
@@ -58,10 +58,10 @@ def inverted_slider_crank(ground: float = 20.0, crank: float = 8.5, *, offset: f
     >>> bool(res.ok.all()), float(res.coordinate("slide")[0])
     (True, 11.5)
     """
-    r1, r2 = _checks.lengths(ground=ground, crank=crank)
-    r4 = _checks.number(offset, "offset")
-    th1 = _checks.number(frame_angle, "frame_angle")
-    _checks.choice(driver, DRIVERS, "driver")
+    r1, r2 = checks.lengths(ground=ground, crank=crank)
+    r4 = checks.number(offset, "offset")
+    th1 = checks.number(frame_angle, "frame_angle")
+    checks.choice(driver, DRIVERS, "driver")
     crossed = bool(crossed)
 
     O2 = np.zeros(2)
@@ -70,7 +70,7 @@ def inverted_slider_crank(ground: float = 20.0, crank: float = 8.5, *, offset: f
         # the crank across the ground line: away from the dead centres of the slide drive
         start = line_through(O4, r4, polar(O2, r2, th1 + np.pi / 2), True,
                              "the inverted slider-crank with the crank across the ground line")[1]
-    start = _checks.number(0.0 if start is None else start, "start")
+    start = checks.number(0.0 if start is None else start, "start")
     what = f"the inverted slider-crank at {driver} input {start:.12g}"
     if driver == "crank":
         A = polar(O2, r2, start)

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from planar.errors import ModelError
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 from planar.mechanisms.sketch import polar
 from planar.model import Mechanism
 
@@ -47,8 +47,8 @@ def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike |
     >>> res.position("tip").round(12).tolist()
     [[1.0, 1.0]]
     """
-    r = _checks.length_list(lengths, "lengths")
-    _checks.choice(driver, ("absolute", "relative"), "driver")
+    r = checks.length_list(lengths, "lengths")
+    checks.choice(driver, ("absolute", "relative"), "driver")
     th0 = np.zeros(len(r)) if start is None else np.asarray(start, dtype=float)
     if th0.shape != (len(r),) or not np.all(np.isfinite(th0)):
         raise ModelError(f"start must hold {len(r)} finite angles, one per link; got {th0.tolist()!r}")

@@ -23,7 +23,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 from planar.mechanisms.four_bar import four_bar, loop_pose
 from planar.mechanisms.sketch import along, angle_of, circle_circle, polar
 from planar.model import Mechanism
@@ -37,7 +37,7 @@ def _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, star
     return m, O4, A, B
 
 
-def _dyad(m, names, bodies, P, Q, r_p, r_q, crossed, what):
+def dyad(m, names, bodies, P, Q, r_p, r_q, crossed, what):
     """Close a loop with two links: ``bodies[0]`` from P (on ``bodies[2]``) and ``bodies[1]``
     from Q (on ``bodies[3]``), pinned together at the intersection left of P -> Q (right if
     ``crossed``). ``names`` are the three revolutes at P, the middle joint and Q."""
@@ -97,11 +97,11 @@ def watt_six_bar(ground: float = 4.0, crank: float = 1.5, coupler: float = 4.0, 
     >>> bool(watt_six_bar().sweep(np.linspace(0, 2 * np.pi, 13)).ok.all())
     True
     """
-    r5, r6 = _checks.lengths(link_5=link_5, link_6=link_6)
-    pq_c = _checks.point_pair(coupler_point, "coupler_point", required=True)
-    pq_d = _checks.point_pair(rocker_point, "rocker_point", required=True)
+    r5, r6 = checks.lengths(link_5=link_5, link_6=link_6)
+    pq_c = checks.point_pair(coupler_point, "coupler_point", required=True)
+    pq_d = checks.point_pair(rocker_point, "rocker_point", required=True)
     m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
-    m = _dyad(m, ("C", "E", "D"), ("link5", "link6", "coupler", "rocker"), along(A, B, *pq_c),
+    m = dyad(m, ("C", "E", "D"), ("link5", "link6", "coupler", "rocker"), along(A, B, *pq_c),
               along(O4, B, *pq_d), r5, r6, crossed_2, "the Watt six-bar's dyad C-E-D")
     _held(m, "C", "A", "B")
     _held(m, "D", "O4", "B")
@@ -135,11 +135,11 @@ def stephenson_six_bar(ground: float = 4.0, crank: float = 1.5, coupler: float =
         Bodies ``crank``, ``coupler``, ``rocker``, ``link5`` (C -> D), ``link6`` (O6 -> D);
         points ``O2``, ``A``, ``B``, ``O4``, ``C``, ``D``, ``O6``.
     """
-    r5, r6 = _checks.lengths(link_5=link_5, link_6=link_6)
-    pq = _checks.point_pair(coupler_point, "coupler_point", required=True)
-    O6 = np.array(_checks.point_pair(pivot_6, "pivot_6", required=True))
+    r5, r6 = checks.lengths(link_5=link_5, link_6=link_6)
+    pq = checks.point_pair(coupler_point, "coupler_point", required=True)
+    O6 = np.array(checks.point_pair(pivot_6, "pivot_6", required=True))
     m, O4, A, B = _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start)
-    m = _dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), along(A, B, *pq), O6, r5, r6,
+    m = dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), along(A, B, *pq), O6, r5, r6,
               crossed_2, "the Stephenson six-bar's dyad C-D-O6")
     _held(m, "C", "A", "B")
     _held(m, "O6", "O2", "O4")
@@ -176,12 +176,12 @@ def two_loop_six_bar(lengths: Sequence[float] = (4.0, 1.5, 4.0, 3.5, 5.0, 2.0, 5
         Bodies ``crank``, ``coupler``, ``rocker`` (angle of O4 -> B), ``coupler2`` (D -> E),
         ``rocker2`` (O6 -> E); points ``O2``, ``A``, ``B``, ``O4``, ``D``, ``E``, ``O6``.
     """
-    r = _checks.length_list(lengths, "lengths", count=8)
-    th5 = _checks.number(frame_angle_2, "frame_angle_2")
-    phase = _checks.number(phase, "phase")
+    r = checks.length_list(lengths, "lengths", count=8)
+    th5 = checks.number(frame_angle_2, "frame_angle_2")
+    phase = checks.number(phase, "phase")
     m, O4, A, B = _first_loop(name, r[0], r[1], r[2], r[3], frame_angle, crossed, start)
     D = polar(O4, r[5], angle_of(O4, B) + phase)
-    m = _dyad(m, ("D", "E", "O6"), ("coupler2", "rocker2", "rocker", m.ground), D, polar(O4, r[4], th5),
+    m = dyad(m, ("D", "E", "O6"), ("coupler2", "rocker2", "rocker", m.ground), D, polar(O4, r[4], th5),
               r[6], r[7], crossed_2, "the second loop D-E-O6")
     _held(m, "D", "O4", "B")
     _held(m, "O6", "O2", "O4")

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from planar.mechanisms import _checks
+from planar.mechanisms import checks
 from planar.mechanisms.sketch import along, circle_circle, circle_line, polar
 from planar.model import Mechanism
 
@@ -59,11 +59,11 @@ def slider_crank(crank: float = 2.0, coupler: float = 5.0, *, offset: float = 1.
     >>> bool(res.ok.all()), float(res.position("B")[0, 0].round(6))
     (True, 6.898979)
     """
-    r2, r3 = _checks.lengths(crank=crank, coupler=coupler)
-    e = _checks.number(offset, "offset")
-    th1 = _checks.number(slide_angle, "slide_angle")
-    _checks.choice(driver, DRIVERS, "driver")
-    pq = _checks.point_pair(coupler_point, "coupler_point")
+    r2, r3 = checks.lengths(crank=crank, coupler=coupler)
+    e = checks.number(offset, "offset")
+    th1 = checks.number(slide_angle, "slide_angle")
+    checks.choice(driver, DRIVERS, "driver")
+    pq = checks.point_pair(coupler_point, "coupler_point")
     crossed = bool(crossed)
 
     O2 = np.zeros(2)
@@ -74,7 +74,7 @@ def slider_crank(crank: float = 2.0, coupler: float = 5.0, *, offset: float = 1.
         A = polar(O2, r2, th1 + np.pi / 2)
         start = float(np.dot(circle_line(A, r3, foot, u, "the slider-crank with the crank across the slide")[0]
                              - foot, u))
-    start = _checks.number(0.0 if start is None else start, "start")
+    start = checks.number(0.0 if start is None else start, "start")
     what = f"the slider-crank at {driver} input {start:.12g}"
     if driver == "crank":
         A = polar(O2, r2, start)

@@ -55,7 +55,7 @@ from scipy.stats import qmc
 from planar.analysis import transmission_angle
 from planar.errors import InputError, PlanarError, SynthesisError
 from planar.mechanisms import four_bar
-from planar.mechanisms.six_bar import _dyad
+from planar.mechanisms.six_bar import dyad
 from planar.mechanisms.sketch import along
 from planar.synthesis.result import check, ordered
 
@@ -124,7 +124,7 @@ def stephenson_tracer(ground, crank, coupler, rocker, *, coupler_point, link_5, 
                  pivot=pivot, name=name)
     pts = {k: v[1] for k, v in m.sketch().points.items()}
     C = along(pts["A"], pts["B"], *coupler_point)
-    _dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), C, np.asarray(pivot_6, float), link_5,
+    dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), C, np.asarray(pivot_6, float), link_5,
           link_6, crossed_2, "the six-bar's dyad C-D-O6")
     m.add_point("P", "link5", at=along(C, m.sketch().points["D"][1], *tracer))
     return m
