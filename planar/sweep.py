@@ -360,6 +360,27 @@ class Walker:
                 return int(c), got[1], got[2]
         return None
 
+    def near_turns(self, q, u, signs, ref):
+        """The re-entered pose q (at u) with its angles moved by whole turns to lie within half
+        a turn of those of ``ref`` (the pose before the gap), where it still solves there in the
+        same modes: the same positions, its angles counted as the branch counted them before the
+        gap, whichever search found it. q itself otherwise."""
+        p = self.br.p
+        with np.errstate(all="ignore"):
+            _, J = p.system.evaluate(q[None], u[None])
+        rows = np.concatenate([np.atleast_1d(p.rows[d]) for d in p.drivers]) if p.drivers.size else []
+        free = ~np.any(np.atleast_2d(J[0][rows]) != 0, axis=0)  # the drivers' own angles stay
+        cols = p.cols[free[p.cols]]
+        d = (ref - q)[cols]
+        shift = np.zeros_like(q)
+        shift[cols] = np.where(cols % 3 == 2, 2 * np.pi * np.round(d / (2 * np.pi)), 0.0)
+        if not shift.any():
+            return q
+        qn, conv, _, _ = self.br.solve((q + shift)[None], u[None])
+        if conv[0] and np.all(self.br.signs(qn, u[None])[0] == signs) and _turns(self.br, qn[0] - q) is not None:
+            return qn[0]
+        return q
+
     def enter(self, guesses, signs, target):
         """Re-enter the motion range at ``target`` from guesses of the same branch."""
         br = self.br
@@ -656,6 +677,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         c, qe, se = found
         k += c
         i = anchors[k]
+        qe = walker.near_turns(qe, U[i], se, state[0])
         q[i], solved[i], signs[i] = qe, True, se
         state, lo = (qe, U[i], se), i
         k += 1

@@ -203,6 +203,8 @@ def _property(case, N, engine):
 # a rocking crank with gaps of 1e-4 next to 0 and pi: the values past the gap at pi lie on the
 # other circuit (NOT_ASSEMBLABLE), those a turn on are re-entered a period from the first ones
 @example(((2.0, 1.3108617996955507, 2.0, 1.3108617983846889), 1.3108617996955507, True), 116)
+# re-entered past a limit, the rocker's angle counted as before the gap whichever search found it
+@example(((2.0, 0.5, 2.27734375, 0.22265625022265628), 2.27734375, False), 116)
 def test_coarse_agrees_with_finer_near_change_points_folds_and_limits(case, N):
     _property(case, N, "numpy")
 
