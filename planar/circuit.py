@@ -36,7 +36,7 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
-from planar.events import Event, Tracer, status_of
+from planar.events import HELD, Event, Tracer, status_of
 from planar.results import Status, Sweep
 from planar.solver import newton
 from planar.sweep import Branch, input_scale
@@ -313,10 +313,10 @@ def _solve(br, tr, y, t, mode, Ud, Udd, max_step, on_limit):
     residual = np.max(np.abs(Phi[:, model.active_rows] * model.row_scale[model.active_rows]), axis=1)
     red = model.redundant_rows
     if red.size:
-        bad = np.max(np.abs(Phi[:, red] * model.row_scale[red]), axis=1) > 1e3 * tol
+        bad = np.max(np.abs(Phi[:, red] * model.row_scale[red]), axis=1) > HELD * tol
         status[bad & (status != Status.NOT_CONVERGED)] = Status.INCONSISTENT
     # a limit located by the tracer holds the constraints to its corrector's tolerance
-    status[on_limit & (residual > 1e3 * tol)] = Status.NOT_CONVERGED
+    status[on_limit & (residual > HELD * tol)] = Status.NOT_CONVERGED
     sing[on_limit] = 0.0
     lost = (status == Status.NOT_CONVERGED) | (status == Status.INCONSISTENT)
     q[lost], qd[lost], qdd[lost], residual[lost] = np.nan, np.nan, np.nan, np.nan

@@ -35,12 +35,26 @@ GAP_CROSS = 1e-5  # scaled distance below which another curve is taken to cross 
 CROSS_STEP = 1e-3  # scaled arclength of a step over a crossing
 ROUNDING = 1e-12  # scaled correction at the corrector's own tolerance: no jump
 NEAR_CURVE = 1e-2  # scaled distance to another solution curve below which a crossing is reported
+# a redundant joint holds, and a pose on a singular position (where Newton converges only
+# linearly) is kept, while its scaled residual is within HELD times the tolerance
+HELD = 1e3
+# the status of a converged pose by how many of NEAR and SINGULAR its singularity measure is below
+BY_MEASURE = np.array([Status.SOLVED, Status.NEAR_SINGULAR, Status.SINGULAR])
 
 
-def status_of(sing):
-    """The status of solved poses by their singularity measure ``sing``: SOLVED, NEAR_SINGULAR
-    (below NEAR) or SINGULAR (below SINGULAR; the compiled engine's loop writes the same)."""
-    return np.where(sing < SINGULAR, Status.SINGULAR, np.where(sing < NEAR, Status.NEAR_SINGULAR, Status.SOLVED))
+def status_of(sing, red=0.0, tol=np.inf):
+    """The status of converged poses: INCONSISTENT where a redundant joint's scaled residual
+    ``red`` exceeds HELD times ``tol``, else by the singularity measure ``sing``: SINGULAR below
+    SINGULAR, NEAR_SINGULAR below NEAR, SOLVED. Scalars or arrays, with no branches: both
+    engines use this one rule (the compiled engine compiles it into its loop).
+
+    >>> [str(Status(s)) for s in status_of(np.array([0.5, 1e-6, 0.0]))]
+    ['SOLVED', 'NEAR_SINGULAR', 'SINGULAR']
+    >>> str(Status(status_of(0.5, red=1.0, tol=1e-12)))
+    'INCONSISTENT'
+    """
+    st = BY_MEASURE[(sing < NEAR) * 1 + (sing < SINGULAR) * 1]
+    return st + (Status.INCONSISTENT - st) * (red > HELD * tol)
 
 
 @dataclass(frozen=True, eq=False)

@@ -32,7 +32,7 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
-from planar.events import NEAR, NEAR_CURVE, SINGULAR, Event, around, cross, status_of
+from planar.events import HELD, NEAR, NEAR_CURVE, SINGULAR, Event, around, cross, status_of
 from planar.progress import Progress
 from planar.results import POSED as POSED_MASK
 from planar.results import VALID as VALID_MASK
@@ -71,6 +71,17 @@ def certified(off, sing):
     (True, False, True)
     """
     return (off <= CERT * sing) | (off <= ROUND)
+
+
+def on_course(off, move):
+    """A solve that moved its guess by ``off`` (scaled) from a prediction that moved the pose by
+    ``move`` stayed near that prediction: within 1e-9, or JUMP times the predicted move
+    (scalars or arrays; the compiled engine's loop calls it too).
+
+    >>> bool(on_course(0.01, 0.1)), bool(on_course(0.05, 0.1))
+    (True, False)
+    """
+    return (off <= 1e-9) | (off <= JUMP * move + 1e-9)
 
 
 def input_scale(model):
@@ -157,7 +168,7 @@ class Branch:
         far = np.flatnonzero(ok & ~(off <= 1e-9))
         if far.size:
             move = np.max(np.abs((q_pred[far] - origin(far))[:, c] / self.cs), axis=1)
-            ok[far] = off[far] <= JUMP * move + 1e-9
+            ok[far] = on_course(off[far], move)
         return ok
 
 
@@ -1217,12 +1228,10 @@ def final_step(br, q, U, Ud, Udd):
             qd[slow], qdd[slow] = g["qd"], g["qdd"]
         signs[slow], sing[slow], branch[slow] = g["signs"], g["sing"], g["branch"]
         off[slow] = np.max(np.abs((qs - guess[slow])[:, p.cols] / m.col_scale[p.cols]), axis=1)
-    st = status_of(sing)
-    if m.redundant_rows.size:
-        st = np.where(red_res > 1e3 * tol, Status.INCONSISTENT, st)
+    st = status_of(sing, red_res, tol)
     # a point on a singular position converges only linearly, and next to one (singularity s)
     # Newton's steps stay at the rounding over s, above the step test: their positions still hold
-    held = ((st == Status.SINGULAR) & (res <= 1e3 * tol)) | ((st == Status.NEAR_SINGULAR) & (res <= tol))
+    held = ((st == Status.SINGULAR) & (res <= HELD * tol)) | ((st == Status.NEAR_SINGULAR) & (res <= tol))
     st = np.where(conv | held, st, Status.NOT_CONVERGED)
     if br.rates:
         qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan

@@ -19,17 +19,14 @@ from numba.extending import register_jitable
 from planar.compiled import CHUNK, D_BODIES, D_JBODIES, D_JROWS, D_KMAX, D_M, D_N, D_NNZ, D_NV, D_RMAX, kinds
 from planar.compiled import B_ANGLE, B_CO, B_FO, B_K, B_LENGTHS, B_LO, B_NF, B_NL, B_NS, B_NV, B_NW, B_O, B_R
 from planar.compiled import B_RO, B_SO, B_UO, B_VO, B_WEIGHTED
-from planar.events import NEAR, SINGULAR
+from planar.events import HELD, NEAR, SINGULAR, status_of
 from planar.joints import scalar
 from planar.results import Status
-from planar.sweep import CERT, JUMP, ROUND, certified
+from planar.sweep import CERT, JUMP, ROUND, certified, on_course
 
 NEAR_ANGLE = 0.05  # a bulk value's angles within this of its anchor's: cos and sin from the anchor's
 CLOSE = 1e-4  # a batch value takes more Newton steps while its last one (scaled) is below this
-# the status codes the loop writes
-ST_SOLVED, ST_NEAR_SINGULAR, ST_SINGULAR, ST_INCONSISTENT, ST_BRANCH_EVENT = (
-    int(Status.SOLVED), int(Status.NEAR_SINGULAR), int(Status.SINGULAR), int(Status.INCONSISTENT),
-    int(Status.BRANCH_EVENT))
+ST_BRANCH_EVENT = int(Status.BRANCH_EVENT)  # the last status with rates
 
 # fast-math's "contract" only: LLVM may fuse a * b + c into one fused multiply-add (one rounding
 # instead of two); no other fast-math licence (the NaN and inf tests stay exact, nothing is
@@ -40,7 +37,9 @@ _JIT: dict = dict(cache=True, error_model="numpy", nogil=True, fastmath={"contra
 _piece = register_jitable(inline="always", error_model="numpy")
 _inline = numba.njit(inline="always", error_model="numpy")
 
-for _fn in dict.fromkeys(scalar.PIECES + (certified,) + tuple(f for cls in kinds() for f in cls.scalar_kernels[1:])):
+# the rules both engines share: planar.sweep's acceptance test, planar.events' status rule
+SHARED = (certified, on_course, status_of)
+for _fn in dict.fromkeys(scalar.PIECES + SHARED + tuple(f for cls in kinds() for f in cls.scalar_kernels[1:])):
     _piece(_fn)
 
 
@@ -456,8 +455,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
                 off = _mx(off, abs((q[col] - qg[col]) * ics[k]))
             # planar.sweep's acceptance of a batch value: converged, the source anchor's modes, no
             # further from the guess than JUMP times the predicted move, certified on its branch
-            ok = res <= tol and step <= ROUND and (off <= 1e-9 or off <= JUMP * move + 1e-9)
-            ok = ok and certified(off, sing)
+            ok = res <= tol and step <= ROUND and on_course(off, move) and certified(off, sing)
             for b in range(dets.size):
                 ok = ok and SIGNS[i, b] == SA[a, b]
             OK[m] = ok
@@ -470,10 +468,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
                 else:
                     q[:] = np.nan
                 continue
-            # its status, as planar.events.status_of and planar.sweep.final_step give a converged value
-            st = ST_SINGULAR if sing < SINGULAR else (ST_NEAR_SINGULAR if sing < NEAR else ST_SOLVED)
-            if T.red.size and red > 1e3 * tol:
-                st = ST_INCONSISTENT
+            st = status_of(sing, red, tol)
             STATUS[i], SOLVED[i], DONE[i] = st, True, True
         else:
             STEP[m], OFF[m], RED[m] = step, off, red
@@ -599,8 +594,8 @@ def _warm():
 
 def _stamp():
     """A hash of what the cached machine code compiles in besides this file: every joint type's
-    kernels and their shared pieces, the acceptance test and the constants."""
+    kernels and their shared pieces, the acceptance and status rules and the constants."""
     modules = {sys.modules[cls.__module__] for cls in kinds()} | {scalar}
-    text = "".join(sorted(inspect.getsource(m) for m in modules)) + inspect.getsource(certified)
-    text += repr(([c.__name__ for c in kinds()], CERT, JUMP, ROUND, NEAR, SINGULAR, list(Status)))
+    text = "".join(sorted(inspect.getsource(m) for m in modules)) + "".join(map(inspect.getsource, SHARED))
+    text += repr(([c.__name__ for c in kinds()], CERT, JUMP, ROUND, NEAR, SINGULAR, HELD, list(Status)))
     return hashlib.sha1(text.encode()).hexdigest()
