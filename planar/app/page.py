@@ -531,6 +531,7 @@ def serve(port=5006, open_browser=True, start=None):
     """Serve the app on 127.0.0.1:``port`` until interrupted (Ctrl-C); ``start`` is a
     :class:`planar.app.forms.FileDesign` to open with each page."""
     import logging
+    import signal
 
     from bokeh.server.server import Server
 
@@ -538,6 +539,12 @@ def serve(port=5006, open_browser=True, start=None):
     server = Server({"/": lambda doc: Page(doc, start)}, port=port, address="127.0.0.1",
                     allow_websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"])
     server.start()
+    try:
+        # Ctrl-C stops the loop from inside it, whatever the loop is doing when it comes (where
+        # the event loop takes no signal handlers, as on Windows, it interrupts the loop instead)
+        server.io_loop.asyncio_loop.add_signal_handler(signal.SIGINT, server.io_loop.stop)
+    except NotImplementedError:
+        pass
     print(f"planar app: http://127.0.0.1:{port}/ (Ctrl-C to stop)", flush=True)
     if open_browser:
         server.io_loop.add_callback(server.show, "/")
