@@ -246,7 +246,10 @@ def test_virtual_power_on_random_linkages(desc, seed):
     sound = np.isin(res.status, (planar.Status.SOLVED, planar.Status.NEAR_SINGULAR))
     assume(sound.any())
     drive, rest, scale = virtual_power(res, loads)
-    np.testing.assert_allclose(drive[sound], rest[sound], rtol=0, atol=1e-10 * scale[sound].max())
+    # near a singular position the rates carry errors of about eps over the singularity measure
+    # (the events' estimate): a link 1e-6 long gives rates of 1e13 there
+    tol = 1e-10 * scale[sound].max() + 100 * np.finfo(float).eps / res.singularity[sound] * scale[sound]
+    assert np.all(np.abs(drive - rest)[sound] <= tol), np.max(np.abs(drive - rest)[sound] / tol)
     assert np.isnan(drive[~sound]).all()
 
 
@@ -370,7 +373,10 @@ def test_virtual_power_with_random_masses_loads_and_rates_on_every_joint_type(na
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", planar.IndeterminateWarning)
         drive, rest, scale = virtual_power(res, loads)
-    np.testing.assert_allclose(drive[sound], rest[sound], rtol=0, atol=1e-10 * scale[sound].max())
+    # near a singular position the rates carry errors of about eps over the singularity measure
+    # (the events' estimate): a link 1e-6 long gives rates of 1e13 there
+    tol = 1e-10 * scale[sound].max() + 100 * np.finfo(float).eps / res.singularity[sound] * scale[sound]
+    assert np.all(np.abs(drive - rest)[sound] <= tol), np.max(np.abs(drive - rest)[sound] / tol)
     assert np.isnan(drive[~sound]).all()
 
 
