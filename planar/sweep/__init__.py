@@ -7,9 +7,9 @@
    from its last anchor); where a wave accepts none, the walk goes step by step, halving a
    step whose solution changes assembly mode (the sign of a block det) or lands far from its
    predictor. Where that fails a singular position lies ahead:
-   :func:`planar.events.cross` follows the branch by arclength, locates it and says what it is
-   (a limit stops the branch; at a bifurcation the sweep goes on along the smooth branch, or
-   the other one if asked).
+   :func:`planar.events.crossing.cross` follows the branch by arclength, locates it and says
+   what it is (a limit stops the branch; at a bifurcation the sweep goes on along the smooth
+   branch, or the other one if asked).
 2. Every other value is solved in batch from the anchors of its own stretch (no event in
    between): by quintic Hermite interpolation between two anchors in the kinematic
    coefficients ``q_u``, ``q_uu`` (the velocity and acceleration solutions at unit input rate),

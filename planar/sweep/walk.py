@@ -3,7 +3,7 @@ past a gap, the input's period and whole turns of angles; one class with the hel
 
 import numpy as np
 
-from planar.events import around, cross
+from planar.events.crossing import around, cross
 from planar.solver import least_squares_gap, newton
 from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
 from planar.sweep.branch import scaled_norm
