@@ -11,10 +11,12 @@ from planar.solver import acceleration, newton, velocity
 
 
 def input_scale(model):
+    """(f,) the factor that scales each input: 1 / L (the model's length scale) for a length, 1 for an angle."""
     return np.where(model.input_lengths, 1.0 / model.L, 1.0)
 
 
 def scaled_norm(model, du):
+    """The largest scaled component of input differences du (..., f)."""
     return np.max(np.abs(du * input_scale(model)), axis=-1)
 
 

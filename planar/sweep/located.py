@@ -19,6 +19,7 @@ def event_index(U, lo, i, u_from, u_star):
 
 
 def same_event(a, b, model):
+    """Events a and b are one: the same kind at the same input, to 1e-8 scaled."""
     return a.kind == b.kind and scaled_norm(model, np.atleast_1d(a.input) - np.atleast_1d(b.input)) <= 1e-8
 
 
