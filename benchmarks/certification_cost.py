@@ -1,6 +1,6 @@
 """What branch certification costs: a sweep with it beside the same sweep without it.
 
-Certification is the test ``planar.sweep.certified(off, sing)`` on every accepted step (the
+Certification is the test ``planar.acceptance.certified(off, sing)`` on every accepted step (the
 correction no more than CERT times the singularity measure, which the sweep computes anyway
 for its statuses) and the gap bound of the tracer at crossings. Without it, every converged
 step in the same assembly modes is accepted. Both run in interleaved rounds (best of each,
@@ -20,7 +20,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from planar import sweep  # noqa: E402
+from planar.sweep import branch  # noqa: E402  (Branch.accept reads its certified)
 from planar.mechanisms import four_bar, slider_crank, watt_six_bar  # noqa: E402
 from sweep_speed import rounds  # noqa: E402
 
@@ -44,7 +44,7 @@ def main(argv=None):
     ap.add_argument("--sizes", type=int, nargs="+", default=[1000, 10_000, 100_000])
     args = ap.parse_args(argv)
     sizes, repeat = ([1000], 1) if args.quick else (args.sizes, REPEAT)
-    kept = sweep.certified
+    kept = branch.certified
     print(f"{'mechanism':32s} {'N':>7s} {'certified us/val':>16s} {'without':>8s} {'cost':>6s}  results apart")
     for name, build in CASES.items():
         model = build().compile()
@@ -52,11 +52,11 @@ def main(argv=None):
             u = model.u0[0] + np.linspace(0.0, 2 * np.pi, N)
 
             def without():
-                sweep.certified = uncertified
+                branch.certified = uncertified
                 try:
                     return model.sweep(u)
                 finally:
-                    sweep.certified = kept
+                    branch.certified = kept
 
             best = rounds({"certified": lambda: model.sweep(u), "without": without}, repeat)
             a, b = model.sweep(u), without()

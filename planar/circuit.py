@@ -6,7 +6,7 @@ circuit passes limit positions: there the input stops and turns back, and the me
 changes assembly mode. :func:`circuit` follows that curve once round, so one call gives the
 complete coupler curve:
 
-1. **Trace**: pseudo-arclength continuation (:class:`planar.events.Tracer`) from the sketch,
+1. **Trace**: pseudo-arclength continuation (:class:`planar.events.tracer.Tracer`) from the sketch,
    the input rising first. Each turning point of the input is located on the tangent's input
    component (to ~1e-15); where branches cross (a bifurcation) the trace keeps to the smooth
    branch; it ends where the curve is back at the sketch's pose (angles modulo a turn, so an
@@ -36,7 +36,8 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
-from planar.events import HELD, Event, Tracer, status_of
+from planar.events import HELD, Event, status_of
+from planar.events.tracer import Tracer
 from planar.results import Status, Sweep
 from planar.solver import newton
 from planar.sweep import Branch, input_scale

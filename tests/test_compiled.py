@@ -16,7 +16,7 @@ from planar import compiled
 from planar.blocks import plan
 from planar.errors import InputError
 from planar.mechanisms import four_bar, geared_five_bar, rolling_wheel, slider_crank
-from planar.sweep import _quintic
+from planar.sweep.anchors import quintic
 from tests.strategies import build, point
 from tests.test_core_sweeps import geared_five_bar as general_geared_five_bar
 
@@ -129,7 +129,7 @@ def test_the_bulk_pass_leaves_a_solved_anchor_it_cannot_take_as_it_was():
     U = np.linspace(0.0, 0.4, N)[:, None]
     ones = np.ones((G.size, 1))
     f = compiled.final(model, p, model.sweep(U[G, 0]).q, U[G], ones, 0 * ones)
-    P = _quintic(f["q"], f["qd"], f["qdd"], np.diff(U[G, 0]))
+    P = quintic(f["q"], f["qd"], f["qdd"], np.diff(U[G, 0]))
     P[1, 0] += 0.3
     q = np.full((N, model.n), 7.0)
     q[G] = f["q"]

@@ -6,7 +6,7 @@ import sys
 import numpy as np
 import pytest
 
-from planar import sweep
+from planar.sweep import anchors
 from planar.mechanisms import four_bar
 from planar.progress import Progress
 
@@ -64,6 +64,6 @@ def test_a_sweep_reports_its_bulk(monkeypatch):
         def __call__(self, done, total):
             seen.append((self.what, done, total))
 
-    monkeypatch.setattr(sweep, "Progress", Record)
+    monkeypatch.setattr(anchors, "Progress", Record)
     four_bar().sweep(np.linspace(0, 2 * np.pi, 100_000))
     assert len(seen) > 1 and seen[-1][0] == "sweep: values" and seen[-1][1] == seen[-1][2]

@@ -7,7 +7,7 @@ import pytest
 
 from planar import InputError, Status
 from planar.mechanisms import four_bar, geared_five_bar, open_chain, slider_crank, watt_six_bar
-from planar.sweep import _walk_anchors
+from planar.sweep.anchors import walk_anchors
 
 
 @pytest.mark.parametrize("build", [lambda: four_bar(4, 2, 3, 4, coupler_point=(1.0, 0.8)),
@@ -64,7 +64,7 @@ def test_walk_anchors_are_within_max_step_where_the_values_allow(kind):
          "decreasing": np.linspace(2, -3, 20_000), "sparse": np.cumsum(rng.uniform(0.01, 0.2, 300)),
          "one value": np.array([0.5])}[kind]
     scale, max_step = np.array([0.5]), 0.05  # an input in lengths: steps of 0.1 in its own unit
-    idx, monotone = _walk_anchors(v[:, None], scale, max_step)
+    idx, monotone = walk_anchors(v[:, None], scale, max_step)
     assert monotone and idx[0] == 0 and np.all(np.diff(idx) > 0) and idx[-1] < v.size
     stops = np.unique(np.r_[idx, v.size - 1])  # the walk ends at the last value
     gaps = np.abs(np.diff(v[stops]))
@@ -117,7 +117,7 @@ def test_the_bulk_of_a_sweep_is_one_newton_step_per_value(build):
 @pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="the heap policy of glibc's malloc")
 def test_repeated_sweeps_reuse_their_memory():
     """A sweep's freed memory is malloc's to reuse at the next call, not faulted in afresh
-    (planar.sweep._keep_freed_memory): with the heap trimmed after each call this sweep
+    (planar.sweep.run._keep_freed_memory): with the heap trimmed after each call this sweep
     faulted ~8000 pages in at every call (~20 % of its time here)."""
     import resource  # (POSIX only: glibc implies it)
 

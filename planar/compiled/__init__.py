@@ -99,7 +99,7 @@ def kinds():
 
 def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0):
     """One Newton step from guesses q (N, n) and, at the corrected poses, the rates with the
-    factorisation at the guesses, as the numpy engine's ``planar.sweep._step`` computes them: a
+    factorisation at the guesses, as the numpy engine's ``planar.sweep.branch._step`` computes them: a
     dict of q, qd, qdd, the scaled residual at the guess ``res``, the scaled ``step`` and
     ``off`` (the same over its finite components: how far the pose moved), the blocks' det
     ``signs``, the largest scaled redundant row ``red``, the singularity measure ``sing``, the
@@ -127,7 +127,7 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     """Values ``rows`` of a sweep solved in place from quintic Hermite guesses between the
     anchors around each, G[a] < row <= G[a + 1] (an anchor among them from the interval before
     it, the first from the one after it), where ``adj[a]`` says the two bound one stretch (G
-    sorted; P the interpolants' coefficients of ``planar.sweep._quintic``, SA the anchors'
+    sorted; P the interpolants' coefficients of ``planar.sweep.anchors.quintic``, SA the anchors'
     modes), with ``planar.sweep``'s final step and acceptance test: where a value passes, its
     pose, rates, residual, modes, singularity, branch and status are written into the sweep's arrays
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,

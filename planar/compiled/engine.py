@@ -3,6 +3,10 @@
 
 Imported on the first ``engine="numba"`` sweep (it imports numba). :func:`ready` compiles the
 loop, or loads it from numba's cache, saying so on stderr when it compiles.
+
+One module of more than 400 lines because it is one compilation unit: numba's on-disk cache is
+keyed on this file alone, so the loop and the pieces it inlines live here, and what it compiles
+in from elsewhere (the joints' kernels, the shared rules) is hashed by :func:`_stamp`.
 """
 
 import hashlib
@@ -16,13 +20,13 @@ import numba
 import numpy as np
 from numba.extending import register_jitable
 
+from planar.acceptance import CERT, JUMP, ROUND, certified, on_course
 from planar.compiled import CHUNK, D_BODIES, D_JBODIES, D_JROWS, D_KMAX, D_M, D_N, D_NNZ, D_NV, D_RMAX, kinds
 from planar.compiled import B_ANGLE, B_CO, B_FO, B_K, B_LENGTHS, B_LO, B_NF, B_NL, B_NS, B_NV, B_NW, B_O, B_R
 from planar.compiled import B_RO, B_SO, B_UO, B_VO, B_WEIGHTED
 from planar.events import HELD, NEAR, SINGULAR, status_of
 from planar.joints import scalar
 from planar.results import Status
-from planar.sweep import CERT, JUMP, ROUND, certified, on_course
 
 NEAR_ANGLE = 0.05  # a bulk value's angles within this of its anchor's: cos and sin from the anchor's
 CLOSE = 1e-4  # a batch value takes more Newton steps while its last one (scaled) is below this
@@ -37,7 +41,7 @@ _JIT: dict = dict(cache=True, error_model="numpy", nogil=True, fastmath={"contra
 _piece = register_jitable(inline="always", error_model="numpy")
 _inline = numba.njit(inline="always", error_model="numpy")
 
-# the rules both engines share: planar.sweep's acceptance test, planar.events' status rule
+# the rules both engines share: planar.acceptance's test, planar.events' status rule
 SHARED = (certified, on_course, status_of)
 for _fn in dict.fromkeys(scalar.PIECES + SHARED + tuple(f for cls in kinds() for f in cls.scalar_kernels[1:])):
     _piece(_fn)
@@ -392,7 +396,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
                     qo[j] = q[j]
                 for j in range(so.size):
                     so[j] = SIGNS[i, j]
-            # the quintic Hermite guess between anchors a and a + 1 (HQ: planar.sweep._quintic and
+            # the quintic Hermite guess between anchors a and a + 1 (HQ: planar.sweep.anchors.quintic and
             # _horner), and the predicted move from a
             if a != a_ref:  # the interval's start and 1 / length; the anchor's angles, their cos and
                 # sin: the reference of _frames

@@ -1,0 +1,349 @@
+"""The sweep's entry point (:func:`run_sweep`): the walk over the anchors, the bulk from them,
+the rest one by one and the gaps walked back; :func:`run_sweep` is one function of three passes
+over shared arrays, and the module is that function and the few helpers it alone uses."""
+
+from dataclasses import replace
+
+import numpy as np
+
+from planar.blocks import plan as block_plan
+from planar.errors import AssemblyError, InputError
+from planar.events import SINGULAR
+from planar.sweep.anchors import MAX_WAVE, WAVE, Kin, from_anchors, solve_wave, sweep_anchors, walk_anchors
+from planar.sweep.branch import Branch, input_scale, scaled_norm
+from planar.sweep.finish import Out, finish
+from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
+from planar.sweep.walk import TWO_PI_A1, TWO_PI_A2, TWO_PI_B, Walker
+
+FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
+HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
+TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
+SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
+FAR = 100.0  # radians of input from the sketch beyond which a full-turn input is solved periods back
+
+
+def output_columns(model, outputs):
+    """Coordinates the named bodies, points, joints or inputs depend on."""
+    if outputs is None:
+        return None
+    if isinstance(outputs, str):
+        outputs = [outputs]
+    cols = set()
+    for name in outputs:
+        bodies = []
+        if name in model.body_names:
+            bodies = [model.body_id(name)]
+        elif name in model.points:
+            bodies = [model.points[name][0]]
+        elif name in model.coordinates or name in model.input_names:
+            j = next((d for d in model.drivers if d.name == name), None) or model.joint(name)
+            bodies = [model.body_id(b) for b in j.bodies]
+        else:
+            raise InputError(f"unknown output {name!r}: name bodies {list(model.body_names[1:])}, points or "
+                             f"joints {sorted(model.points)}")
+        for b in bodies:
+            if b > 0:
+                cols.update(range(3 * b - 3, 3 * b))
+    # outputs fixed to the ground depend on no coordinate: the whole model is solved (the
+    # statuses still say whether each value assembles)
+    return sorted(cols) or None
+
+
+def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
+              engine="numpy"):
+    """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
+    from instead of the sketch, reached from the sketch by continuation with no event between
+    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch."""
+    if branch not in ("smooth", "other"):
+        raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
+    cols = output_columns(model, outputs)
+    p = block_plan(model, cols)
+    br = Branch(model, p, tol, bool(rates), engine)
+    walker = Walker(br, max_step, branch == "other")
+    _keep_freed_memory()
+    N, n = U.shape[0], model.n
+    q = np.empty((N, n))  # rows not posed at the end are set NaN then
+    solved = np.zeros(N, bool)
+    signs = np.zeros((N, len(p.blocks)), np.int8)  # the blocks' modes at each solved value
+    events = []
+
+    def walk(start, i, lo, back=None, periodic=True):
+        """Walk from ``start`` (q, u, signs) to value i; events get the index of the first
+        value after ``lo`` at or past them (walking back from value ``back`` > i: the first
+        value from i on at or past them in the sweep's own direction)."""
+        k = len(walker.events)
+        got = walker.walk(*start, U[i], int(i), periodic=periodic)
+
+        def index(u_star):
+            if back is None:
+                return event_index(U, lo, i, start[1], u_star)
+            return event_index(U, i - 1, back, U[i], u_star)
+
+        for j in range(k, len(walker.events)):
+            ev = walker.events[j]
+            if not any(same_event(ev, e, model) for e in events):
+                events.append(replace(ev, index=index(ev.input)))
+        if got[0] == "limit":
+            ev = replace(got[1], index=index(got[1].input))
+            if not any(same_event(ev, e, model) for e in events):
+                events.append(ev)
+            if back is None:  # (a limit met before too: value i, if re-entered, is past it all the same)
+                stops.append(ev.index)
+            limits.append((ev, np.sign(U[i] - start[1])))
+        return got
+
+    def past(u_from, u_to):
+        """A limit the walk met lies between u_from and u_to, periods of the input apart (asked
+        only of values more than half a turn apart: nearer ones the walk goes to directly)."""
+        far = limits and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
+        return past_limit(limits, u_from, u_to, walker.period() if far else None)
+
+    # far values of an angle input whose pose is periodic (the same up to whole turns of its
+    # angles: an input that turns fully, or a rocking input's range a period on) are solved
+    # whole periods back, nearer the sketch, and shifted back at the end: angles of 1e6 rad
+    # would carry rounding of 1e-10 rad into the constraints
+    U_in, shift = U, None
+    if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
+        per = walker.period()
+        if per is not None:
+            start = None  # the sketch, whole periods back, is nearer than any known pose
+            block = per[0] * np.ceil(FAR / per[0])
+            k = np.trunc((U[:, 0] - model.u0[0]) / block) * (block / per[0])
+            turns = k * round(per[0] / (2 * np.pi))
+            # (the large terms first)
+            U = (((U[:, 0] - turns * TWO_PI_A1) - turns * TWO_PI_A2) - turns * TWO_PI_B)[:, None]
+            shift = (k, per)
+
+    # 1. the sequential walk over anchors, from the assembled sketch
+    chosen = br.signs(model.q0[None], model.u0[None])[0]
+    if start is None:  # (a known pose was reached from the sketch: it passed)
+        check_sketch(model, p)
+    origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
+    # values given out of order (one input) are solved in the order of the input, from the end
+    # nearer the start, and put back in the asked order at the end: each is walked to from its
+    # neighbour in input, where a jumping sweep would walk back and forth across the range and
+    # search again for the range past each gap it meets
+    order = _input_order(U, origin[1][0])
+    if order is not None:
+        U, Ud, Udd, U_in = U[order], Ud[order], Udd[order], U_in[order]
+        shift = None if shift is None else (shift[0][order], shift[1])
+    state = origin
+    limits = []  # (limit event, direction of the input that hit it)
+    stops = []  # indices of the limits the walk stopped at, moving with the sweep
+    anchors = sweep_anchors(model, U, max_step)
+    kin = Kin()  # the anchors' kinematic coefficients where known (one input)
+    coef = None  # those of the state, where known
+    lo, k, wave = -1, 0, WAVE
+    while k < anchors.size:
+        idx = anchors[k : k + wave]
+        stop = np.flatnonzero(past(state[1][None], U[idx]) | on_event(model, U[idx], events))
+        tried = stop[0] if stop.size else idx.size
+        # an anchor several steps from the one before (sparse values) is walked to: a wave
+        # would not reach it
+        far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
+                             > SPARSE * max_step)
+        tried = far[0] if far.size else tried
+        a, qa, ka = solve_wave(br, state, U, idx[:tried], coef)
+        if a:
+            q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
+            state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
+            if ka is not None:
+                kin.add(idx[:a], *ka)
+                coef = ka[0][-1], ka[1][-1]
+        wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
+        # a wave that stopped part way goes on as a new wave from its last anchor; the walk
+        # takes the anchor where one accepted none (or where an event was located)
+        if k >= anchors.size or a == idx.size or 0 < a < tried:
+            continue
+        coef = None
+        i = anchors[k]
+        got = ("lost",) if past(state[1][None], U[i][None])[0] else walk(state, i, lo)
+        lo = i
+        if at_events(model, U[i : i + 1], events):
+            k += 1
+            continue  # a value on a singular position is no pose to go on from
+        if got[0] == "ok":
+            q[i], solved[i], signs[i] = got[1], True, got[2]
+            state = (got[1], U[i], got[2])
+            k += 1
+            continue
+        if got[0] == "limit":
+            state = (got[2][0], got[2][1], state[2])
+        # out of reach: the next anchor that assembles on the branch, a whole period on from a
+        # value solved, else by one batched search
+        known = np.flatnonzero(solved)
+        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:]])
+        upto = anchors.size if found is None else k + found[0]
+        nearer = walker.enter_any([state[0], model.q0], chosen, U[anchors[k:upto]]) if upto > k else None
+        if nearer is not None:
+            found = (*nearer, chosen)
+        if found is None:
+            break
+        c, qe, se = found
+        k += c
+        i = anchors[k]
+        qe = walker.near_turns(qe, U[i], se, state[0])
+        q[i], solved[i], signs[i] = qe, True, se
+        state, lo = (qe, U[i], se), i
+        k += 1
+
+    # 2. every other value from an anchor of its own stretch (no event in between): first a
+    # finer set of anchors, so that the interpolation is at rounding level for the rest
+    at_event = at_events(model, U, events)
+    solved[list(at_event)] = False
+    out = Out(N, n, br.rates)
+    q_pred = {}  # index -> the best guess of a value left for the walk
+    done = np.zeros(N, bool)
+    todo = ~solved  # all but the solved anchors and the values on events
+    todo[list(at_event)] = False
+    cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}), int)
+    fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
+                cuts=cuts, kin=kin)
+    if U.shape[1] == 1:
+        finer, _ = walk_anchors(U, input_scale(model), max_step / FINER)
+        finer = finer[todo[finer]]
+        # their poses and modes only (the table needs no more): their rates and statuses come
+        # with the bulk pass, which takes them again, or with the final step at the end
+        from_anchors(anchors=anchors, targets=finer, **dict(fill, br=Branch(model, p, tol, False, engine)))
+        finer = finer[solved[finer]]
+        done[finer] = False
+        anchors = np.union1d(anchors, finer)
+        todo[finer] = False
+    # the anchors too: their final step is due anyway, and the bulk's chunks become runs of
+    # consecutive values (slices where the results are written, not scatters)
+    from_anchors(anchors=anchors, targets=np.flatnonzero(todo | solved), **fill)
+
+    # 3. the rest one by one, from the solved point before each; values on an event or past a
+    # limit from there are set aside in one pass (out of range, there may be many)
+    rest = np.flatnonzero(~solved)
+    if rest.size:  # (the last solved value before each: N-sized, so only when needed)
+        last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
+        u_from = _input_before(origin[1], U, last, rest)
+        rest = rest[~on_event(model, U[rest], events) & ~past(u_from, U[rest])]
+    failed, newest = (None, None), -1
+    for i in rest:
+        if at_events(model, U[i : i + 1], events):
+            continue
+        j = max(int(last[i - 1]) if i else -1, newest)
+        j = None if j < 0 else j
+        start = origin if j is None else (q[j], U[j], signs[j])
+        if _further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
+            continue  # the walk from this pose failed nearer that way already, or a limit lies between
+        got = walk(start, i, -1 if j is None else j)
+        if got[0] != "ok":
+            failed = (j, U[i])
+            continue
+        q[i], solved[i], signs[i], newest = got[1], True, got[2], i
+    # values still unreached past a gap in the range (re-entered further on): walked back from
+    # the solved value after them, so the branch is re-entered as far back as it reaches and
+    # the limit on the gap's far side is located
+    rest = np.flatnonzero(~solved)
+    if rest.size:
+        nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
+    failed, newest = (None, None), N
+    for i in rest[::-1]:
+        j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
+        if j >= N or at_events(model, U[i : i + 1], events):
+            continue
+        if _further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
+            continue
+        got = walk((q[j], U[j], signs[j]), i, -1, back=j)
+        if got[0] != "ok":
+            failed = (j, U[i])
+            continue
+        q[i], solved[i], signs[i], newest = got[1], True, got[2], i
+    # a limit with no value between it and the re-entered branch (a pair of limits inside one
+    # step): the limit on the gap's far side, located walking back from the value past it, up
+    # to a turn of the input
+    at_event = at_events(model, U, events)
+    for j in list(stops):
+        if 0 < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
+            reach = np.flatnonzero(scaled_norm(model, U[:j] - U[j]) <= TURN)
+            # (the direct way: only the limit it meets is wanted)
+            walk((q[j], U[j], signs[j]), int(reach[0] if reach.size else j - 1), -1, back=j, periodic=False)
+    at_event = at_events(model, U, events)
+    for i, ev in at_event.items():
+        q[i], solved[i], done[i] = ev.q, True, True
+    events.sort(key=lambda e: e.index)
+    # values left unsolved past a limit the walk met (from the solved value before them) are
+    # out of the branch's reach, however small their least-squares gap
+    beyond = np.zeros(N, bool)
+    miss = np.flatnonzero(~solved)
+    if miss.size and limits:
+        last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
+        beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
+    jumps = (stops, None)
+    if order is not None:
+        # values asked one after the other with a limit the walk met between them (the direct
+        # way): a jump
+        inv = np.empty_like(order)
+        inv[order] = np.arange(N)
+        prev = np.where(order > 0, inv[np.maximum(order - 1, 0)], -1)  # the value asked before each
+        cand = np.flatnonzero(prev >= 0)
+        if limits and cand.size:
+            cand = cand[past_limit(limits, U[prev[cand]], U[cand])]
+        jumps = (cand if limits else [], prev)
+    return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
+                   order, origin[1])
+
+
+def _input_order(U, u0):
+    """The order in which to solve the values U (N, 1) of one input given out of order (turning
+    back at least once): sorted, ascending or descending from the end nearer the start's
+    input ``u0`` (stable: repeated values keep their order). None for values in order.
+
+    >>> _input_order(np.array([[0.0], [2.0], [1.0]]), 0.0).tolist(), _input_order(np.array([[0.0], [2.0], [1.0]]), 3.0).tolist()
+    ([0, 2, 1], [1, 2, 0])
+    """
+    if U.shape[1] != 1 or U.shape[0] < 3:
+        return None
+    v = U[:, 0]
+    d = np.diff(v)
+    if np.all(d >= 0) or np.all(d <= 0):
+        return None
+    down = v.max() - u0 < u0 - v.min()
+    return np.argsort(-v if down else v, kind="stable")
+
+
+def _further(failed, j, u_j, u):
+    """The walk from value j to ``u`` goes the way a walk from j failed (``failed``: (j, its
+    target)) and at least as far: not tried (values out of order on the near side are)."""
+    if failed[0] != j or failed[1] is None:
+        return False
+    d, f = u - u_j, failed[1] - u_j
+    return bool(np.all(d * f >= 0) and np.max(np.abs(d)) >= np.max(np.abs(f)))
+
+
+def _input_before(u0, U, last, idx):
+    """(M, f) the input of the last solved value before each of ``idx`` (``last``: the index
+    of the last solved value at or before each value, -1 for none), the start's ``u0`` where none."""
+    prev = np.where(idx > 0, last[np.maximum(idx - 1, 0)], -1)
+    return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], u0)
+
+
+def check_sketch(model, p):
+    """A sketch drawn on a singular position leaves the branch to follow undefined (a
+    parallelogram drawn flat moves on as a parallelogram or as an antiparallelogram): refused,
+    naming the bodies whose loop is singular there."""
+    with np.errstate(all="ignore"):
+        dets = p.factor(p.evaluate(model.q0[None], model.u0[None])[2]).dets[0]
+    bad = np.flatnonzero(~(np.abs(dets) >= SINGULAR))
+    if bad.size:
+        blk = p.blocks[int(bad[0])]
+        bodies = sorted({model.body_names[int(c) // 3 + 1] for c in blk.cols}, key=model.body_names.index)
+        raise AssemblyError(
+            f"the sketch of {model.name!r} sits on a singular position (bodies {', '.join(bodies)}: normalised det "
+            f"{abs(dets[bad[0]]):.1e}), where more than one branch passes and none is the one drawn; sketch it "
+            f"off the singular position (for a catalogue mechanism, another start value) and sweep through it: "
+            f"the sweep locates the singular position and follows the smooth branch (or branch='other')")
+
+
+def _keep_freed_memory():
+    """Free one untouched block of HEAP_KEEP bytes, so that glibc's malloc keeps what a sweep
+    frees for its next chunk and its next call instead of handing it back to the system: its
+    mmap threshold follows the largest mmapped block freed, up to 32 MiB and only for blocks no
+    larger than that (hence 8 KiB under it: malloc's header and page rounding), and it trims
+    the heap's free top beyond twice that (64 MiB), above a numpy sweep's heap at N = 1e5.
+    Below it, each chunk and each call faulted its memory in afresh. The process may keep up
+    to 2 HEAP_KEEP of freed memory; with other allocators this costs one mmap and munmap."""
+    np.empty(HEAP_KEEP, np.uint8)

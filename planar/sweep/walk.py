@@ -1,0 +1,322 @@
+"""The sequential walk of one pose along its branch (:class:`Walker`): steps, events, re-entry
+past a gap, the input's period and whole turns of angles; one class with the helpers it alone uses."""
+
+import numpy as np
+
+from planar.events.crossing import around, cross
+from planar.solver import least_squares_gap, newton
+from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
+from planar.sweep.branch import scaled_norm
+
+GAP = 1e-8  # scaled residual above which a least-squares minimum is not an assembly
+HALVINGS = 5  # natural-parameter step halvings before the arclength tracer takes over
+# tracings round a circuit one sweep may make to re-enter its branch: next to a limit's far
+# side the first tries may fail where a value further on enters
+ROUNDS = 5
+PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
+SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
+WALK_STEPS = 20000  # steps of one walk without a period to shorten it: farther targets are not reached
+
+
+class Walker:
+    """Sequential continuation of one pose (batch of one), with events."""
+
+    def __init__(self, br, max_step, other, rounds=ROUNDS):
+        self.br, self.max_step, self.other = br, max_step, other
+        self.events = []
+        self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
+        self._symmetry = self._period = None  # (P, D) or False, found when first asked
+        self.turns = False  # the walk went round a whole period (no limit): the input turns fully
+
+    def symmetry(self):
+        """(P, D): the input period P (whole turns of one angle input) and the pose shift D over
+        it (whole turns of the angles of the bodies that turn with the input, 0 elsewhere) where
+        the sketch shifted by D solves the constraints at its input plus P in the same assembly
+        modes: the revolute and slider rows of a pure linkage read angles through their sines
+        and cosines, while a gear or a slider's relative angle passes the input on linearly
+        (a gear pair of ratio 7/6 comes back after 7 turns). None where no pose within PERIODS
+        turns is the sketch's shifted by whole turns (a gear train of ratio pi)."""
+        if self._symmetry is None:
+            self._symmetry = _symmetry(self.br) or False
+        return self._symmetry or None
+
+    def period(self):
+        """(P, D) of :meth:`symmetry`, checked on the branch: the walk from the sketch through
+        one period comes back to the sketch up to whole turns D of its angles (a full-turn
+        crank: its coupler and rocker may turn too), or meets a limit (a rocking input: values
+        a period apart are the same pose, reached by re-entry). None otherwise (a circuit that
+        closes after more turns than the symmetry's period)."""
+        if self._period is None:
+            self._period = False
+            sym = self.symmetry()
+            if sym is not None:
+                m = self.br.m
+                P, D = sym
+                k, rounds = len(self.events), self.rounds
+                s0 = self.br.signs(m.q0[None], m.u0[None])[0]
+                got = self.walk(m.q0, m.u0, s0, m.u0 + P, 0)
+                del self.events[k:]  # that turn is no part of the sweep
+                self.rounds = rounds
+                if got[0] == "limit":
+                    self._period = sym
+                elif got[0] == "ok" and np.all(got[2] == s0):
+                    D = _turns(self.br, got[1] - m.q0)
+                    self._period = False if D is None else (P, D)
+                    self.turns = D is not None
+        return self._period or None
+
+    def _shorten(self, q, u, signs, k):
+        """(q, u) moved by k whole periods of the input (:meth:`period`): the pose there is
+        the pose at u shifted by whole turns. None where it does not solve there."""
+        P, D = self.period()
+        uk = u + k * P
+        qk, conv, _, _ = self.br.solve((q + k * D)[None], uk[None])
+        if conv[0] and np.all(self.br.signs(qk, uk[None])[0] == signs):
+            return qk[0], uk
+        return None
+
+    def walk(self, q, u, signs, target, index, periodic=False):
+        """Follow the branch from (q, u) to ``target``. With ``periodic``, where the pose is
+        periodic in the input (:meth:`period`), the whole periods between them are one move
+        and the walk goes on less than a period the same way, so a far target costs what a
+        near one does; for a rocking input that meets a limit that way, the other way round
+        (a period less or more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)) or ("lost",)
+        (also for a target more than WALK_STEPS steps away with no period to shorten the way:
+        the work is bounded and the value left unreached)."""
+        if periodic and u.size == 1:
+            d = float(target[0] - u[0])
+            per = self.period() if abs(d) >= 2 * np.pi else None
+            k = np.trunc(d / per[0]) if per is not None else 0.0
+            start = self._shorten(q, u, signs, k) if k else (q, u)
+            if start is not None:
+                n = len(self.events)
+                got = self.walk(*start, signs, target, index)
+                # (a value within half a turn, no whole period away, goes the direct way only)
+                per = self.period() if got[0] == "limit" and (k or abs(d) > np.pi) else None
+                # the other way round when the value was far (whole periods away: either way is
+                # as good) or the other way is the shorter (P / 2 >= pi): a rocking input's value in the next
+                # period's range, but not a value in the gap just past the limit met
+                rest = 0.0 if per is None or self.turns else d - k * per[0]
+                rest = rest if k or abs(rest) > np.pi else 0.0
+                other = self._shorten(q, u, signs, k + np.sign(rest)) if rest else None
+                if other is None:
+                    return got
+                kept = self.events[n:]
+                del self.events[n:]
+                again = self.walk(*other, signs, target, index)
+                # the other way round keeps the assembly modes: through a change point it comes
+                # back in other modes, where the walk the direct way would re-enter in these
+                if again[0] == "limit" or (again[0] == "ok" and not np.all(again[2] == signs)):
+                    self.events[n:] = kept
+                    return got
+                return again
+        br, m = self.br, self.br.m
+        total = float(scaled_norm(m, target - u))
+        if total <= 1e-14:  # the target is this pose up to rounding (the final Newton polishes it)
+            return "ok", q, signs
+        if total > WALK_STEPS * self.max_step:
+            return ("lost",)
+        h = min(1.0, self.max_step / total)
+        t = 0.0
+        u0 = u
+        halvings = 0
+        wave = WAVE
+        while t < 1.0:
+            if halvings == 0 and 1.0 - t > h:
+                # the full steps ahead in one batch, as the anchors are: the walk's own steps
+                # while each is accepted (a batch costs about one step); the rest one by one
+                ts = np.minimum(t + h * np.arange(1, wave + 1), 1.0)
+                ts = ts[: int(np.searchsorted(ts, 1.0)) + 1]
+                a, qa, _ = solve_wave(self.br, (q, u, signs), u0 + ts[:, None] * (target - u0), np.arange(ts.size))
+                if a:
+                    q, u, t = qa[-1], u0 + ts[a - 1] * (target - u0), ts[a - 1]
+                wave = min(2 * wave, MAX_WAVE) if a == ts.size else max(a, WAVE)
+                if a:
+                    continue
+            dt = min(h, 1.0 - t)
+            u_next = u0 + (t + dt) * (target - u0)
+            q_pred, _ = br.predict(q[None], u[None], (u_next - u)[None])
+            qn, conv, _, _ = br.solve(q_pred, u_next[None])
+            sn, sg = br.modes(qn, u_next[None])
+            if br.accept(qn, q_pred, lambda k: q[None], conv, sn, signs[None], sg)[0]:
+                q, u, t = qn[0], u_next, t + dt
+                h = min(2 * h, self.max_step / total)
+                halvings = 0
+                continue
+            flipped = bool(conv[0]) and not np.all(sn[0] == signs)
+            halvings += 1
+            h /= 2
+            # a sign flip, repeated failures, or steps shrinking towards a turning point
+            if flipped or halvings > HALVINGS or h * total < self.max_step / 2**HALVINGS:
+                return self._cross(q, u, signs, target, index)
+        return "ok", q, signs
+
+    def _cross(self, q, u, signs, target, index):
+        br, m = self.br, self.br.m
+        got = cross(m, br.p, q, u, target, self.max_step, other=self.other, index=index)
+        self.events.extend(got.events)
+        if got.limit is not None:
+            ev = got.limit
+            if scaled_norm(m, np.atleast_1d(ev.input) - target) <= 1e-10:
+                # the value is the limit position itself
+                self.events.append(ev)
+                return "ok", ev.q, signs
+            return "limit", ev, got.before
+        if got.q is None:
+            return ("lost",)
+        qn, conv, _, _ = br.solve(got.q[None], target[None], max_iter=30)
+        if not conv[0]:
+            return ("lost",)
+        return "ok", qn[0], br.signs(qn, target[None])[0]
+
+    def enter_any(self, guesses, signs, targets, tries=4):
+        """(index, pose) of the first of ``targets`` (M, f) where the branch can be entered:
+        a batched least-squares search from each guess, then Newton, the mode test and, on
+        another mode, the way round through a limit. None if none found."""
+        br = self.br
+        best = None
+        # the first few targets and a few spread over the rest: a least-squares search of each
+        # of hundreds of values would cost more than the walk
+        pick = np.unique(np.r_[np.arange(min(len(targets), 4 * tries)),
+                               np.linspace(0, len(targets) - 1, 2 * tries).astype(int)])
+        for g in guesses:
+            ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick])
+            near = np.flatnonzero(gap <= GAP)
+            # the first few, and a few spread over the rest: next to a limit's far side Newton
+            # may find only the other mode, where a value further on enters the branch
+            for c in np.unique(np.r_[near[:tries], near[np.linspace(0, near.size - 1, tries).astype(int)]]
+                               if near.size else near):
+                if best is not None and pick[c] >= best[0]:
+                    break
+                qe = self.enter([ql[c]], signs, targets[pick[c]])
+                if qe is not None:
+                    best = (int(pick[c]), qe)
+                    break
+        return best
+
+    def enter_by_period(self, qs, us, signs, targets, tries=8):
+        """(index, pose, modes) of the first of ``targets`` (M, 1) within a step of a pose solved
+        on the branch (``qs``, ``us``, ``signs``) moved by whole periods of the input
+        (:meth:`period`): the same pose shifted by whole turns, walked to from there. Exact where
+        the search of :meth:`enter_any` finds only another circuit (values past a limit pair that
+        are a turn on from the stretch already solved). None if none."""
+        if targets.shape[1] != 1 or not len(us) or self.period() is None:
+            return None
+        P, _ = self.period()
+        t = targets[:4096, 0]
+        n = np.round((t[:, None] - us[None, :, 0]) / P)
+        off = np.where(n != 0, np.abs(t[:, None] - us[None, :, 0] - n * P), np.inf)
+        j = np.argmin(off, axis=1)
+        for c in np.flatnonzero(off[np.arange(t.size), j] <= self.max_step)[:tries]:
+            k = int(j[c])
+            image = self._shorten(qs[k], us[k], signs[k], n[c, k])
+            if image is None:
+                continue
+            got = self.walk(*image, signs[k], targets[c], int(c))
+            if got[0] == "ok":
+                return int(c), got[1], got[2]
+        return None
+
+    def near_turns(self, q, u, signs, ref):
+        """The re-entered pose q (at u) with its angles moved by whole turns to lie within half
+        a turn of those of ``ref`` (the pose before the gap), where it still solves there in the
+        same modes: the same positions, its angles counted as the branch counted them before the
+        gap, whichever search found it. q itself otherwise."""
+        p = self.br.p
+        with np.errstate(all="ignore"):
+            _, J = p.system.evaluate(q[None], u[None])
+        rows = np.concatenate([np.atleast_1d(p.rows[d]) for d in p.drivers]) if p.drivers.size else []
+        free = ~np.any(np.atleast_2d(J[0][rows]) != 0, axis=0)  # the drivers' own angles stay
+        cols = p.cols[free[p.cols]]
+        d = (ref - q)[cols]
+        shift = np.zeros_like(q)
+        shift[cols] = np.where(cols % 3 == 2, 2 * np.pi * np.round(d / (2 * np.pi)), 0.0)
+        if not shift.any():
+            return q
+        qn, conv, _, _ = self.br.solve((q + shift)[None], u[None])
+        if conv[0] and np.all(self.br.signs(qn, u[None])[0] == signs) and _turns(self.br, qn[0] - q) is not None:
+            return qn[0]
+        return q
+
+    def enter(self, guesses, signs, target):
+        """Re-enter the motion range at ``target`` from guesses of the same branch."""
+        br = self.br
+        for g in guesses:
+            qn, conv, _, _ = newton(br.m, g[None], target[None], tol=br.tol, max_iter=40, max_step=0.3, plan=br.p)
+            if not conv[0]:
+                # far from the guess: least squares first, Newton from its minimum
+                ql, gap = least_squares_gap(br.m, g[None], target[None])
+                if gap[0] > GAP:
+                    continue
+                qn, conv, _, _ = newton(br.m, ql, target[None], tol=br.tol, max_iter=40, plan=br.p)
+                if not conv[0]:
+                    continue
+            if np.all(br.signs(qn, target[None])[0] == signs):
+                return qn[0]
+            if target.size == 1 and self.rounds > 0:
+                # another mode of the same circuit: go round through a limit to ours
+                self.rounds -= 1
+                got = around(br.m, br.p, qn[0], target, signs, self.max_step, np.pi)
+                if got is not None:
+                    return got
+        return None
+
+
+# 2 pi = A1 + A2 + B: A1 with 27 significant bits (n A1 is exact for |n| < 2^26 turns), B the
+# rounding of 2 pi to a double, so that whole turns are added to angles of 1e6 rad without the
+# 1e-10 rad that n times the rounded 2 pi would carry
+TWO_PI_A1 = np.round(2 * np.pi * 2.0**24) / 2.0**24
+TWO_PI_A2 = 2 * np.pi - TWO_PI_A1
+TWO_PI_B = 2.4492935982947064e-16
+
+
+def add_turns(x, n):
+    """x + 2 pi n (n whole turns) to the rounding of the result, for x small next to 2 pi n.
+
+    >>> x = -0.357564167085735  # 1e6 less 159155 turns (the naive 1e6 - 159155 * 2 * np.pi is 8e-11 off)
+    >>> float(x + 159155 * 2 * np.pi), float(add_turns(x, 159155.0))
+    (999999.9999999999, 1000000.0)
+    """
+    if np.all(n == 0):
+        return x
+    return ((x + n * TWO_PI_B) + n * TWO_PI_A2) + n * TWO_PI_A1
+
+
+def _symmetry(br):
+    """See :meth:`Walker.symmetry`: from the sketch, the driven angle moved by k turns and a
+    Newton solve at the input plus k turns, for k = 1 .. PERIODS."""
+    m, p = br.m, br.p
+    if m.input_lengths.size != 1 or m.input_lengths[0] or p.drivers.size != 1:
+        return None
+    q0, u0 = m.q0, m.u0
+    s0 = br.signs(q0[None], u0[None])[0]
+    with np.errstate(all="ignore"):
+        _, J = p.system.evaluate(q0[None], u0[None])
+    row = J[0][p.rows[p.drivers[0]]]
+    col = p.cols[np.argmax(np.abs(row[p.cols]))]  # the driven angle
+    for k in range(1, PERIODS + 1):
+        P = 2 * np.pi * k
+        g = q0.copy()
+        with np.errstate(all="ignore"):
+            Phi, _ = p.system.evaluate(q0[None], (u0 + P)[None])
+        g[col] -= Phi[0, p.rows[p.drivers[0]]] / row[col]
+        qn, conv, _, _ = br.solve(g[None], (u0 + P)[None], max_iter=30)
+        if not conv[0]:
+            continue
+        D = _turns(br, qn[0] - q0)
+        if D is not None and np.all(br.signs(qn, (u0 + P)[None])[0] == s0):
+            return P, D
+    return None
+
+
+def _turns(br, d):
+    """The change d (n,) of a pose rounded to whole turns of its angles, None where it is not
+    whole turns (to SAME, scaled) or moves a position."""
+    m, cols = br.m, br.p.cols
+    dc = d[cols]
+    turns = np.where(cols % 3 == 2, np.round(dc / (2 * np.pi)), 0.0)
+    if not np.max(np.abs(dc - 2 * np.pi * turns) / m.col_scale[cols]) <= SAME:
+        return None
+    D = np.zeros(m.n)
+    D[cols] = 2 * np.pi * turns
+    return D
