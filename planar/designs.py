@@ -39,7 +39,10 @@ from planar.errors import InputError, PlanarError
 from planar.events import NEAR_CURVE
 from planar.geometry import perp
 from planar.dimensions import Dimension
-from planar.model import Mechanism, _compile, _finite, _positive, _resolve
+from planar.model import Mechanism
+from planar.model.checks import finite, positive
+from planar.model.compile import compile_sketch
+from planar.model.resolve import resolve
 from planar.results import POSED, VALID, Status, Sweep
 from planar.sweep import CHUNK, sweep_anchors, Branch, final_step, output_columns, run_sweep
 
@@ -99,7 +102,8 @@ class Vary:
     @cached_property
     def numbers(self):
         """name -> the value ``mechanism`` has: its stated distances, then its drivers' starts."""
-        return {f"{d.a}-{d.b}": d.length for d in self.mechanism._dimensions} | dict(self.mechanism._starts)
+        sk = self.mechanism.sketch()
+        return {f"{d.a}-{d.b}": d.length for d in sk.dimensions} | dict(sk.starts)
 
     @cached_property
     def model(self):
@@ -114,9 +118,9 @@ class Vary:
     def __call__(self, **numbers):
         self.check(numbers)
         m = copy.deepcopy(self.mechanism)
-        m._dimensions = [Dimension(d.a, d.b, _positive(numbers.get(f"{d.a}-{d.b}", d.length), f"distance {d.a}-{d.b}"))
+        m._dimensions = [Dimension(d.a, d.b, positive(numbers.get(f"{d.a}-{d.b}", d.length), f"distance {d.a}-{d.b}"))
                          for d in m._dimensions]
-        m._starts = {k: float(_finite(numbers.get(k, v), f"start of driver {k!r}", ())) for k, v in m._starts.items()}
+        m._starts = {k: float(finite(numbers.get(k, v), f"start of driver {k!r}", ())) for k, v in m._starts.items()}
         return m
 
 
@@ -377,7 +381,7 @@ def _values_of(values, design, d, f):
 
 def _compile_unplanned(mechanism):
     """``mechanism.compile()`` but for its block plan: designs of one structure share one."""
-    return _compile(mechanism.name, _resolve(mechanism), plan=False)
+    return compile_sketch(mechanism.name, resolve(mechanism.sketch()), plan=False)
 
 
 def _structure(model):
