@@ -38,9 +38,7 @@ from planar.blocks import plan as block_plan
 from planar.errors import InputError, PlanarError
 from planar.events import NEAR_CURVE
 from planar.geometry import perp
-from planar.dimensions import Dimension
 from planar.model import Mechanism
-from planar.model.checks import finite, positive
 from planar.model.compile import compile_sketch
 from planar.model.resolve import resolve
 from planar.results import POSED, VALID, Status, Sweep
@@ -118,9 +116,8 @@ class Vary:
     def __call__(self, **numbers):
         self.check(numbers)
         m = copy.deepcopy(self.mechanism)
-        m._dimensions = [Dimension(d.a, d.b, positive(numbers.get(f"{d.a}-{d.b}", d.length), f"distance {d.a}-{d.b}"))
-                         for d in m._dimensions]
-        m._starts = {k: float(finite(numbers.get(k, v), f"start of driver {k!r}", ())) for k, v in m._starts.items()}
+        for name, value in numbers.items():
+            m.restate(name, value)
         return m
 
 
@@ -299,7 +296,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             if v is values and shared is not None:
                 U[d] = shared
                 continue
-            U[d] = ref._inputs(v, "values")
+            U[d] = ref.as_inputs(v, "values")
             shared = U[d] if v is values else shared
     shapes = {U[d].shape for d in U}
     if len(shapes) > 1:
@@ -311,7 +308,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
                              f"{lo + groups[0].index[0]} {ref.n}: a study sweeps designs of one structure")
         _check_walks(g, U, options["max_step"], alone)
     N, f = shapes.pop()
-    Ud, Udd = ref._inputs(velocity, "velocity", N), ref._inputs(acceleration, "acceleration", N)
+    Ud, Udd = ref.as_inputs(velocity, "velocity", N), ref.as_inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
     out = _Results(D, N, ref.n, f)
     for d in U:

@@ -102,6 +102,30 @@ class Mechanism:
         gives the body's angle in the sketch instead (for a body with no line, like a gear on
         its axle alone). ``mass``, ``com`` and ``inertia``: see :meth:`set_mass` (``planar.bar``,
         ``disc`` and ``plate`` give them for simple shapes)."""
+        spec = self._angle_spec(name, angle)
+        self._bodies[self._new_name(name, "body")] = spec
+        if mass is not None:
+            self.set_mass(name, mass, com, inertia)
+        return Body(name)
+
+    def set_angle(self, body: Body | str, angle: float | tuple[str, str] | None) -> None:
+        """Give ``body`` its angle as :meth:`add_body` takes it: a number (radians, the body's
+        angle in the sketch), a line (p, q) of its joints or points, or None (the default line).
+
+        >>> m = Mechanism()
+        >>> wheel = m.add_body("wheel")
+        >>> m.set_angle(wheel, 0.5)
+        >>> m.sketch().bodies["wheel"]
+        0.5
+        """
+        b = self._body(body)
+        if b == GROUND:
+            raise ModelError("the ground's angle is 0: give an angle to a moving body")
+        self._bodies[b] = self._angle_spec(b, angle)
+        self._model = None
+
+    @staticmethod
+    def _angle_spec(name, angle):
         what = f"angle of body {name!r}"
         spec: float | tuple[str, str] | None = None
         if isinstance(angle, (tuple, list)) and len(angle) == 2 and all(isinstance(p, str) for p in angle):
@@ -111,10 +135,7 @@ class Mechanism:
             spec = (angle[0], angle[1])
         elif angle is not None:
             spec = float(checks.finite(angle, f"{what} (a number, or a line (p, q) of two point names)", ()))
-        self._bodies[self._new_name(name, "body")] = spec
-        if mass is not None:
-            self.set_mass(name, mass, com, inertia)
-        return Body(name)
+        return spec
 
     def set_mass(self, body: Body | str, mass: float, com: ArrayLike | None, inertia: float = 0.0) -> None:
         """Give ``body`` its ``mass``, centre of mass ``com`` (a sketch point, like ``at``) and
@@ -230,6 +251,33 @@ class Mechanism:
             if {d.a, d.b} == {a, b}:
                 raise ModelError(f"{d} is stated already: state each length once")
         self._dimensions.append(Dimension(a, b, length))
+        self._model = None
+
+    def restate(self, name: str, value: float) -> None:
+        """Change one of the mechanism's numbers: a stated distance, named "a-b" as
+        :meth:`distance` stated it, or a driver's start, named as the driver.
+
+        >>> m = Mechanism()
+        >>> crank = m.add_body("crank")
+        >>> m.add_revolute("O", m.ground, crank, at=(0, 0))
+        >>> m.add_point("P", crank, at=(1, 0))
+        >>> m.distance("O", "P", 1.0)
+        >>> m.drive("O", start=0.0)
+        >>> m.restate("O-P", 2.0)
+        >>> m.restate("O", 0.5)
+        >>> m.compile().sketch.position("P").round(12).tolist()
+        [1.755165123781, 0.958851077208]
+        """
+        for k, d in enumerate(self._dimensions):
+            if f"{d.a}-{d.b}" == name:
+                self._dimensions[k] = Dimension(d.a, d.b, checks.positive(value, f"distance {name}"))
+                break
+        else:
+            if name not in self._starts:
+                raise ModelError(f"{name!r} is no number of mechanism {self.name!r}: it has "
+                                 f"{[f'{d.a}-{d.b}' for d in self._dimensions] + list(self._starts)} "
+                                 f"(stated distances 'a-b' and drivers' starts)")
+            self._starts[name] = float(checks.finite(value, f"start of driver {name!r}", ()))
         self._model = None
 
     def _add(self, joint):

@@ -167,10 +167,10 @@ class Model:
         if not self.drivers:
             raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
         options = arguments.sweep_options(options, run_sweep)
-        U = self._inputs(values, "values")
+        U = self.as_inputs(values, "values")
         arguments.values(self, U, options["max_step"])
         N = U.shape[0]
-        Ud, Udd = self._inputs(velocity, "velocity", N), self._inputs(acceleration, "acceleration", N)
+        Ud, Udd = self.as_inputs(velocity, "velocity", N), self.as_inputs(acceleration, "acceleration", N)
         arguments.rates(self, Ud, Udd)
         return tracking.sweep(self, U, Ud, Udd, **options)
 
@@ -219,7 +219,7 @@ class Model:
         return circuit(self, samples, velocity, acceleration, tol=arguments.tolerance(tol),
                        max_step=arguments.max_step(max_step))
 
-    def _inputs(self, values, what, N=None):
+    def as_inputs(self, values, what, N=None):
         """``values`` as a new C-contiguous (N, f) array (the sweep keeps it: a copy, so the
         caller's array can change later; one memory layout, so the compiled loop is compiled
         for one), or, for a rate given once for every value (a number, or one per input), that
