@@ -30,6 +30,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from planar.geometry import rotate
 from planar.joints.base import wrap
 from planar.joints import AngleDriver, Revolute, Slot
 from planar.joints.base import SketchFrames
@@ -474,8 +475,7 @@ def _build(t, P, data, spec, dims, starts, at):
     for n, (b, _) in model.points.items():
         name = bodies[b]
         d = pos[n] - np.broadcast_to(origins[name], (2, D))
-        c, s = np.cos(angles[name]), np.sin(angles[name])
-        points[n] = (b, np.stack([c * d[0] + s * d[1], -s * d[0] + c * d[1]], axis=1))
+        points[n] = (b, rotate(-angles[name], d.T))  # world to body-fixed
     out = Tables(model, np.arange(D), system, q0, u0, L, points)
     keep = np.flatnonzero(good)
     return (out.take(keep) if keep.size else None), np.flatnonzero(~good).tolist()

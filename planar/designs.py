@@ -37,7 +37,7 @@ from planar import arguments, design_tables
 from planar.blocks import plan as block_plan
 from planar.errors import InputError, PlanarError
 from planar.events import NEAR_CURVE
-from planar.geometry import perp
+from planar.geometry import perp, rotate
 from planar.model import Mechanism
 from planar.model.compile import compile_sketch
 from planar.model.resolve import resolve
@@ -582,8 +582,7 @@ class DesignSweep:
         body, s = self.points[name]
         s = s[:, None, :]
         phi = self._body(body, self.q)[2]
-        c, sn = np.cos(phi), np.sin(phi)
-        return body, np.stack((c * s[..., 0] - sn * s[..., 1], sn * s[..., 0] + c * s[..., 1]), axis=-1)
+        return body, rotate(phi, s)
 
     def position(self, name):
         body, S = self._point(name)

@@ -8,6 +8,7 @@ import numpy as np
 
 from planar.dimensions import Row, assemble
 from planar.errors import ConnectivityError, ModelError
+from planar.geometry import rotate
 from planar.joints import AngleDriver, Revolute, Slot
 from planar.model.frozen import GROUND, Sketch
 
@@ -104,8 +105,7 @@ def resolve(sk):
         def carry(b, p):
             ij = lines[b][0]
             turn = _direction_of(X, *ij) - _direction_of(X0, *ij) if ij is not None else 0.0
-            c, s = np.cos(turn), np.sin(turn)
-            return o1[b] + np.array([[c, -s], [s, c]]) @ (p - o0[b])
+            return o1[b] + rotate(turn, p - o0[b])
         mass = {b: (mb, carry(b, com), ib) for b, (mb, com, ib) in mass.items()}
         loads = tuple((b, carry(b, at), f, t, fixed) for b, at, f, t, fixed in loads)
     return Sketch(angles, points, tuple(joints), tuple(drivers), tuple(sk.dimensions), dict(sk.starts),
