@@ -37,7 +37,7 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 from planar.errors import IndeterminateWarning, ModelError
-from planar.geometry import cross, perp
+from planar.geometry import cross, perp, rotate
 from planar.results import Status
 from planar.system import chunks
 
@@ -295,10 +295,8 @@ def _applied(model, q, qd, qdd, u):
     N, nb = q.shape[0], len(model.body_names)
     x, xd, xdd = (a.reshape(N, nb - 1, 3) for a in (q, qd, qdd))
     phi, w, al = x[..., 2], xd[..., 2], xdd[..., 2]
-    c, s = np.cos(phi)[..., None], np.sin(phi)[..., None]
-    rot = lambda v: c * v + s * perp(v)  # noqa: E731  (A(phi) v of body-fixed vectors)
     m, I = model.mass[1:], model.inertia[1:]
-    S = rot(model.com[1:])
+    S = rotate(phi, model.com[1:])
     a_c = xdd[..., :2] + perp(S) * al[..., None] - S * (w**2)[..., None]
     F_in, T_in = np.zeros((N, nb, 2)), np.zeros((N, nb))
     F_in[:, 1:] = -m[:, None] * a_c
@@ -311,7 +309,7 @@ def _applied(model, q, qd, qdd, u):
         b = load.body - 1
         f, t = load.at(u, phi[:, b])
         Q[:, b, :2] += f
-        Q[:, b, 2] += cross(c[:, b] * load.s + s[:, b] * perp(load.s), f) + t
+        Q[:, b, 2] += cross(rotate(phi[:, b], load.s), f) + t
     return Q.reshape(N, -1), F_in, T_in, centres
 
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.errors import ModelError
+from planar.geometry import rotate
 
 
 def bar(mass, a, b):
@@ -59,8 +60,7 @@ class Load:
         N = inputs.shape[0]
         f = _per_value(self.force, inputs, (N, 2), "force")
         if self.fixed == "body":
-            c, s = np.cos(phi - self.angle0), np.sin(phi - self.angle0)
-            f = np.stack((c * f[:, 0] - s * f[:, 1], s * f[:, 0] + c * f[:, 1]), axis=-1)
+            f = rotate(phi - self.angle0, f)
         return f, _per_value(self.torque, inputs, (N,), "torque")
 
 

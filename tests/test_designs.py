@@ -6,7 +6,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import planar
-from planar import design_tables
+from planar.designs import tables as design_tables
 from planar.designs import DesignSweep, Vary, sweep_designs
 from planar.results import POSED
 from planar.mechanisms import (four_bar, gear_train, geared_five_bar, inverted_slider_crank, open_chain,

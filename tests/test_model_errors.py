@@ -163,3 +163,35 @@ def test_unknown_names_in_results():
         res.angle("Z")
     with pytest.raises(ModelError, match="no coordinate"):
         res.coordinate("Z")
+
+
+def test_set_angle_restates_a_body_angle_and_names_what_is_at_fault():
+    m = planar.Mechanism()
+    wheel = m.add_body("wheel")
+    m.add_revolute("O", m.ground, wheel, at=(0, 0))
+    m.drive(body=wheel)
+    assert m.compile().sketch.bodies["wheel"] == 0.0
+    m.set_angle("wheel", 0.5)
+    assert m.compile().sketch.bodies["wheel"] == 0.5  # the cached model is dropped
+    with pytest.raises(ModelError, match="ground"):
+        m.set_angle(m.ground, 0.5)
+    with pytest.raises(ModelError, match="'axle'"):
+        m.set_angle("axle", 0.5)
+    with pytest.raises(ModelError, match="angle of body 'wheel'"):
+        m.set_angle("wheel", float("nan"))
+
+
+def test_restate_changes_a_stated_distance_or_a_start_and_refuses_others():
+    m = planar.Mechanism()
+    crank = m.add_body("crank")
+    m.add_revolute("O", m.ground, crank, at=(0, 0))
+    m.add_point("P", crank, at=(1, 0))
+    m.distance("O", "P", 1.0)
+    m.drive("O", start=0.0)
+    assert m.compile().sketch.position("P").tolist() == [1.0, 0.0]
+    m.restate("O-P", 2.0)
+    assert np.allclose(m.compile().sketch.position("P"), [2.0, 0.0], atol=1e-12)  # the cached model is dropped
+    with pytest.raises(ModelError, match="distance O-P must be positive"):
+        m.restate("O-P", -1.0)
+    with pytest.raises(ModelError, match="'Q' is no number"):
+        m.restate("Q", 1.0)

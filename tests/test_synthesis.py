@@ -11,7 +11,7 @@ from planar.synthesis import (burmester_curves, burmester_points, compatible, dy
                               function_four_bar, function_slider_crank, motion_four_bar,
                               path_check, path_four_bar, path_six_bar, precision_points, slider_crank_dimensions,
                               stephenson_tracer)
-from planar.synthesis.path import FOUR_BAR, STEPHENSON
+from planar.synthesis.families import FOUR_BAR, STEPHENSON
 from tests.oracles import four_bar as fb_oracle
 from tests.oracles import slider_crank as sc_oracle
 
@@ -262,7 +262,7 @@ SIX = dict(ground=4.0, crank=1.5, coupler=4.0, rocker=3.5, coupler_point=(2.0, 1
 
 def test_stephenson_tracer_is_the_catalogue_six_bar_with_a_tracer():
     from planar.mechanisms import stephenson_six_bar
-    from planar.synthesis.path import tracer_points
+    from planar.synthesis.families import tracer_points
 
     u = np.radians(np.arange(0.0, 360.0, 30.0))
     ours = stephenson_tracer(**SIX, tracer=(1.0, 0.5)).sweep(u)

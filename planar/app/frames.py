@@ -16,11 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.analysis import instant_centres
-from planar.analysis.outputs import OUTPUTS, output_values
+from planar.analysis.outputs import OUTPUTS, names_of, output_values
 from planar.draw.pose import arrow_scale, path_points
 from planar.draw.scene import Scene, joint_params, local, world
 from planar.draw.style import FILLS
-from planar.joints import CarrierGear, Gear, Prismatic, Revolute, Slot
 from planar.results import Status
 
 WHEEL_SIDES = 32  # polygon sides of a gear's pitch circle
@@ -116,7 +115,7 @@ def outputs(model):
     speed; with masses, gravity or loads, each driver's effort and each joint's reaction (its
     size)."""
     specs = [f"{k}:{b}" for b in model.body_names[1:] for k in ("angle", "omega", "alpha")]
-    specs += [f"{k}:{j}" for j in model.coordinates if isinstance(model.joint(j), Slot)
+    specs += [f"{k}:{j}" for j in names_of(model, "length coordinate")
               for k in ("travel", "travel_rate", "travel_accel")]
     specs += [f"{k}:{p}" for p, (b, _) in model.points.items() if b != 0 for k in ("x", "y", "speed", "accel")]
     if _loaded(model):
@@ -164,20 +163,19 @@ def solve(model, units, rate=1.0, samples=721):
     wheels, guides, pins, grounds, blocks = [], [], [], [], []
     for j in model.joints:
         P = params[j.name]
-        ids = [model.body_id(n) for n in j.bodies]
-        if isinstance(j, Revolute):
-            (grounds if 0 in ids else pins).append(fixed(ids[0], P["s"][0]))
-        elif isinstance(j, (Gear, CarrierGear)):
-            for k, (b, s) in enumerate(j.wheel_centres(scene, P)):
-                t = np.linspace(0, 2 * np.pi, WHEEL_SIDES + 1)
-                r = abs(float(np.ravel(P["R"])[k]))
-                wheels.append([fixed(b, s)] + [fixed(b, s + r * np.array([np.cos(a), np.sin(a)])) for a in t])
+        pin, block = j.pin_point(scene, P), j.block_point(scene, P)
+        if pin is not None:
+            (grounds if 0 in scene.ids(j) else pins).append(fixed(*pin))
+        for k, (b, s) in enumerate(j.wheel_centres(scene, P)):
+            t = np.linspace(0, 2 * np.pi, WHEEL_SIDES + 1)
+            r = abs(float(np.ravel(P["R"])[k]))
+            wheels.append([fixed(b, s)] + [fixed(b, s + r * np.array([np.cos(a), np.sin(a)])) for a in t])
         line = j.guide_line(scene, P)
         if line is not None:
             a = line[0]
             guides.append([fixed(a, e) for e in scene.line_ends(j.name)])
-            if isinstance(j, Prismatic):
-                blocks.append(fixed(ids[1], P["s"][1]))
+        if block is not None:
+            blocks.append(fixed(*block))
     joint_names = {j.name for j in model.joints}
     labels = [n for n in model.points if n not in joint_names or model.joint(n).labelled]
     points = [fixed(*model.points[n]) for n in labels]
@@ -221,10 +219,9 @@ def pose_lines(model, units, value, rate=1.0):
         lines.append(f"{b}: angle {g(output_values(res, 'angle:' + b, units))} {units.angle}, "
                      f"rate {g(output_values(res, 'omega:' + b, units))} {units.rate}, "
                      f"acceleration {g(output_values(res, 'alpha:' + b, units))} {units.acceleration}")
-    for j in model.coordinates:
-        if isinstance(model.joint(j), Slot):
-            lines.append(f"{j}: travel {g(res.coordinate(j))}, rate {g(res.coordinate(j, 1))}, "
-                         f"acceleration {g(res.coordinate(j, 2))} ({units.label('length') or 'length'} and /s)")
+    for j in names_of(model, "length coordinate"):
+        lines.append(f"{j}: travel {g(res.coordinate(j))}, rate {g(res.coordinate(j, 1))}, "
+                     f"acceleration {g(res.coordinate(j, 2))} ({units.label('length') or 'length'} and /s)")
     for p, (b, _) in model.points.items():
         if b != 0:
             (x, y), (vx, vy) = res.position(p)[0], res.velocity(p)[0]

@@ -148,7 +148,7 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
 def _rates_in(a):
     """Input rates (N, f) as the loop reads them, C-contiguous and writeable (numba compiles
     read-only arrays apart): their one row where they repeat one row (a rate given once:
-    ``planar.Model._inputs``), which the loop reads for every value."""
+    ``planar.Model.as_inputs``), which the loop reads for every value."""
     if a.ndim == 2 and a.shape[0] > 1 and a.strides[0] == 0:
         a = a[:1]
     return np.require(a, float, ("C", "W"))

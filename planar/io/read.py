@@ -147,7 +147,7 @@ def _body_angle(c, m, body, where, key, value):
             c.fail(where, f"the line {line[0]} -> {line[1]} of body {body!r} names no joint or point")
         d = pts[line[1]][1] - pts[line[0]][1]
         value += math.atan2(d[1], d[0])
-    m._bodies[body] = value  # the builder's numeric angle: the body's angle in the sketch
+    m.set_angle(body, value)
 
 
 def convert_lengths(data, unit, source="<mechanism file>"):

@@ -172,6 +172,20 @@ class Joint:
         raise InputError(f"joint {self.name!r}: planar.draw has no picture for {type(self).__name__}; "
                          f"give its class attach and draw_part")
 
+    # the marks of a drawing made of points alone (planar.app): pins, slider blocks, gear circles
+
+    def pin_point(self, scene, P):
+        """(body id, body-fixed point) of the joint's pin, or None."""
+        return None
+
+    def block_point(self, scene, P):
+        """(body id, body-fixed point) of the joint's slider block, or None."""
+        return None
+
+    def wheel_centres(self, scene, P):
+        """[(body id, body-fixed centre)] of the joint's pitch circles (radii ``P["R"]``)."""
+        return []
+
 
 def xy(p):
     """A point or vector as a file writes it: [x, y] of floats."""

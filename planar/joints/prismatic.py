@@ -143,6 +143,9 @@ class Prismatic(Slot):
         """How far the line runs past the slider's travel: half a block."""
         return scene.block[0]
 
+    def block_point(self, scene, P):
+        return scene.ids(self)[1], P["s"][1]
+
     def draw_part(self, scene, P, q, ax):
         """A block on the line; a ground guide hatched (a moving one is its body's bar)."""
         a, b = scene.ids(self)

@@ -82,6 +82,9 @@ class Revolute(Joint):
     def attach(self, scene, P):
         return list(zip(scene.ids(self), P["s"]))
 
+    def pin_point(self, scene, P):
+        return scene.ids(self)[0], P["s"][0]
+
     def draw_part(self, scene, P, q, ax):
         """A pin; on the ground, standing on a hatched pivot."""
         a, b = scene.ids(self)

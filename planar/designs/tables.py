@@ -30,11 +30,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from planar.joints.base import wrap
-from planar.joints import AngleDriver
-from planar.joints.base import SketchFrames
-from planar.model import (_PLACES, GROUND, Revolute, Slot, _char_length, _key, _mode_triangles, _origins,
-                          _rule_line, _sites)
+from planar.designs.assembly import assemble
+from planar.geometry import rotate
+from planar.joints import AngleDriver, Revolute, Slot
+from planar.joints.base import SketchFrames, wrap
+from planar.model import GROUND
+from planar.model.compile import compile_sketch
+from planar.model.resolve import (PLACES, char_length, frame_origins, mode_triangles, resolve, rule_line, site_key,
+                                  sites)
 from planar.system import Group, System
 
 
@@ -87,150 +90,8 @@ def join(parts):
                   cat("u0"), cat("L"), points)
 
 
-def _assemble(t, pos, cons, spec, dims, starts, L, need):
-    """Assemble the sketches of designs ``need`` as compiling does (:func:`planar.dimensions.assemble`),
-    all at once: the stated lengths and the starts followed from their drawn values to their
-    own in the same steps, a minimum-norm Gauss-Newton solve at each; the named points in
-    ``pos`` and the joints' "at" in ``cons`` moved there. (D,) False for a design whose steps
-    do not all converge or whose triangles would turn over (compiled alone, it gets the reason)."""
-    mech, D, S = t.mech, need.size, len(t.sources)
-    if None in t.bases or S != len(t.bases):  # a motion of a site it does not know: compiled alone
-        return np.zeros(D, bool)
-    X0 = np.empty((D, S, 2))
-    for i, src in t.sources.items():
-        at = pos[src[1]] if src[0] == "point" else np.broadcast_to(cons[src[1]].data[src[2]], (2, L.size))
-        X0[:, i] = at.T[need]
-    widths = [b if isinstance(b, int) else 1 for b in t.bases]
-    cols = np.cumsum([0] + widths)
-    B = np.zeros((D, S, 2, cols[-1]))
-    for i, b in enumerate(t.bases):
-        if b == 2:
-            B[:, i, :, cols[i]:cols[i] + 2] = np.eye(2)
-        elif not isinstance(b, int):
-            u = (X0[:, i] - X0[:, b[1]]) if b[0] == "pivot" else np.broadcast_to(
-                cons[b[1]].data["direction"], (2, L.size)).T[need]
-            B[:, i, :, cols[i]] = u / np.hypot(u[:, :1], u[:, 1:]) if b[0] == "pivot" else u
-    # the rows: lengths between sites, then the drivers' (angles of body lines, travels)
-    site, Ls = t.site, L[need]
-    rows = [("length", site[d.a], site[d.b], dims[need, k]) for k, d in enumerate(mech._dimensions)]
-    line = {b: (site[ln[0]], site[ln[1]]) for b, ln in t.lines.items() if ln is not None}
-    for c, cv in zip(mech._drivers, cons[len(mech._joints):]):
-        start = starts.get(c.name)
-        if isinstance(c, AngleDriver):
-            terms = [(sg, *line[x]) for sg, x in ((1, c.bodies[1]), (-1, c.bodies[0])) if x in line]
-            offset = np.zeros(D)
-            for sg, x in ((1, c.bodies[1]), (-1, c.bodies[0])):
-                if x != GROUND and isinstance(mech._bodies[x], float):
-                    offset += sg * (spec[x][need] - (_directions(X0, *line[x]) if x in line else 0.0))
-            rows.append(("angle", terms, offset, None if start is None else start[need]))
-        elif "at" in c.data and (len(c.bodies) == 1 or c.bodies[0] == GROUND):
-            u = np.broadcast_to(cv.data["direction"] if "direction" in c.data else cv.data["axis"], (2, L.size)).T[need]
-            o = np.broadcast_to(cv.data.get("origin", np.zeros((2, 1))), (2, L.size)).T[need]
-            rows.append(("travel", site[_key(c.data["at"])], (o, u), None if start is None else start[need]))
-
-    def X(z):
-        return X0 + np.einsum("dsck,dk->dsc", B, z)
-
-    def values(X):
-        out = np.empty((len(X), len(rows)))
-        for k, (kind, a, b, _) in enumerate(rows):
-            if kind == "length":
-                out[:, k] = np.hypot(*(X[:, b] - X[:, a]).T)
-            elif kind == "angle":
-                out[:, k] = b[sel] + sum(sg * _directions(X, i, j) for sg, i, j in a)
-            else:
-                out[:, k] = np.sum((X[:, a] - b[0][sel]) * b[1][sel], axis=1)
-        return out
-
-    def jacobian(X):
-        G = np.zeros((len(X), len(rows), S, 2))
-        for k, (kind, a, b, _) in enumerate(rows):
-            if kind == "length":
-                d = X[:, b] - X[:, a]
-                e = d / np.maximum(np.hypot(d[:, :1], d[:, 1:]), 1e-300)
-                G[:, k, a] -= e
-                G[:, k, b] += e
-            elif kind == "angle":
-                for sg, i, j in a:
-                    d = X[:, j] - X[:, i]
-                    g = sg * np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(np.sum(d * d, axis=1), 1e-300)[:, None]
-                    G[:, k, i] -= g
-                    G[:, k, j] += g
-            else:
-                G[:, k, a] += b[1][sel]
-        return np.einsum("drsc,dsck->drk", G, B[sel]) * (scale * Ls[sel, None])[:, :, None]
-
-    angle = np.array([r[0] == "angle" for r in rows])
-    sel = np.arange(D)
-    scale = np.where(angle, 1.0, 1.0 / Ls[:, None])
-    now = values(X0)
-    target = np.stack([r[3] if r[3] is not None else now[:, k] for k, r in enumerate(rows)], axis=1)
-    change = np.where(angle, wrap(now - target), now - target)
-    a, b = now, now - change
-
-    def residuals(X, goal):
-        r = values(X) - goal
-        return np.where(angle, wrap(r), r) * scale
-
-    z, alive, tt, dt = np.zeros((D, cols[-1])), np.ones(D, bool), 0.0, 0.125
-    while tt < 1.0 and alive.any():
-        step = min(dt, 1.0 - tt)
-        sel = np.flatnonzero(alive)
-        goal = a[sel] + (tt + step) * (b[sel] - a[sel])
-        zs, scale = z[sel], np.where(angle, 1.0, 1.0 / Ls[sel, None])
-        for _ in range(30):  # Gauss-Newton, as planar.dimensions._Problem.newton, design by design
-            r = residuals(X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs), goal)
-            go = np.max(np.abs(r), axis=1, initial=0.0) > 1e-14
-            if not go.any():
-                break
-            Xs = X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs)
-            J = jacobian(Xs)
-            dx = _min_norm(J, r)
-            dx *= np.minimum(1.0, 0.25 / np.maximum(np.max(np.abs(dx), axis=1, initial=0.0), 1e-300))[:, None]
-            zs = np.where(go[:, None], zs - dx * Ls[sel, None], zs)
-        r = residuals(X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs), goal)
-        ok = np.max(np.abs(r), axis=1, initial=0.0) <= 1e-12
-        z[sel] = zs
-        alive[sel[~ok]] = False
-        tt, dt = tt + step, min(2 * step, 0.25)
-    Xa = X(z)
-    for i, j, k in t.triangles:  # the assembly mode drawn is kept
-        before, after = _turns(X0, i, j, k), _turns(Xa, i, j, k)
-        alive &= ~((np.abs(before) > 1e-9 * Ls**2) & (np.sign(before) != np.sign(after)))
-    for n in pos:
-        pos[n][:, need] = Xa[:, site[n]].T
-    for c, cv in zip(t.cons, cons):
-        if "at" in c.data:
-            cv.data["at"][:, need] = Xa[:, site[_key(c.data["at"])]].T
-    return alive
-
-
-def _min_norm(J, r):
-    """The least-squares step of least norm, J+ r, per design: J^T (J J^T)^-1 r where the rows
-    of J are independent (cheap), the pseudo-inverse where they are not (redundant lengths)."""
-    A = np.einsum("drk,dsk->drs", J, J)
-    with np.errstate(all="ignore"):  # |det| over the product of the diagonal (Hadamard): 1 for orthogonal rows
-        full = np.linalg.det(A) / np.prod(np.diagonal(A, axis1=1, axis2=2), axis=1) > 1e-10
-    dx = np.empty(J.shape[::2])
-    if full.any():
-        dx[full] = np.einsum("drk,dr->dk", J[full], np.linalg.solve(A[full], r[full][:, :, None])[:, :, 0])
-    if not full.all():
-        dx[~full] = np.einsum("dkr,dr->dk", np.linalg.pinv(J[~full]), r[~full])
-    return dx
-
-
-def _directions(X, i, j):
-    d = X[:, j] - X[:, i]
-    return np.arctan2(d[:, 1], d[:, 0])
-
-
-def _turns(X, a, b, c):
-    d, e = X[:, b] - X[:, a], X[:, c] - X[:, a]
-    return d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0]
-
-
 def _extent(pos, joints, D):
-    """The designs' characteristic lengths (D,), as :func:`planar.model._char_length`."""
+    """The designs' characteristic lengths (D,), as :func:`planar.model.resolve.char_length`."""
     every = [np.broadcast_to(p, (2, D)) for p in pos.values()]
     every += [np.broadcast_to(p, (2, D)) for c in joints for _, p in c.touch_points()]
     radii = [np.broadcast_to(c.data[k], (D,)) for c in joints for k in ("radius", "radius_a", "radius_b")
@@ -251,38 +112,41 @@ def _numeric(v):
 
 def _signature(mech):
     """Everything of a mechanism but its numbers."""
+    sk = mech.sketch()
+
     def data(c):
         return tuple((k, ("number", np.shape(v)) if _numeric(v) else v) for k, v in c.data.items())
-    return (tuple((b, s if not isinstance(s, float) else float) for b, s in mech._bodies.items()),
-            tuple((type(c), c.name, c.bodies, data(c)) for c in mech._joints + mech._drivers),
-            tuple((n, b) for n, (b, _) in mech._points.items()), tuple((d.a, d.b) for d in mech._dimensions),
-            tuple(mech._sides), tuple(mech._starts))
+    return (tuple((b, s if not isinstance(s, float) else float) for b, s in sk.bodies.items()),
+            tuple((type(c), c.name, c.bodies, data(c)) for c in sk.joints + sk.drivers),
+            tuple((n, b) for n, (b, _) in sk.points.items()), tuple((d.a, d.b) for d in sk.dimensions),
+            tuple(sk.sides), tuple(sk.starts))
 
 
 class _Template:
     """What the template's mechanism says about every design of its structure."""
 
     def __init__(self, mech, model):
-        self.mech, self.model = mech, model
+        self.model = model
+        self.sk = sk = mech.sketch()
         self.signature = _signature(mech)
-        self.cons = mech._joints + mech._drivers
-        self.names = list(mech._points)
+        self.cons = sk.joints + sk.drivers
+        self.names = list(sk.points)
         self.keys = [(i, k) for i, c in enumerate(self.cons) for k, v in c.data.items() if _numeric(v)]
-        self.spec_bodies = [b for b, s in list(mech._bodies.items())[1:] if isinstance(s, float)]
-        L = _char_length(mech._points, mech._joints)
-        X0, site, bases = _sites(mech._points, mech._joints, L)
+        self.spec_bodies = [b for b, s in list(sk.bodies.items())[1:] if isinstance(s, float)]
+        L = char_length(sk.points, sk.joints)
+        X0, site, bases = sites(sk.points, sk.joints, L)
         self.site = site
         # each site's place in a design: a named point, or a joint's datum (the first met)
         self.sources = {}
-        for n in mech._points:
+        for n in sk.points:
             self.sources.setdefault(site[n], ("point", n))
-        for i, j in enumerate(mech._joints):
-            for key in _PLACES:
+        for i, j in enumerate(sk.joints):
+            for key in PLACES:
                 if j.data.get(key) is not None and not isinstance(j, Revolute):
-                    self.sources.setdefault(site[_key(j.data[key])], ("datum", i, key))
+                    self.sources.setdefault(site[site_key(j.data[key])], ("datum", i, key))
         # and its motion in the assembly: free, held, or along a line (a slider's on the ground,
         # or the frame's direction from the first pivot) that a design may turn
-        pivots = list(dict.fromkeys(site[j.name] for j in mech._joints if GROUND in j.bodies
+        pivots = list(dict.fromkeys(site[j.name] for j in sk.joints if GROUND in j.bodies
                                     and isinstance(j, Revolute)))
         self.bases = []
         for i, B in enumerate(bases):
@@ -291,18 +155,18 @@ class _Template:
             elif len(pivots) > 1 and i == pivots[1]:
                 self.bases.append(("pivot", pivots[0]))
             else:
-                k = next((k for k, j in enumerate(mech._joints) if isinstance(j, Slot) and j.bodies[0] == GROUND
-                          and site[_key(j.data["at"])] == i), None)
+                k = next((k for k, j in enumerate(sk.joints) if isinstance(j, Slot) and j.bodies[0] == GROUND
+                          and site[site_key(j.data["at"])] == i), None)
                 self.bases.append(("slot", k) if k is not None else None)
-        self.triangles = [(a, b, c) for a, b, c, _ in _mode_triangles(mech, site)]
+        self.triangles = [(a, b, c) for a, b, c, _ in mode_triangles(sk, site)]
         self.lines = {}  # body -> the names (p, q) of its line, or None
-        for b, spec in list(mech._bodies.items())[1:]:
-            self.lines[b] = spec if isinstance(spec, tuple) else _rule_line(mech, b, lambda p, q: site[p] != site[q])
-        self.starts = list(mech._starts)
-        self.P = np.array([[mech._points[n][1] for n in self.names]], float).reshape(1, -1, 2)
+        for b, spec in list(sk.bodies.items())[1:]:
+            self.lines[b] = spec if isinstance(spec, tuple) else rule_line(sk, b, lambda p, q: site[p] != site[q])
+        self.starts = list(sk.starts)
+        self.P = np.array([[sk.points[n][1] for n in self.names]], float).reshape(1, -1, 2)
         self.L = np.array([L])
         self.lengths = np.concatenate([np.array(c.length_rows, bool) for c in self.cons])
-        self.n_joint_rows = model.row_adr[len(mech._joints)] if mech._drivers else model.m
+        self.n_joint_rows = model.row_adr[len(sk.joints)] if sk.drivers else model.m
         # the model's constraints are the mechanism's in order: its rows and sketch rows
         self.sketch_rows = [(i, r) for i, c in enumerate(self.cons) for r in c.sketch_rows]
 
@@ -322,11 +186,12 @@ def tables(mech, model, mechs):
         return None, rest
     ms = [mechs[k] for k in take]
     D = len(ms)
-    P = np.array([[m._points[n][1] for n in t.names] for m in ms], float).reshape(D, len(t.names), 2)
-    data = {key: np.array([_data(m, *key) for m in ms], float) for key in t.keys}
-    spec = {b: np.array([m._bodies[b] for m in ms], float) for b in t.spec_bodies}
-    dims = np.array([[d.length for d in m._dimensions] for m in ms], float).reshape(D, -1)
-    starts = {s: np.array([m._starts[s] for m in ms], float) for s in t.starts}
+    sks = [m.sketch() for m in ms]
+    P = np.array([[sk.points[n][1] for n in t.names] for sk in sks], float).reshape(D, len(t.names), 2)
+    data = {key: np.array([_data(sk, *key) for sk in sks], float) for key in t.keys}
+    spec = {b: np.array([sk.bodies[b] for sk in sks], float) for b in t.spec_bodies}
+    dims = np.array([[d.length for d in sk.dimensions] for sk in sks], float).reshape(D, -1)
+    starts = {s: np.array([sk.starts[s] for sk in sks], float) for s in t.starts}
     out, bad = _build(t, P, data, spec, dims, starts, next((k for k, m in enumerate(ms) if m is mech), None))
     return out and replace(out, index=np.array(take)[out.index]), sorted(rest + [take[k] for k in bad])
 
@@ -337,18 +202,18 @@ def varied(mech, model, numbers):
     dicts): its stated distances "a-b" and its drivers' starts (by the driver's name), the
     others as ``mech`` has them. Its sketch as drawn is every design's first guess."""
     t = _Template(mech, model)
-    D = len(numbers)
+    sk, D = t.sk, len(numbers)
     col = lambda name, v: [x.get(name, v) for x in numbers]  # noqa: E731
     try:
-        dims = np.array([col(f"{d.a}-{d.b}", d.length) for d in mech._dimensions], float).T.reshape(D, -1)
-        starts = {s: np.array(col(s, mech._starts[s]), float) for s in t.starts}
+        dims = np.array([col(f"{d.a}-{d.b}", d.length) for d in sk.dimensions], float).T.reshape(D, -1)
+        starts = {s: np.array(col(s, sk.starts[s]), float) for s in t.starts}
     except (TypeError, ValueError):  # not numbers: each design alone says which
         return None, list(range(D))
     ok = np.all(np.isfinite(dims) & (dims > 0), axis=1) & np.all([np.isfinite(v) for v in starts.values()] or
                                                                 [np.ones(D, bool)], axis=0)
     P = np.repeat(t.P, D, axis=0)
-    data = {key: np.repeat(np.asarray(_data(mech, *key), float)[None], D, axis=0) for key in t.keys}
-    spec = {b: np.full(D, mech._bodies[b]) for b in t.spec_bodies}
+    data = {key: np.repeat(np.asarray(_data(sk, *key), float)[None], D, axis=0) for key in t.keys}
+    spec = {b: np.full(D, sk.bodies[b]) for b in t.spec_bodies}
     out, bad = _build(t, P, data, spec, dims, starts, None)
     bad = sorted(set(bad) | set(np.flatnonzero(~ok).tolist()))
     return (out.take(np.flatnonzero(np.isin(out.index, bad, invert=True))) if out is not None else None), bad
@@ -359,13 +224,13 @@ def _build(t, P, data, spec, dims, starts, at):
     numbers: named points ``P`` (D, points, 2), joint data ``data`` {(constraint, key): (D, ...)},
     bodies' given angles ``spec``, stated lengths ``dims`` (D, stated), drivers' ``starts``;
     ``at`` the position of the template among them, or None."""
-    mech, model = t.mech, t.model
+    sk, model = t.sk, t.model
     D = len(P)
     # the constraints with every design's numbers, designs last (components first)
     cons = [type(c)(c.name, c.bodies, **{k: (np.moveaxis(data[(i, k)], 0, -1) if (i, k) in data else v)
                                          for k, v in c.data.items()}) for i, c in enumerate(t.cons)]
     pos = {n: P[:, k].T.copy() for k, n in enumerate(t.names)}  # (2, D)
-    L = _extent(pos, cons[: len(mech._joints)], D)
+    L = _extent(pos, cons[: len(sk.joints)], D)
     # the same points coincide as in the template (so its lines and sites are every design's)
     good = np.all(_apart(P, L) == _apart(t.P, t.L), axis=(1, 2))
 
@@ -375,12 +240,12 @@ def _build(t, P, data, spec, dims, starts, at):
         return np.arctan2(d[1], d[0])
     drawn = {GROUND: np.zeros(D)}
     for b, line in t.lines.items():
-        s = mech._bodies[b]
+        s = sk.bodies[b]
         drawn[b] = spec[b] if isinstance(s, float) else (0.0 + direction(*line) if line is not None else np.zeros(D))
     off = np.zeros(D)
-    for k, d in enumerate(mech._dimensions):
+    for k, d in enumerate(sk.dimensions):
         off = np.maximum(off, np.abs(np.hypot(*(pos[d.b] - pos[d.a])) - dims[:, k]) / L)
-    for c, cv in zip(mech._drivers, cons[len(mech._joints):]):
+    for c, cv in zip(sk.drivers, cons[len(sk.joints):]):
         if c.name not in starts:
             continue
         if isinstance(c, AngleDriver):
@@ -390,13 +255,13 @@ def _build(t, P, data, spec, dims, starts, at):
             u = cv.data["direction"] if "direction" in c.data else cv.data["axis"]
             o = cv.data.get("origin", np.zeros((2, 1)))
             off = np.maximum(off, np.abs(np.sum((cv.data["at"] - o) * u, axis=0) - starts[c.name]) / L)
-    if mech._dimensions:
+    if sk.dimensions:
         need = np.flatnonzero(good & (off > 5e-15))  # (below, compiling moves nothing: as drawn, bit for bit)
         if need.size:
             before = {n: p[:, need] for n, p in pos.items()}
-            good[need] &= _assemble(t, pos, cons, spec, dims, starts, L, need)
+            good[need] &= assemble(t, pos, cons, spec, dims, starts, L, need)
             for b, line in t.lines.items():  # a body's angle given: turned with its line, if that moved
-                if isinstance(mech._bodies[b], float) and line is not None:
+                if isinstance(sk.bodies[b], float) and line is not None:
                     d0 = before[line[1]] - before[line[0]]
                     moved = np.any((pos[line[0]][:, need] != before[line[0]]) |
                                    (pos[line[1]][:, need] != before[line[1]]), axis=0)
@@ -404,13 +269,13 @@ def _build(t, P, data, spec, dims, starts, at):
                     drawn[b][need] = np.where(moved, spec[b][need] + turn, spec[b][need])
                 elif line is not None:
                     drawn[b] = 0.0 + direction(*line)
-            L = _extent(pos, cons[: len(mech._joints)], D)
+            L = _extent(pos, cons[: len(sk.joints)], D)
     else:
         good &= off <= 1e-9
 
     # 2. angles and frames as compiling sets them, the starts' turns included
     angles = dict(drawn)
-    for c in mech._drivers:
+    for c in sk.drivers:
         start = starts.get(c.name)
         if start is None or not isinstance(c, AngleDriver):
             continue
@@ -420,7 +285,7 @@ def _build(t, P, data, spec, dims, starts, at):
                 (start - angles[b] + angles[a]) / (2 * np.pi))
         else:
             angles[a] = angles[a] - 2 * np.pi * np.round((start + angles[a]) / (2 * np.pi))
-    origins = _origins(cons[: len(mech._joints)], {n: (b, pos[n]) for n, (b, _) in mech._points.items()})
+    origins = frame_origins(cons[: len(sk.joints)], {n: (b, pos[n]) for n, (b, _) in sk.points.items()})
     origins[GROUND] = np.zeros((2, 1))
     frames = SketchFrames(origins, angles)
     bodies = model.body_names
@@ -447,7 +312,7 @@ def _build(t, P, data, spec, dims, starts, at):
     system = System(model.system.n_bodies, model.system.m, tuple(groups))
 
     # 4. the sketch constants, the inputs at the sketch, the assembly and redundancy checks
-    f = len(mech._drivers)
+    f = len(sk.drivers)
     ids = np.arange(D, dtype=float)[:, None]
     rs = np.where(t.lengths, 1.0 / L[:, None], 1.0)
     with np.errstate(all="ignore"):
@@ -470,17 +335,16 @@ def _build(t, P, data, spec, dims, starts, at):
     for n, (b, _) in model.points.items():
         name = bodies[b]
         d = pos[n] - np.broadcast_to(origins[name], (2, D))
-        c, s = np.cos(angles[name]), np.sin(angles[name])
-        points[n] = (b, np.stack([c * d[0] + s * d[1], -s * d[0] + c * d[1]], axis=1))
+        points[n] = (b, rotate(-angles[name], d.T))  # world to body-fixed
     out = Tables(model, np.arange(D), system, q0, u0, L, points)
     keep = np.flatnonzero(good)
     return (out.take(keep) if keep.size else None), np.flatnonzero(~good).tolist()
 
 
-def _data(m, i, k):
-    """Constraint i's (joints, then drivers) data ``k`` in mechanism ``m``."""
-    n = len(m._joints)
-    return (m._joints[i] if i < n else m._drivers[i - n]).data[k]
+def _data(sk, i, k):
+    """Constraint i's (joints, then drivers) data ``k`` in the drawn sketch ``sk``."""
+    n = len(sk.joints)
+    return (sk.joints[i] if i < n else sk.drivers[i - n]).data[k]
 
 
 def _rows(model, pairs):
@@ -514,3 +378,8 @@ def _one_by_one(c, cv, origins, angles, D):
                               {b: float(np.broadcast_to(a, (D,))[d]) for b, a in angles.items()})
         out.append(type(c)(c.name, c.bodies, **data).params(frames))
     return {k: np.stack([p[k] for p in out]) for k in out[0]}
+
+
+def compile_unplanned(mechanism):
+    """``mechanism.compile()`` but for its block plan: designs of one structure share one."""
+    return compile_sketch(mechanism.name, resolve(mechanism.sketch()), plan=False)

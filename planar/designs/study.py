@@ -1,31 +1,6 @@
-"""Parameter studies: one sweep over many designs (dimension sets) of one structure, as a batch.
-
-A *design* is one set of keyword arguments to a builder (a catalogue function such as
-:func:`planar.mechanisms.four_bar`, or any function of yours returning a
-:class:`planar.Mechanism`: lengths, points, starts, the numbers of ``Mechanism.distance``),
-or one mechanism's numbers (:class:`Vary`: no Mechanism is built per design).
-:func:`sweep_designs` compiles one design of each structure and builds the others' tables
-from their numbers at once (:mod:`planar.design_tables`), then sweeps all of them at once: the
-design axis is folded into the solver's batch axis (each configuration reads its own design's
-joint parameters, :meth:`planar.system.System.over_designs`), so one continuation and one
-Newton loop serve every design. The results are (D, N, ...) arrays.
-
-The batch takes the *regular* designs: every step of the walk and every value certified as
-the per-design sweep certifies them, no value near a singular position. A design it cannot
-certify (a limit, a branch event, a value out of range) is swept alone by
-:meth:`planar.Model.sweep`, which locates its events and gives each value its status; a
-design that cannot be built or assembled is kept, with NaN outputs, status NOT_ASSEMBLABLE
-and the error's message in ``errors``. One bad design never loses a study.
-
->>> import numpy as np
->>> from planar.mechanisms import four_bar
->>> study = sweep_designs(four_bar, {"crank": [1.0, 1.5, 2.0]}, np.radians(np.arange(0, 360, 45)),
-...                       fixed=dict(ground=4.0, coupler=3.5, rocker=3.0))
->>> study.position("B").shape, study.ok.all(), study.batched.tolist()
-((3, 8, 2), np.True_, [True, True, True])
->>> study.designs[1]
-{'crank': 1.5}
-"""
+"""A study: its table of designs (:func:`design_table`, :class:`Vary`), swept batch by batch
+(:func:`sweep_part`: the designs' tables built at once where they can be, each batch on its
+template's plan, the others swept alone) and joined into one :class:`DesignSweep`."""
 
 import copy
 from dataclasses import dataclass, replace
@@ -33,15 +8,15 @@ from functools import cached_property
 
 import numpy as np
 
-from planar import arguments, design_tables
+from planar import arguments
 from planar.blocks import plan as block_plan
+import planar.designs.tables as design_tables
+from planar.designs.batch import Results, sweep_batch
+from planar.designs.results import DesignSweep, Models
+from planar.designs.tables import compile_unplanned
 from planar.errors import InputError, PlanarError
-from planar.events import NEAR_CURVE
-from planar.geometry import perp
-from planar.dimensions import Dimension
-from planar.model import Mechanism, _compile, _finite, _positive, _resolve
-from planar.results import POSED, VALID, Status, Sweep
-from planar.sweep import CHUNK, sweep_anchors, Branch, final_step, output_columns, run_sweep
+from planar.model import Mechanism
+from planar.sweep import run_sweep
 
 
 def design_table(designs):
@@ -79,7 +54,7 @@ class Vary:
     drivers, set to ``numbers`` (the others as ``m`` has them; ``numbers`` lists them all).
     A study of a ``Vary`` builds no Mechanism per design: the designs' tables come from the
     numbers at once, every sketch assembled from ``m``'s drawing together
-    (:func:`planar.design_tables.varied`).
+    (:func:`planar.designs.tables.varied`).
 
     >>> from planar.mechanisms import four_bar
     >>> family = Vary(four_bar(coupler_point=(1.0, 0.5)))
@@ -99,11 +74,12 @@ class Vary:
     @cached_property
     def numbers(self):
         """name -> the value ``mechanism`` has: its stated distances, then its drivers' starts."""
-        return {f"{d.a}-{d.b}": d.length for d in self.mechanism._dimensions} | dict(self.mechanism._starts)
+        sk = self.mechanism.sketch()
+        return {f"{d.a}-{d.b}": d.length for d in sk.dimensions} | dict(sk.starts)
 
     @cached_property
     def model(self):
-        return _compile_unplanned(self.mechanism)
+        return compile_unplanned(self.mechanism)
 
     def check(self, numbers):
         unknown = sorted(set(numbers) - set(self.numbers))
@@ -114,9 +90,8 @@ class Vary:
     def __call__(self, **numbers):
         self.check(numbers)
         m = copy.deepcopy(self.mechanism)
-        m._dimensions = [Dimension(d.a, d.b, _positive(numbers.get(f"{d.a}-{d.b}", d.length), f"distance {d.a}-{d.b}"))
-                         for d in m._dimensions]
-        m._starts = {k: float(_finite(numbers.get(k, v), f"start of driver {k!r}", ())) for k, v in m._starts.items()}
+        for name, value in numbers.items():
+            m.restate(name, value)
         return m
 
 
@@ -156,7 +131,7 @@ def join(designs, parts, first=0):
         at = slice(p.lo - first, p.lo - first + len(p.errors))
         if out is None:
             whole = p.lo == first and len(p.errors) == len(designs)  # one batch: its arrays are the study's
-            out, rates, template = p.out if whole else _Results(len(designs), *dims), (p.Ud, p.Udd), p.template
+            out, rates, template = p.out if whole else Results(len(designs), *dims), (p.Ud, p.Udd), p.template
         elif dims != out.q.shape[1:] + out.U.shape[2:]:
             raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
                              f"{out.q.shape[1:] + out.U.shape[2:]}: a study sweeps designs of one structure over "
@@ -172,30 +147,9 @@ def join(designs, parts, first=0):
         raise InputError("no design could be built: " + "; ".join(reasons))
     errors = sum((tuple(p.errors) for p in kept), ())
     known = {p.lo - first + d: m for p in kept for d, m in p.models.items()}
-    return DesignSweep(tuple(designs), _Models(kept[0].build, kept[0].fixed, tuple(designs), errors, known), errors,
+    return DesignSweep(tuple(designs), Models(kept[0].build, kept[0].fixed, tuple(designs), errors, known), errors,
                        np.concatenate([p.batched for p in kept]), sum((p.events for p in kept), ()), *rates,
                        points=points, template=template, **out.arrays())
-
-
-class _Models:
-    """Each design's :class:`planar.Model`, compiled when first asked for (the batch builds
-    its tables without one); None for a design that could not be built."""
-
-    def __init__(self, build, fixed, designs, errors, known):
-        self.build, self.fixed, self.designs, self.errors, self.known = build, fixed, designs, errors, known
-
-    def __len__(self):
-        return len(self.designs)
-
-    def __getitem__(self, d):
-        if self.errors[d] is not None:
-            return None
-        if d not in self.known:
-            self.known[d] = _compile_unplanned(self.build(**self.fixed, **self.designs[d]))
-        return self.known[d]
-
-    def __iter__(self):
-        return (self[d] for d in range(len(self)))
 
 
 def study_options(batch, options):
@@ -212,7 +166,7 @@ def study_options(batch, options):
 class _Part:
     """One batch of a study: designs lo.. of the table, the models compiled alone (design ->
     Model), ``errors`` (None, or why the design could not be built), ``batched`` and ``events``
-    per design, the input rates, the arrays (:class:`_Results`, None when no design of the
+    per design, the input rates, the arrays (:class:`Results`, None when no design of the
     batch could be built), the named points (name -> (body name, (D, 2) body-fixed)), the
     first structure's model (``template``) and the builder, to compile a design when asked."""
 
@@ -251,13 +205,13 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     def alone(d):  # design d compiled by itself (None, with its error, if it cannot be)
         if d not in models:
             try:
-                models[d] = _compile_unplanned(mechanism(d)) if mechanism(d) is not None else None
+                models[d] = compile_unplanned(mechanism(d)) if mechanism(d) is not None else None
             except PlanarError as e:
                 models[d], errors[d] = None, f"design {lo + d} {table[lo + d]}: {e}"
         return models[d]
 
     # the designs' tables, a structure at a time: built at once from their numbers where they
-    # can be (design_tables), else from each design compiled alone
+    # can be (planar.designs.tables), else from each design compiled alone
     groups, left = [], []
     if vary:  # no Mechanism per design: the tables from the numbers
         numbers = [dict(fixed, **table[lo + d]) for d in range(D)]
@@ -295,7 +249,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             if v is values and shared is not None:
                 U[d] = shared
                 continue
-            U[d] = ref._inputs(v, "values")
+            U[d] = ref.as_inputs(v, "values")
             shared = U[d] if v is values else shared
     shapes = {U[d].shape for d in U}
     if len(shapes) > 1:
@@ -307,9 +261,9 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
                              f"{lo + groups[0].index[0]} {ref.n}: a study sweeps designs of one structure")
         _check_walks(g, U, options["max_step"], alone)
     N, f = shapes.pop()
-    Ud, Udd = ref._inputs(velocity, "velocity", N), ref._inputs(acceleration, "acceleration", N)
+    Ud, Udd = ref.as_inputs(velocity, "velocity", N), ref.as_inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
-    out = _Results(D, N, ref.n, f)
+    out = Results(D, N, ref.n, f)
     for d in U:
         out.U[d] = U[d]
     batched = np.zeros(D, bool)
@@ -320,7 +274,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             block_plan(g.model)  # the structure is drivable (else each design is swept alone, and refused)
         except PlanarError:
             continue
-        ok, fits = _batch(g, out, Ud, Udd, options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
+        ok, fits = sweep_batch(g, out, Ud, Udd, options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
         batched[g.index] = ok
         retry = np.flatnonzero(~fits)
         retry = retry[retry > 0]  # (the first fits its own plan)
@@ -375,243 +329,9 @@ def _values_of(values, design, d, f):
     return values
 
 
-def _compile_unplanned(mechanism):
-    """``mechanism.compile()`` but for its block plan: designs of one structure share one."""
-    return _compile(mechanism.name, _resolve(mechanism), plan=False)
-
-
 def _structure(model):
     """What designs swept in one batch share: bodies, rows, joint classes and their places."""
     return (len(model.body_names), model.m,
             tuple((g.kind, g.members.tobytes(), g.bodies.tobytes(), g.rows.tobytes(), g.inputs.tobytes())
                   for g in model.system.groups),
             model.active_rows.tobytes(), model.redundant_rows.tobytes(), model.input_lengths.tobytes())
-
-
-class _Results:
-    """The (D, N, ...) arrays of a study, NaN and NOT_ASSEMBLABLE until a design is put."""
-
-    def __init__(self, D, N, n, f):
-        self.U = np.full((D, N, f), np.nan)
-        self.q, self.qd, self.qdd = (np.full((D, N, n), np.nan) for _ in range(3))
-        self.residual, self.singularity, self.branch, self.gap = (np.full((D, N), np.nan) for _ in range(4))
-        self.iterations = np.zeros((D, N), int)
-        self.status = np.full((D, N), Status.NOT_ASSEMBLABLE, np.int8)
-
-    def put(self, d, s):
-        """Rows d from a :class:`planar.Sweep` or a :class:`_Results` of those rows."""
-        for k in ("q", "qd", "qdd", "residual", "singularity", "branch", "gap", "iterations", "status"):
-            getattr(self, k)[d] = getattr(s, k)
-        if isinstance(s, _Results):
-            self.U[d] = s.U
-
-    def arrays(self):
-        return {k: v for k, v in vars(self).items() if k != "U"} | {"inputs": self.U}
-
-
-def _batch(t, out, Ud, Udd, tol, max_step, outputs):
-    """Sweep the designs of tables ``t`` (:class:`planar.design_tables.Tables`) together on
-    their template's plan, writing their rows ``t.index`` of ``out``. Returns (ok, fits), each
-    (D,): ``ok`` for the designs every value of which was certified regular, ``fits`` for
-    those the plan holds (a design with a non-zero where the template has a structural zero,
-    as a slider along x, needs another)."""
-    ref, rows = t.model, t.index
-    D = len(rows)
-    U = out.U[rows]
-    N, n = U.shape[1], ref.n
-    q, u = t.q0.copy(), t.u0.copy()
-    every = np.arange(D)
-    ids = np.arange(D, dtype=float)[:, None]
-
-    def at(u, d):  # inputs with the design index of each configuration in a last column
-        return np.concatenate([u, ids[d]], axis=1)
-
-    p, fits = block_plan(ref, output_columns(ref, outputs)).over_designs(t.system, q, at(u, every), ref.col_scale)
-    br = Branch(ref, p, tol)
-    with np.errstate(all="ignore"):
-        ref_signs, sing = br.modes(q, at(u, every))
-    ok = fits & (sing >= NEAR_CURVE)
-    scale = np.where(ref.input_lengths, 1.0 / t.L[:, None], 1.0)
-
-    # 1. the walk over the anchors of every design, all designs a step at a time
-    found = {}  # the anchors depend on the values and the input scales only: once per pair
-    for d in range(D):
-        key = (U[d].tobytes(), scale[d].tobytes())
-        if key not in found:
-            found[key] = sweep_anchors(_Scales(ref.input_lengths, t.L[d]), U[d], max_step)
-    anchors = np.unique(np.concatenate(list(found.values())))
-    Qa = np.empty((anchors.size, D, n))
-    act = np.flatnonzero(ok)
-    for k, a in enumerate(anchors):
-        target = U[:, a]
-        span = np.max(np.abs(target - u)[act] * scale[act], initial=0.0)
-        parts = max(1, int(np.ceil(span / max_step)))
-        for j in range(parts):
-            if not act.size:
-                break
-            nxt = u[act] + (target[act] - u[act]) / (parts - j)
-            q_pred, _ = br.predict(q[act], at(u[act], act), nxt - u[act])
-            qn, conv, _, _ = br.solve(q_pred, at(nxt, act))
-            sn, sg = br.modes(qn, at(nxt, act))
-            start = q[act]
-            good = br.accept(qn, q_pred, lambda r: start[r], conv, sn, ref_signs[act], sg) & (sg >= NEAR_CURVE)
-            q[act[good]], u[act[good]] = qn[good], nxt[good]
-            ok[act[~good]] = False
-            act = act[good]
-        Qa[k] = q
-
-    # 2. every value from the anchor before it (a Taylor predictor), its final Newton step,
-    # certificate and rates in one pass over (design, value) rows
-    k_of = np.searchsorted(anchors, np.arange(N), side="right") - 1
-    flat = (act[:, None] * N + np.arange(N)[None]).ravel()
-    for lo in range(0, flat.size, CHUNK):
-        r = flat[lo : lo + CHUNK]
-        d, i = r // N, r % N
-        qa, ua = Qa[k_of[i], d], U[d, anchors[k_of[i]]]
-        du = U[d, i] - ua
-        q_pred = qa.copy()  # (an anchor's value is its pose)
-        move = np.flatnonzero(np.any(du != 0.0, axis=1))
-        if move.size:
-            q_pred[move] = br.predict(qa[move], at(ua[move], d[move]), du[move])[0]
-        f = final_step(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
-        good = br.accept(f["q"], q_pred, lambda s: qa[s], f["conv"], f["signs"], ref_signs[d], f["sing"], off=f["off"])
-        good &= (f["status"] == Status.SOLVED) & (f["sing"] >= NEAR_CURVE)
-        ok[np.unique(d[~good])] = False
-        g = rows[d]
-        out.q[g, i], out.qd[g, i], out.qdd[g, i] = f["q"], f["qd"], f["qdd"]
-        out.residual[g, i], out.singularity[g, i], out.branch[g, i] = f["res"], f["sing"], f["branch"]
-        out.iterations[g, i], out.status[g, i] = f["iters"], f["status"]
-    if p.cols.size < n:  # coordinates the outputs do not need: not solved
-        drop = np.setdiff1d(np.arange(n), p.cols)
-        for a in (out.q, out.qd, out.qdd):
-            a[np.ix_(rows[ok], np.arange(N), drop)] = np.nan
-    return ok, fits
-
-
-@dataclass(frozen=True)
-class _Scales:
-    """What the anchors of a design's walk depend on (as :func:`planar.sweep.sweep_anchors` reads a model)."""
-
-    input_lengths: np.ndarray
-    L: float
-
-
-@dataclass(frozen=True, eq=False)
-class DesignSweep:
-    """Results of :func:`sweep_designs`, all arrays with a leading design axis: ``inputs``
-    (D, N, f), ``q``, ``qd``, ``qdd`` (D, N, n), ``status``, ``residual``, ``iterations``,
-    ``singularity``, ``branch``, ``gap`` (D, N), as :class:`planar.Sweep` holds them for one
-    design; ``models`` (each design's :class:`planar.Model`, compiled when asked for; None
-    where ``errors`` says why the design could not be built or assembled: NaN, status
-    NOT_ASSEMBLABLE), ``batched`` (D,) True for the designs swept in the batch, ``events`` per
-    design, ``points`` name -> (body, (D, 2) the point in the body's frame), ``template`` the
-    first design's model. ``position(name)`` (D, N, 2), ``angle(body)`` (D, N), ... name the
-    outputs; ``study[d]`` is design d's :class:`planar.Sweep`.
-    """
-
-    designs: tuple
-    models: _Models
-    errors: tuple
-    batched: np.ndarray
-    events: tuple
-    input_rates: np.ndarray
-    input_accelerations: np.ndarray
-    inputs: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
-    status: np.ndarray
-    residual: np.ndarray
-    iterations: np.ndarray
-    singularity: np.ndarray
-    branch: np.ndarray
-    gap: np.ndarray
-    points: dict  # name -> (body name, (D, 2) the point in the body's frame, per design)
-    template: object  # the first design's model: the bodies' names and coordinates
-
-    def __post_init__(self):
-        for v in vars(self).values():
-            if isinstance(v, np.ndarray):
-                v.flags.writeable = False
-
-    @property
-    def N(self):
-        return self.status.shape[1]
-
-    def __len__(self):
-        return len(self.designs)
-
-    def __getitem__(self, d):
-        """Design d's :class:`planar.Sweep` (None for a design that could not be built)."""
-        if self.errors[d] is not None:
-            return None
-        return Sweep(self.models[d], self.inputs[d], self.input_rates, self.input_accelerations, self.q[d],
-                     self.qd[d], self.qdd[d], self.status[d], self.residual[d], self.iterations[d],
-                     self.singularity[d], self.branch[d], self.gap[d], self.events[d])
-
-    @property
-    def sweeps(self):
-        return tuple(self[d] for d in range(len(self)))
-
-    def __repr__(self):
-        bad = sum(e is not None for e in self.errors)
-        return f"DesignSweep(D={len(self)}, N={self.N}, batched={int(self.batched.sum())}, failed designs={bad})"
-
-    @property
-    def ok(self):
-        """(D, N) True where positions, velocities and accelerations are valid."""
-        return VALID[self.status]
-
-    @property
-    def posed(self):
-        """(D, N) True where positions are valid."""
-        return POSED[self.status]
-
-    def _body(self, body, arr):
-        """(x, y, phi) of ``body`` in ``arr`` (D, N, n)."""
-        b = self.template.body_id(body)
-        if b == 0:
-            return (np.zeros(arr.shape[:2]),) * 3
-        return arr[..., 3 * b - 3], arr[..., 3 * b - 2], arr[..., 3 * b - 1]
-
-    def _point(self, name):
-        """(body name, S): the point's world offset from its body's frame (D, N, 2)."""
-        if name not in self.points:
-            self.template.point(name)  # raises, naming the points there are
-        body, s = self.points[name]
-        s = s[:, None, :]
-        phi = self._body(body, self.q)[2]
-        c, sn = np.cos(phi), np.sin(phi)
-        return body, np.stack((c * s[..., 0] - sn * s[..., 1], sn * s[..., 0] + c * s[..., 1]), axis=-1)
-
-    def position(self, name):
-        body, S = self._point(name)
-        x, y, _ = self._body(body, self.q)
-        return np.stack((x, y), axis=-1) + S
-
-    def velocity(self, name):
-        body, S = self._point(name)
-        xd, yd, w = self._body(body, self.qd)
-        return np.stack((xd, yd), axis=-1) + perp(S) * w[..., None]
-
-    def acceleration(self, name):
-        body, S = self._point(name)
-        _, _, w = self._body(body, self.qd)
-        xdd, ydd, a = self._body(body, self.qdd)
-        return np.stack((xdd, ydd), axis=-1) + perp(S) * a[..., None] - S * (w**2)[..., None]
-
-    def angle(self, body):
-        return self._body(body, self.q)[2]
-
-    def omega(self, body):
-        return self._body(body, self.qd)[2]
-
-    def alpha(self, body):
-        return self._body(body, self.qdd)[2]
-
-    def coordinate(self, joint, derivative=0):
-        out = np.full((len(self), self.N), np.nan)
-        for d in range(len(self)):
-            if self.errors[d] is None:
-                out[d] = self[d].coordinate(joint, derivative)
-        return out

@@ -1,0 +1,48 @@
+"""The builder's argument checks: numbers, points, directions, each refused with a
+:class:`planar.errors.ModelError` that names the argument."""
+
+import numpy as np
+
+from planar.errors import ModelError
+
+
+def finite(value, what, shape=None):
+    """``value`` as a float array, finite (and of ``shape`` if given), else a ModelError naming ``what``."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what} must be numeric, got {value!r}") from None
+    if shape is not None and a.shape != shape:
+        raise ModelError(f"{what} must have shape {shape}, got {value!r}")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{what} must be finite, got {value!r}")
+    return a
+
+
+def point(value, what):
+    """``value`` as a finite world point (2,)."""
+    return finite(value, what, (2,))
+
+
+def positive(value, what):
+    """``value`` as a positive float."""
+    v = float(finite(value, what, ()))
+    if v <= 0:
+        raise ModelError(f"{what} must be positive, got {value!r}")
+    return v
+
+
+def pressure_angle(value, joint):
+    """A gear's pressure angle in [0, pi/2) radians."""
+    a = float(finite(value, f"joint {joint!r} pressure_angle", ()))
+    if not 0 <= a < np.pi / 2:
+        raise ModelError(f"joint {joint!r}: pressure_angle must be in [0, pi/2) radians, got {a!r}")
+    return a
+
+
+def direction(value, what):
+    """``value`` as a unit vector (2,)."""
+    v = point(value, what)
+    if np.hypot(*v) == 0:
+        raise ModelError(f"{what} must be a non-zero vector, got {value!r}")
+    return v / np.hypot(*v)
