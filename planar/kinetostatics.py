@@ -246,7 +246,7 @@ def _solver(model, q, u, pieces, blocks, stand_in):
 def _force_rows(model, q, u):
     """Each group's (group, parameters, frames) and its force rows (n_rows, 3 n_bodies, K, N)."""
     system = model.system
-    full = system._full(q)
+    full = system.full(q)
     pieces = [(g, g.params(u), g.frames(full)) for g in system.groups]
     return pieces, [g.kind.force_rows(P, F) for g, P, F in pieces]
 

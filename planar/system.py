@@ -79,7 +79,7 @@ class System:
     def n(self):
         return 3 * (self.n_bodies - 1)
 
-    def _full(self, q, qd=None):
+    def full(self, q, qd=None):
         """(5, n_bodies, N) rows x, y, phi, cos, sin of every body, configurations last (8
         with the rates xd, yd, phid): one transposing copy of q, so the groups' gathers and
         all kernel operations run over contiguous rows of configurations."""
@@ -103,7 +103,7 @@ class System:
     def evaluate(self, q, u=None, jacobian=True, groups=None):
         """Phi (N, m) and, if asked, Phi_q (N, m, n) at configurations q (N, n)."""
         N = q.shape[0]
-        full = self._full(q)
+        full = self.full(q)
         Phi = np.zeros((self.m, N))
         J = np.zeros((N, self.m, self.n + 1)) if jacobian else None
         for g in self.groups if groups is None else groups:
@@ -127,7 +127,7 @@ class System:
         return np.concatenate(rows), np.concatenate(cols)
 
     @cached_property
-    def _blocks(self):
+    def block_spans(self):
         """(start, end, shape) of each group's Jacobian block in the values: (n_rows, 3 nb, K)."""
         out, at = [], 0
         for g in self.groups:
@@ -146,9 +146,9 @@ class System:
         Phi = self._rows(N)
         Jv = np.empty((self.entries[0].size + 1, N))
         Jv[-1] = 0.0
-        blocks = [Jv[a:b].reshape(shape + (N,)) for a, b, shape in self._blocks]
+        blocks = [Jv[a:b].reshape(shape + (N,)) for a, b, shape in self.block_spans]
         for sl in chunks(N):
-            full = self._full(q[sl])
+            full = self.full(q[sl])
             for g, block in zip(self.groups, blocks):
                 Phi[g.rows.T, sl], _ = g.kind.Phi_and_Phi_q(g.params(u, sl), g.frames(full), block[..., sl],
                                                              constants)
@@ -199,7 +199,7 @@ class System:
         """gamma (N, m) with Phi_q qdd = gamma, at configurations q and rates qd."""
         out = self._rows(q.shape[0])
         for sl in chunks(q.shape[0]):
-            full = self._full(q[sl], qd[sl])
+            full = self.full(q[sl], qd[sl])
             for g in self.groups:
                 out[g.rows.T, sl] = g.kind.gamma(g.params(u, sl), g.frames(full))
         return out.T

@@ -235,7 +235,7 @@ def _clean(res):
 
 
 def _poses(model, branch, tol):
-    known = model._poses  # the model's private cache: {(branch, tol): Poses}, oldest first
+    known = model.known_poses  # {(branch, tol): Poses}, oldest first
     key = (branch, float(tol))
     if key not in known:
         if len(known) >= KEYS:

@@ -97,7 +97,7 @@ def test_the_known_poses_stay_bounded():
     model = MECHANISMS["four-bar"]().compile()
     for k in range(5):
         model.sweep(k + np.linspace(0, 1, 1000))
-    poses = model._poses[("smooth", 1e-12)]
+    poses = model.known_poses[("smooth", 1e-12)]
     assert poses.u.size <= CAP + CAP // 2 + 1
     assert np.all(np.diff(poses.u) > 0) and model.u0[0] in poses.u
     tracker = model.track()

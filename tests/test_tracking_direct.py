@@ -175,7 +175,7 @@ def test_many_moves_keep_the_known_poses_bounded():
     tracker = model.track()
     for u in np.linspace(0.0, 1.0, 3 * CAP):
         tracker.move(float(u))
-    poses = model._poses[("smooth", 1e-12)]
+    poses = model.known_poses[("smooth", 1e-12)]
     assert poses.u.size <= 2 * CAP and model.u0[0] in poses.u
     assert tracker.direct
     _same(tracker.move(0.5), _reference("four_bar", 0.5))

@@ -179,7 +179,7 @@ def tables(model, plan):
         read |= {int(e) for e in blk.coup}
     read.discard(nnz - 1)
     J = {k: [] for k in ("code", "nr", "inp", "par", "jc", "jrows", "slots", "jac")}
-    for g, (start, _, (n_rows, _, K)) in zip(sysm.groups, sysm._blocks):
+    for g, (start, _, (n_rows, _, K)) in zip(sysm.groups, sysm.block_spans):
         keys = g.kind.scalar_kernels[0]
         flat = [np.asarray(g.P[key], float).reshape(K, -1) for key in keys]
         flat = np.concatenate(flat, axis=1) if flat else np.zeros((K, 0))

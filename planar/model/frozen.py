@@ -99,9 +99,9 @@ class Model:
     inertia: np.ndarray | None = None  # (n_bodies,) moments of inertia about the centres of mass
     gravity: np.ndarray | None = None  # (2,) world gravitational acceleration
     loads: tuple = ()  # planar.mass.Load
-    # poses solved on the branch, per branch option (planar.tracking): a private mutable cache
-    # made with the model; the model's fields stay as built
-    _poses: dict = field(default_factory=dict, init=False, repr=False)
+    # poses solved on the branch, per branch option: planar.tracking's mutable cache, made with
+    # the model; the model's other fields stay as built
+    known_poses: dict = field(default_factory=dict, init=False, repr=False)
 
     def __repr__(self) -> str:
         return (f"<Model {self.name!r}: {len(self.body_names) - 1} moving bodies, {len(self.joints)} joints, "
