@@ -9,7 +9,6 @@ True
 
 import numpy as np
 
-from planar.joints import Revolute
 
 
 def four_bar_links(model):
@@ -17,7 +16,7 @@ def four_bar_links(model):
     "rocker" or None) when the model is one loop of four revolutes, read from its sketch; else
     None. The crank is the driven link next to the ground (either, when the coupler is driven)."""
     joints = model.joints
-    if len(joints) != 4 or len(model.body_names) != 4 or not all(type(j) is Revolute for j in joints):
+    if len(joints) != 4 or len(model.body_names) != 4 or not all(j.pin for j in joints):
         return None
     pins = {}
     for j in joints:

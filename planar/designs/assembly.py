@@ -4,7 +4,6 @@ values to their own in the same steps for every design."""
 
 import numpy as np
 
-from planar.joints import AngleDriver
 from planar.joints.base import wrap
 from planar.model import GROUND
 from planar.model.resolve import site_key
@@ -39,7 +38,7 @@ def assemble(t, pos, cons, spec, dims, starts, L, need):
     line = {b: (site[ln[0]], site[ln[1]]) for b, ln in t.lines.items() if ln is not None}
     for c, cv in zip(sk.drivers, cons[len(sk.joints):]):
         start = starts.get(c.name)
-        if isinstance(c, AngleDriver):
+        if c.relative_angle:
             terms = [(sg, *line[x]) for sg, x in ((1, c.bodies[1]), (-1, c.bodies[0])) if x in line]
             offset = np.zeros(D)
             for sg, x in ((1, c.bodies[1]), (-1, c.bodies[0])):

@@ -32,7 +32,6 @@ import numpy as np
 
 from planar.designs.assembly import assemble
 from planar.geometry import rotate
-from planar.joints import AngleDriver, Revolute, Slot
 from planar.joints.base import SketchFrames, wrap
 from planar.model import GROUND
 from planar.model.compile import compile_sketch
@@ -142,12 +141,12 @@ class _Template:
             self.sources.setdefault(site[n], ("point", n))
         for i, j in enumerate(sk.joints):
             for key in PLACES:
-                if j.data.get(key) is not None and not isinstance(j, Revolute):
+                if j.data.get(key) is not None and not j.pin:
                     self.sources.setdefault(site[site_key(j.data[key])], ("datum", i, key))
         # and its motion in the assembly: free, held, or along a line (a slider's on the ground,
         # or the frame's direction from the first pivot) that a design may turn
         pivots = list(dict.fromkeys(site[j.name] for j in sk.joints if GROUND in j.bodies
-                                    and isinstance(j, Revolute)))
+                                    and j.pin))
         self.bases = []
         for i, B in enumerate(bases):
             if B.shape[1] != 1:
@@ -155,7 +154,7 @@ class _Template:
             elif len(pivots) > 1 and i == pivots[1]:
                 self.bases.append(("pivot", pivots[0]))
             else:
-                k = next((k for k, j in enumerate(sk.joints) if isinstance(j, Slot) and j.bodies[0] == GROUND
+                k = next((k for k, j in enumerate(sk.joints) if j.slides and j.bodies[0] == GROUND
                           and site[site_key(j.data["at"])] == i), None)
                 self.bases.append(("slot", k) if k is not None else None)
         self.triangles = [(a, b, c) for a, b, c, _ in mode_triangles(sk, site)]
@@ -248,7 +247,7 @@ def _build(t, P, data, spec, dims, starts, at):
     for c, cv in zip(sk.drivers, cons[len(sk.joints):]):
         if c.name not in starts:
             continue
-        if isinstance(c, AngleDriver):
+        if c.relative_angle:
             a, b = c.bodies
             off = np.maximum(off, np.abs(wrap(drawn[b] - drawn[a] - starts[c.name])))
         elif "at" in c.data and (len(c.bodies) == 1 or c.bodies[0] == GROUND):
@@ -277,7 +276,7 @@ def _build(t, P, data, spec, dims, starts, at):
     angles = dict(drawn)
     for c in sk.drivers:
         start = starts.get(c.name)
-        if start is None or not isinstance(c, AngleDriver):
+        if start is None or not c.relative_angle:
             continue
         a, b = c.bodies
         if b != GROUND:

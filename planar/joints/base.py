@@ -53,6 +53,12 @@ class Joint:
     length_rows: ClassVar[tuple]  # per row: True for a length, False for an angle
     sketch_rows: ClassVar[tuple] = ()  # rows whose constant c comes from the assembled sketch
     is_driver: ClassVar[bool] = False
+    # what resolving a sketch asks of a joint: is its point one place of both its bodies (a
+    # pin), does it slide along a line of its first body (a pin in a slot, a slider), is it a
+    # driver of the angle between its two bodies
+    pin: ClassVar[bool] = False
+    slides: ClassVar[bool] = False
+    relative_angle: ClassVar[bool] = False
     # the scalar kernels of the compiled engine (planar.joints.scalar): (the parameters they read,
     # kernel, gamma kernel); None: engine="numba" refuses the type
     scalar_kernels: ClassVar[tuple | None] = None

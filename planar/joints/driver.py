@@ -48,6 +48,7 @@ class AngleDriver(Joint):
     n_bodies = 2
     length_rows = (False,)
     is_driver = True
+    relative_angle = True
 
     def local_params(self, sketch):
         return {}

@@ -44,6 +44,7 @@ class Slot(Joint):
     scalar_kernels = (("s", "u"), slot, slot_gamma)
     n_bodies = 2
     length_rows: ClassVar[tuple] = (True,)
+    slides = True
 
     local_params = line_params
 

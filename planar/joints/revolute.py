@@ -35,6 +35,7 @@ class Revolute(Joint):
     scalar_kernels = (("s",), revolute, revolute_gamma)
     n_bodies = 2
     length_rows = (True, True)
+    pin = True
 
     def local_params(self, sketch):
         a, b = self.bodies

@@ -378,7 +378,7 @@ class Mechanism:
     def _pin_between(self, gear, carrier, name):
         """The gear's centre: its pin on the carrier, or a pin of the gear at the same point as
         a pin of the carrier (both pivoting on a third body there)."""
-        pins = [j for j in self._joints if isinstance(j, Revolute)]
+        pins = [j for j in self._joints if j.pin]
         for j in pins:
             if set(j.bodies) == {gear, carrier}:
                 return j.data["at"]

@@ -9,14 +9,13 @@ import numpy as np
 from planar.dimensions import Row, assemble
 from planar.errors import ConnectivityError, ModelError
 from planar.geometry import rotate
-from planar.joints import AngleDriver, Revolute, Slot
 from planar.model.frozen import GROUND, Sketch
 
 
 def bodies_of(joints, points, name):
     """The bodies a joint or point is on: a revolute's two, the body of any other's anchor."""
     for j in joints:
-        if j.name == name and isinstance(j, Revolute):
+        if j.name == name and j.pin:
             return set(j.bodies)
     return {points[name][0]}
 
@@ -49,7 +48,7 @@ def rule_line(sk, body, apart, dist=None):
     dist = dist or _ground_distance(list(sk.bodies), sk.joints)
     ranked = []
     for k, j in enumerate(sk.joints):
-        on = set(j.bodies) if isinstance(j, Revolute) else {sk.points[j.name][0]} if j.name in sk.points else set()
+        on = set(j.bodies) if j.pin else {sk.points[j.name][0]} if j.name in sk.points else set()
         if body in on:
             others = [dist.get(b, np.inf) for b in j.bodies if b != body]
             ranked.append((0, min(others, default=np.inf), k, j.name))
@@ -91,7 +90,7 @@ def resolve(sk):
             angles[b] = offset + (_direction_of(X, *ij) if ij is not None else 0.0)
     for d in drivers:  # an angle input starts on the turn of its start value
         start = sk.starts.get(d.name)
-        if start is not None and isinstance(d, AngleDriver):
+        if start is not None and d.relative_angle:
             a, b = d.bodies
             if b != GROUND:
                 angles[b] = start + angles[a] if a == GROUND else angles[b] + 2 * np.pi * round(
@@ -141,14 +140,14 @@ def sites(points, joints, L):
     for j in joints:
         for key in PLACES:
             v = j.data.get(key)
-            if v is None or isinstance(j, Revolute):
+            if v is None or j.pin:
                 continue
             i = site[site_key(v)] = place(v)
             B = bases.get(i, np.eye(2))
-            u = j.data["direction"][:, None] if key == "at" and isinstance(j, Slot) and j.bodies[0] == GROUND else None
+            u = j.data["direction"][:, None] if key == "at" and j.slides and j.bodies[0] == GROUND else None
             along = u is not None and (B.shape[1] == 2 or (B.shape[1] == 1 and abs(B[:, 0] @ u[:, 0]) > 1 - 1e-12))
             bases[i] = u if along else np.zeros((2, 0))
-    pivots = list(dict.fromkeys(site[j.name] for j in joints if GROUND in j.bodies and isinstance(j, Revolute)))
+    pivots = list(dict.fromkeys(site[j.name] for j in joints if GROUND in j.bodies and j.pin))
     for k, i in enumerate(pivots[:2]):
         if k == 0 or bases.get(i, np.eye(2)).shape[1] < 2:
             bases[i] = np.zeros((2, 0))
@@ -189,7 +188,7 @@ def _driver_rows(sk, lines, site, X0, L):
     rows = []
     for d in sk.drivers:
         label, start = f"the start of driver {d.name!r}", sk.starts.get(d.name)
-        if isinstance(d, AngleDriver):
+        if d.relative_angle:
             a, b = d.bodies
             terms = tuple((s, *lines[x][0]) for s, x in ((1, b), (-1, a)) if lines[x][0] is not None)
             row = Row("angle", terms, 0.0, label, lines[b][1] - lines[a][1])
