@@ -1,7 +1,7 @@
 """Hypothesis profiles: "ci" (the default: 200 examples a test, derandomized so that a CI run
 is reproducible) and "long" for fuzzing runs, random and 5000 examples a test.
 
-    HYPOTHESIS_PROFILE=long python3 -m pytest -q tests/test_hardening.py
+    HYPOTHESIS_PROFILE=long python3 -m pytest -q tests/test_sweep_random_linkages.py
 
 Tests marked ``numba`` need the optional numba (the ``fast`` extra): they are skipped, with the
 reason, where it cannot be imported.

@@ -18,7 +18,7 @@ from planar.errors import InputError
 from planar.mechanisms import four_bar, geared_five_bar, rolling_wheel, slider_crank
 from planar.sweep.anchors import quintic
 from tests.strategies import build, point
-from tests.test_core_sweeps import geared_five_bar as general_geared_five_bar
+from tests.test_sweep_closed_forms import geared_five_bar as general_geared_five_bar
 
 N = 2000  # enough values that the bulk of them goes through the batch step
 

@@ -1,4 +1,4 @@
-"""The core solver on hand-built mechanisms: closed forms, finite differences, reference cases.
+"""Sweeps of hand-built mechanisms: closed forms, finite differences, reference cases.
 
 The mechanisms are built here with the plain Mechanism API (not the catalogue), sketched from
 the closed forms of tests/oracles.py.

@@ -1,4 +1,4 @@
-"""Never garbage, never lost work: random linkages, random inputs, invariances.
+"""Sweeps of random linkages: never garbage, never lost work, random inputs, invariances.
 
 Every point a sweep returns either satisfies the constraints to tolerance or carries a status
 that says why not (and is NaN); no numpy warning escapes; results are deterministic and move,
