@@ -11,43 +11,11 @@ from hypothesis import given, settings, strategies as st
 
 import planar
 from planar import io
-from planar.errors import FileFormatError, InputError
+from planar.errors import FileFormatError
 from planar.mechanisms import CATALOGUE
-from planar.units import Units, parse_rate
+from planar.units import Units
 
 SETTINGS = settings(max_examples=200, deadline=None)
-
-
-# ---- units ----------------------------------------------------------------------------------
-
-def test_units_convert_at_the_edges():
-    u = Units(length="mm", angle="deg", rate="rpm")
-    assert u.angle_to_internal(180.0) == pytest.approx(math.pi, rel=1e-15)
-    assert u.rate_to_internal(60.0) == pytest.approx(2 * math.pi, rel=1e-15)
-    assert u.rate_from_internal(2 * math.pi) == pytest.approx(60.0, rel=1e-15)
-    assert u.acceleration == "rad/s^2" and Units(rate="deg/s").acceleration == "deg/s^2"
-    assert Units(rate="deg/s").acceleration_to_internal(180.0) == pytest.approx(math.pi)
-    # radians pass through bit for bit
-    assert Units(angle="rad").angle_to_internal(0.1) == 0.1
-    # lengths are labels, never converted
-    assert u.input_to_internal(3.0, is_length=True, derivative=1) == 3.0
-    assert u.label("speed") == "mm/s" and u.input_label(False, 1) == "rpm"
-
-
-@pytest.mark.parametrize("kwargs, field", [({"angle": "grad"}, "angle"), ({"rate": "rps"}, "rate"),
-                                           ({"length": "m m"}, "length")])
-def test_units_reject_unknown_units(kwargs, field):
-    with pytest.raises(InputError, match=field):
-        Units(**kwargs)
-
-
-def test_parse_rate():
-    assert parse_rate("120rpm") == (120.0, "rpm")
-    assert parse_rate(" -2.5 rad/s ") == (-2.5, "rad/s")
-    assert parse_rate("1e1deg/s") == (10.0, "deg/s")
-    assert parse_rate("3") == (3.0, None)
-    with pytest.raises(InputError, match="120rpm"):
-        parse_rate("fast")
 
 
 # ---- round trips -------------------------------------------------------------------------------
