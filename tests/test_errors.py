@@ -1,7 +1,6 @@
 """The one exception hierarchy (:mod:`planar.errors`): one ``except planar.PlanarError`` catches
 every error planar raises on purpose, the errors of wrong arguments are ValueErrors as Python's
-own are, and each is importable where the documentation says (synthesis's from
-``planar.synthesis``, the rest from ``planar``). Each error raised with its message is in
+own are, and each is importable from ``planar``. Each error raised with its message is in
 test_bad_input.py and test_model_errors.py.
 """
 
@@ -11,7 +10,6 @@ import pytest
 
 import planar
 import planar.errors
-import planar.synthesis
 
 ERRORS = {name: cls for name, cls in vars(planar.errors).items()
           if inspect.isclass(cls) and issubclass(cls, Exception) and cls.__module__ == "planar.errors"}
@@ -36,9 +34,8 @@ def test_errors_of_a_task_that_cannot_be_done_are_not_value_errors(cls):
     assert not issubclass(ERRORS[cls], ValueError)
 
 
-def test_every_error_is_importable_where_the_docs_say():
-    public = set(planar.__all__) | set(planar.synthesis.__all__)
-    assert set(ERRORS) <= public
+def test_every_error_is_importable_from_planar():
+    assert set(ERRORS) <= set(planar.__all__)
     for name, cls in ERRORS.items():
-        assert getattr(planar, name, None) is cls or getattr(planar.synthesis, name) is cls
+        assert getattr(planar, name) is cls
 
