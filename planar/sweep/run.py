@@ -2,6 +2,7 @@
 the rest one by one and the gaps walked back; :func:`run_sweep` is one function of three passes
 over shared arrays, and the module is that function and the few helpers it alone uses."""
 
+import functools
 from dataclasses import replace
 
 import numpy as np
@@ -338,12 +339,14 @@ def check_sketch(model, p):
             f"the sweep locates the singular position and follows the smooth branch (or branch='other')")
 
 
+@functools.cache
 def _keep_freed_memory():
-    """Free one untouched block of HEAP_KEEP bytes, so that glibc's malloc keeps what a sweep
-    frees for its next chunk and its next call instead of handing it back to the system: its
-    mmap threshold follows the largest mmapped block freed, up to 32 MiB and only for blocks no
-    larger than that (hence 8 KiB under it: malloc's header and page rounding), and it trims
-    the heap's free top beyond twice that (64 MiB), above a numpy sweep's heap at N = 1e5.
-    Below it, each chunk and each call faulted its memory in afresh. The process may keep up
-    to 2 HEAP_KEEP of freed memory; with other allocators this costs one mmap and munmap."""
+    """Once per process, free one untouched block of HEAP_KEEP bytes, so that glibc's malloc
+    keeps what a sweep frees for its next chunk and its next call instead of handing it back to
+    the system: its mmap threshold follows the largest mmapped block freed, up to 32 MiB and
+    only for blocks no larger than that (hence 8 KiB under it: malloc's header and page
+    rounding), and it trims the heap's free top beyond twice that (64 MiB), above a numpy
+    sweep's heap at N = 1e5. Below it, each chunk and each call faulted its memory in afresh.
+    The threshold only rises, so once is enough. The process may keep up to 2 HEAP_KEEP of
+    freed memory; with other allocators this costs one mmap and munmap."""
     np.empty(HEAP_KEEP, np.uint8)
