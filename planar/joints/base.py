@@ -199,18 +199,33 @@ def xy(p):
 
 
 class SketchFrames:
-    """Body frames at the sketch: converts world sketch data into body-fixed vectors."""
+    """Body frames at the sketch: converts world sketch data into body-fixed vectors.
+
+    Points and vectors have their components first: (2,) for one sketch, or (2, D) for D
+    designs at once, with origins (2,) or (2, D) and angles float or (D,).
+
+    >>> F = SketchFrames({"arm": np.array([1.0, 0.0])}, {"arm": np.pi / 2})
+    >>> F.local_point("arm", np.array([1.0, 2.0])).round(12).tolist()
+    [2.0, 0.0]
+    >>> F = SketchFrames({"arm": np.zeros((2, 1))}, {"arm": np.array([0.0, np.pi / 2])})
+    >>> F.local_point("arm", np.array([[1.0, 1.0], [2.0, 2.0]])).round(12).tolist()
+    [[1.0, 2.0], [2.0, -1.0]]
+    """
 
     def __init__(self, origins, angles):
-        self.origins = origins  # name -> (2,)
-        self.angles = angles  # name -> float
+        self.origins = origins  # name -> (2,) or (2, D)
+        self.angles = angles  # name -> float or (D,)
+
+    def _to_body(self, body, v):
+        # rotate works on the last axis: components moved there and back
+        return np.moveaxis(rotate(-self.angles[body], np.moveaxis(v, 0, -1)), -1, 0)
 
     def local_point(self, body, p):
-        return rotate(-self.angles[body], np.asarray(p, dtype=float) - self.origins[body])
+        return self._to_body(body, np.asarray(p, dtype=float) - self.origins[body])
 
     def local_direction(self, body, v):
         v = np.asarray(v, dtype=float)
-        return rotate(-self.angles[body], v / np.hypot(v[0], v[1]))
+        return self._to_body(body, v / np.hypot(v[0], v[1]))
 
 
 def kernel_params(P):
