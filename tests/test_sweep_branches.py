@@ -2,7 +2,8 @@
 
 Coarse and fine sweeps over the same inputs agree at their common values (or an event says
 where they part); an avoided crossing keeps its assembly mode and is reported; a sketch on a
-singular position is refused; a jump across a pair of limits inside one step is marked.
+singular position is refused; a jump across a pair of limits inside one step is marked. Each on
+both engines.
 """
 
 import numpy as np
@@ -18,6 +19,8 @@ from planar.results import VALID
 from tests import oracles
 
 COUNTS = (73, 721, 36001)  # values a turn: every 10th and every 500th value of the finer ones are the coarse ones
+# both engines follow the same rules (planar.acceptance, planar.events.status_of)
+ENGINES = ["numpy", pytest.param("numba", marks=pytest.mark.numba)]
 
 
 def _sweeps(m, start=0.0, counts=COUNTS, turns=1.0, engine="numpy"):
@@ -74,17 +77,19 @@ CATALOGUE = [
 ]
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name, m, start", CATALOGUE, ids=[c[0] for c in CATALOGUE])
-def test_coarse_and_fine_sweeps_agree(name, m, start):
-    _agree(_sweeps(m, start))
+def test_coarse_and_fine_sweeps_agree(name, m, start, engine):
+    _agree(_sweeps(m, start, engine=engine))
 
 
 @pytest.mark.parametrize("start, crossed, rocker", [(3.0, False, 3.00003), (1.0, False, 3.00003), (4.0, False, 3.00003),
                                                     (3.0, True, 3.00003), (3.0, False, 3.000001)])
-def test_an_avoided_crossing_keeps_its_assembly_mode_and_is_reported(start, crossed, rocker):
+@pytest.mark.parametrize("engine", ENGINES)
+def test_an_avoided_crossing_keeps_its_assembly_mode_and_is_reported(start, crossed, rocker, engine):
     # a crank-rocker whose two assembly modes come within ~1e-3 of each other near crank = pi
     m = four_bar(4, 2, 3, rocker, start=start, crossed=crossed)
-    for N, res in _sweeps(m, start).items():
+    for N, res in _sweeps(m, start, engine=engine).items():
         th2 = res.inputs[:, 0]
         want = oracles.four_bar(4, 2, 3, rocker, th2, sigma=-1 if crossed else 1)
         assert np.all(VALID[res.status])
@@ -98,20 +103,22 @@ def test_an_avoided_crossing_keeps_its_assembly_mode_and_is_reported(start, cros
             assert "another branch" in ev.note
 
 
-def test_a_sketch_on_a_singular_position_is_refused_with_the_fix():
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_sketch_on_a_singular_position_is_refused_with_the_fix(engine):
     m = four_bar(4, 2, 4, 2)  # drawn flat, on the fold where parallelogram and antiparallelogram meet
     with pytest.raises(AssemblyError, match=r"singular position \(bodies coupler, rocker.*start value"):
-        m.sweep(np.linspace(0, 2 * np.pi, 721))
-    res = four_bar(4, 2, 4, 2, start=0.5, crossed=True).sweep(np.linspace(0, 2 * np.pi, 721))
+        m.sweep(np.linspace(0, 2 * np.pi, 721), engine=engine)
+    res = four_bar(4, 2, 4, 2, start=0.5, crossed=True).sweep(np.linspace(0, 2 * np.pi, 721), engine=engine)
     assert np.all(VALID[res.status])
     ev = [e for e in res.events if e.kind == "bifurcation"]
     assert [e.input for e in ev] == pytest.approx([0.0, np.pi, 2 * np.pi], abs=1e-12)  # located to 1e-12
 
 
-def test_a_pair_of_limits_inside_one_step_is_a_marked_jump():
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_pair_of_limits_inside_one_step_is_a_marked_jump(engine):
     m = geared_five_bar()
     u = np.radians(np.arange(0.0, 361.0, 1.0))
-    res = m.sweep(u)
+    res = m.sweep(u, engine=engine)
     limits = sorted(np.degrees(e.input) for e in res.events if e.kind == "limit")
     assert limits == pytest.approx([212.7013, 213.9659], abs=1e-4)  # docs/sweeps.md, from the circuit
     jumped = np.flatnonzero(res.status == Status.JUMPED)
