@@ -39,7 +39,7 @@ from planar.errors import AssemblyError, InputError
 from planar.events import HELD, Event, status_of
 from planar.events.tracer import Tracer
 from planar.results import Status, Sweep
-from planar.solver import newton
+from planar.solver import ALONG_TANGENT, PROJECTED, newton
 from planar.sweep import Branch, input_scale
 
 TURN = 2 * np.pi
@@ -219,7 +219,7 @@ def _back_at_start(model, p, tr, y, y1, t1, phi, tol):
         return None
     w = (s - y[-1]) / (y1[-1] - y[-1])
     u = (model.u0 + s / input_scale(model)[0])[None]
-    q, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u, tol=tol, max_iter=20, plan=p)
+    q, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u, tol=tol, max_iter=ALONG_TANGENT, plan=p)
     d = (q[0] - model.q0) / model.col_scale
     d[phi] = np.angle(np.exp(1j * (q[0] - model.q0)[phi]))
     if not conv[0] or np.max(np.abs(d)) > CLOSED:
@@ -227,7 +227,7 @@ def _back_at_start(model, p, tr, y, y1, t1, phi, tol):
     return np.append(q[0][p.cols] / tr.cs, s)
 
 
-def _project(model, tr, y0, t, tol, max_iter=10):
+def _project(model, tr, y0, t, tol, max_iter=PROJECTED):
     """Newton onto the curve from guesses y0 (M, n+1), across it: Phi(y) = 0 and
     t.(y - y0) = 0 (the tracer's corrector, batched). Unlike a solve at a fixed input, this
     is well posed at and next to a limit. Returns (y, converged, iterations)."""
@@ -300,7 +300,7 @@ def _solve(br, tr, y, t, mode, Ud, Udd, max_step, on_limit):
         i = free[lo : lo + CHUNK]
         known = np.all(np.isfinite(mode[i]), axis=1)
         yi = y[i]
-        qn, conv, _, iters[i] = br.solve(_poses(tr, yi), _inputs(tr, yi), max_iter=10)
+        qn, conv, _, iters[i] = br.solve(_poses(tr, yi), _inputs(tr, yi), max_iter=PROJECTED)
         yi[:, :-1] = qn[:, tr.p.cols] / tr.cs
         good = settle(i, yi, conv & known)
         redo = np.flatnonzero(~good)

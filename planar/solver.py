@@ -11,6 +11,15 @@ import numpy as np
 
 from planar.blocks import plan as block_plan
 
+# Newton's iteration caps, by how far its guess may be from the solution (it converges
+# quadratically: a good guess takes 2-4 steps, a cap only stops one that does not converge)
+PREDICTED = 8  # a predictor one walk step from a solved pose
+STEPS = 12  # the default
+PROJECTED = 10  # a point of a traced curve, moved onto a value of the input
+ALONG_TANGENT = 20  # a guess along a tangent or a secant of a traced curve, next to a singular position
+DISTANT = 30  # a pose from the tracer, a period away, or a batch value off its guess
+REENTRY = 40  # a guess across a gap of the motion range, or a least-squares minimum
+
 
 def _solve(J, b):
     """Stacked dense solve J x = b that survives exactly singular members (their x is NaN)."""
@@ -25,7 +34,7 @@ def _solve(J, b):
         return x
 
 
-def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=12, max_step=None, plan=None, engine=None):
+def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=None, plan=None, engine=None):
     """Solve Phi(q; u) = 0 (independent rows plus drivers) from guesses q (N, n).
 
     Converged when the scaled residual is below ``tol`` and the scaled Newton step below

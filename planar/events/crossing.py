@@ -194,7 +194,7 @@ def around(model, plan, q, u, signs, max_step, reach):
     position and back to the same input: the pose there if its block signs are ``signs``
     (the other assembly mode of a dyad, say), else None. Tries both ways, each within
     ``reach`` (scaled input distance) of u."""
-    from planar.solver import newton
+    from planar.solver import DISTANT, newton
 
     u = np.atleast_1d(np.asarray(u, float))
     s = 1.0 / model.L if model.input_lengths[0] else 1.0
@@ -215,7 +215,7 @@ def around(model, plan, q, u, signs, max_step, reach):
             turned = turned or (t1[-1] < 0 < t[-1])
             if turned and y1[-1] <= 0:
                 w = y[-1] / (y[-1] - y1[-1])
-                qn, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u[None], max_iter=30, plan=plan)
+                qn, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u[None], max_iter=DISTANT, plan=plan)
                 # a diverged Newton reads non-finite: its modes are not asked for
                 if conv[0] and np.all(plan.factor(plan.evaluate(qn, u[None])[2]).signs[0] == signs):
                     return qn[0]

@@ -7,7 +7,7 @@ from planar.acceptance import ROUND, certified, on_course
 from planar.errors import InputError
 from planar.events import HELD, status_of
 from planar.results import Status
-from planar.solver import acceleration, newton, velocity
+from planar.solver import DISTANT, PREDICTED, acceleration, newton, velocity
 
 
 def input_scale(model):
@@ -63,7 +63,7 @@ class Branch:
         qd, qdd, signs, _ = self.state(q, u, du)
         return q + qd + 0.5 * qdd, signs
 
-    def solve(self, q_pred, u, max_iter=8):
+    def solve(self, q_pred, u, max_iter=PREDICTED):
         return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p, engine=self.compiled)
 
     def modes(self, q, u):
@@ -159,7 +159,7 @@ def final_step(br, q, U, Ud, Udd):
     sing = np.where(on_singular, 0.0, sing)
     slow = np.flatnonzero(~conv)
     if slow.size:
-        qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=30, plan=p, engine=br.compiled)
+        qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=DISTANT, plan=p, engine=br.compiled)
         q[slow], conv[slow], iters[slow] = qs, cv, it + 1
         g = _step(br, qs, U[slow], Ud[slow], Udd[slow])
         res[slow], red_res[slow] = g["res"], g["red"]

@@ -10,7 +10,7 @@ from planar.events import NEAR_CURVE, Event
 from planar.results import POSED as POSED_MASK
 from planar.results import VALID as VALID_MASK
 from planar.results import Status, Sweep
-from planar.solver import least_squares_gap
+from planar.solver import ALONG_TANGENT, least_squares_gap
 from planar.sweep.anchors import CHUNK
 from planar.sweep.branch import final_step, input_scale
 from planar.sweep.located import EVENT_TOL
@@ -195,7 +195,7 @@ def _on_branch(model, br, ev, u, ud, udd):
     h = BRANCH_H / 4 / float(input_scale(model)[0])
     nodes = us + h * np.array([-4.0, -3.0, -2.0, -1.0, 1.0, 2.0, 3.0, 4.0])
     guess = ev.q[None] + (nodes - us)[:, None] * T[None]
-    qn, conv, _, _ = br.solve(guess, nodes[:, None], max_iter=20)
+    qn, conv, _, _ = br.solve(guess, nodes[:, None], max_iter=ALONG_TANGENT)
     if not conv.all():
         return None
     qu, quu, _, _ = br.state(qn, nodes[:, None], np.ones((nodes.size, 1)))

@@ -4,7 +4,7 @@ past a gap, the input's period and whole turns of angles; one class with the hel
 import numpy as np
 
 from planar.events.crossing import around, cross
-from planar.solver import least_squares_gap, newton
+from planar.solver import DISTANT, REENTRY, least_squares_gap, newton
 from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
 from planar.sweep.branch import scaled_norm
 
@@ -164,7 +164,7 @@ class Walker:
             return "limit", ev, got.before
         if got.q is None:
             return ("lost",)
-        qn, conv, _, _ = br.solve(got.q[None], target[None], max_iter=30)
+        qn, conv, _, _ = br.solve(got.q[None], target[None], max_iter=DISTANT)
         if not conv[0]:
             return ("lost",)
         return "ok", qn[0], br.signs(qn, target[None])[0]
@@ -242,13 +242,13 @@ class Walker:
         """Re-enter the motion range at ``target`` from guesses of the same branch."""
         br = self.br
         for g in guesses:
-            qn, conv, _, _ = newton(br.m, g[None], target[None], tol=br.tol, max_iter=40, max_step=0.3, plan=br.p)
+            qn, conv, _, _ = newton(br.m, g[None], target[None], tol=br.tol, max_iter=REENTRY, max_step=0.3, plan=br.p)
             if not conv[0]:
                 # far from the guess: least squares first, Newton from its minimum
                 ql, gap = least_squares_gap(br.m, g[None], target[None])
                 if gap[0] > GAP:
                     continue
-                qn, conv, _, _ = newton(br.m, ql, target[None], tol=br.tol, max_iter=40, plan=br.p)
+                qn, conv, _, _ = newton(br.m, ql, target[None], tol=br.tol, max_iter=REENTRY, plan=br.p)
                 if not conv[0]:
                     continue
             if np.all(br.signs(qn, target[None])[0] == signs):
@@ -300,7 +300,7 @@ def _symmetry(br):
         with np.errstate(all="ignore"):
             Phi, _ = p.system.evaluate(q0[None], (u0 + P)[None])
         g[col] -= Phi[0, p.rows[p.drivers[0]]] / row[col]
-        qn, conv, _, _ = br.solve(g[None], (u0 + P)[None], max_iter=30)
+        qn, conv, _, _ = br.solve(g[None], (u0 + P)[None], max_iter=DISTANT)
         if not conv[0]:
             continue
         D = _turns(br, qn[0] - q0)
