@@ -195,14 +195,20 @@ def _frames(q, qd, rates, fb, ref, near):
 
 
 @_inline
+def _row_constants(T, j, u, c):
+    """Joint j's row constants into c: the sketch's, a driver's first its input value."""
+    for r in range(c.size):
+        c[r] = T.jc[j, r]
+    if T.inp[j] >= 0:
+        c[0] = u[T.inp[j]]
+
+
+@_inline
 def _evaluate(T, q, u, fb, Phi, Jv, c, phi, jac, ref, near):
     """Phi at q, and the Jacobian entries factor and solve read into Jv: each joint's kernel."""
     _frames(q, q, False, fb, ref, near)
     for j in range(T.code.size):
-        for r in range(c.size):
-            c[r] = T.jc[j, r]
-        if T.inp[j] >= 0:
-            c[0] = u[T.inp[j]]
+        _row_constants(T, j, u, c)
         _rows(T.code[j], T.par[j], c, fb, T.slots[j], phi, jac)
         for r in range(T.nr[j]):
             Phi[T.jrows[j, r]] = phi[r]
@@ -215,10 +221,7 @@ def _gammas(T, q, qd, u, fb, Phi, c, g, ref, near):
     """gamma at q and the velocities qd into Phi: each joint's gamma kernel."""
     _frames(q, qd, True, fb, ref, near)
     for j in range(T.code.size):
-        for r in range(c.size):
-            c[r] = T.jc[j, r]
-        if T.inp[j] >= 0:
-            c[0] = u[T.inp[j]]
+        _row_constants(T, j, u, c)
         _gamma(T.code[j], T.par[j], c, fb, T.slots[j], g)
         for r in range(T.nr[j]):
             Phi[T.jrows[j, r]] = g[r]
