@@ -221,3 +221,20 @@ def test_coarse_agrees_with_finer_near_change_points_folds_and_limits(case, N):
 def test_coarse_agrees_with_finer_on_the_compiled_engine(case, N):
     pytest.importorskip("numba")
     _property(case, N, "numba")
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_values_next_to_a_change_point_are_solved_on_the_smooth_branch(engine):
+    # the first loop of this Watt six-bar is on the Grashof boundary: its change point at crank
+    # = -pi; values 1e-9 to 1e-6 from it were lost (the direct solve fails there)
+    m = watt_six_bar(4, 1, 1.5, 3.5, start=1e-9)
+    loop = four_bar(4, 1, 1.5, 3.5, start=1e-9)
+    d = np.array([1e-9, 3e-9, 1e-8, 1e-7, 1e-6])
+    before = m.sweep([1e-9, -np.pi + 1e-2], engine=engine).branch[1]  # the same side, regular
+    for k in range(d.size):
+        u = [1e-9, -np.pi + d[k]]
+        res = m.sweep(u, engine=engine)
+        assert VALID[res.status].all() and res.residual[1] <= 1e-12, (u, res.status)
+        assert res.branch[1] == before
+        # positions there are sensitive, to about eps over the distance (the events' estimate)
+        np.testing.assert_allclose(res.position("B")[1], loop.sweep(u).position("B")[1], atol=1e-15 / d[k])

@@ -6,7 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from planar.events import NEAR_CURVE, Event
+from planar.events import NEAR_CURVE, Event, status_of
 from planar.results import POSED as POSED_MASK
 from planar.results import VALID as VALID_MASK
 from planar.results import Status, Sweep
@@ -102,7 +102,9 @@ def finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event
     unset = ~solved
     unset[list(at_event)] = True
     out.blank(unset)
-    _on_events(model, br, U, Ud, Udd, q, out, events, at_event)
+    lost = ~solved & ~beyond
+    lost[list(at_event)] = False
+    solved[_on_events(model, br, U, Ud, Udd, q, out, events, at_event, lost)] = True
     status = out.status
     q[~POSED_MASK[status]] = np.nan
     if p.cols.size < n:
@@ -146,11 +148,13 @@ def finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event
     return Sweep(model, U, Ud, Udd, q, qd, qdd, status, residual, iters, sing, branch, gap, events)
 
 
-def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
+def _on_events(model, br, U, Ud, Udd, q, out, events, at_event, lost):
     """Values at and around located singular positions. A value on a limit keeps the located
     pose (status LIMIT, rates NaN). Around a bifurcation every value within BRANCH_H takes its
     values from the smooth branch interpolated from regular points (the direct solves lose
-    accuracy like 1/distance there); the values on it get status BRANCH_EVENT."""
+    accuracy like 1/distance there, or fail next to it: ``lost``, the values the walk reached
+    but did not solve); the values on it get status BRANCH_EVENT. Returns the lost values
+    solved here."""
     for i, ev in at_event.items():
         q[i] = ev.q
         if out.rates:
@@ -158,11 +162,12 @@ def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
         out.sing[i], out.residual[i] = ev.singularity, np.nan
         out.status[i] = Status.LIMIT if ev.kind == "limit" else Status.SINGULAR
     s = input_scale(model)
+    found = []
     for ev in events:
         if ev.kind not in ("bifurcation", "singular") or U.shape[1] != 1:
             continue
         dist = np.abs(U[:, 0] - ev.input) * s[0]
-        near = np.flatnonzero((dist < BRANCH_H / 4) & POSED_MASK[out.status])
+        near = np.flatnonzero((dist < BRANCH_H / 4) & (POSED_MASK[out.status] | lost))
         if near.size == 0 or "other branch" in ev.note or not ev.tangents:  # no tangent: no branch to follow
             continue
         got = _on_branch(model, br, ev, U[near, 0], Ud[near, 0], Udd[near, 0])
@@ -178,10 +183,16 @@ def _on_events(model, br, U, Ud, Udd, q, out, events, at_event):
         if out.rates:
             out.qd[near], out.qdd[near] = got[1][fits], got[2][fits]
         out.residual[near] = res
+        new = near[~POSED_MASK[out.status[near]]]
+        if new.size:  # a lost value: its modes and status at the pose from the branch
+            signs, out.sing[new] = br.modes(q[new], U[new])
+            out.branch[new], out.status[new] = np.prod(signs, axis=1), status_of(out.sing[new])
+            found.append(new)
         # a value on the event, or one the direct solve found singular, now has rates from
         # the branch: valid, flagged as at a branch event
         on = (dist[near] <= EVENT_TOL) | (out.status[near] == Status.SINGULAR)
         out.status[near[on]] = Status.BRANCH_EVENT
+    return np.concatenate(found) if found else np.zeros(0, int)
 
 
 def _on_branch(model, br, ev, u, ud, udd):
