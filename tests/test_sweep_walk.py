@@ -326,3 +326,28 @@ def test_a_watt_six_bar_on_the_grashof_boundary_does_not_jump_between_valid_valu
         assume(False)
     assert not jumps(res, ["B", "C", "D", "E"])
     assert not np.any(res.status == Status.NOT_CONVERGED)
+
+
+def test_a_watt_six_bar_crossing_its_change_point_at_a_shallow_angle_keeps_the_smooth_branch():
+    # the two branches through the first loop's change point at 0 run within 1e-5..1e-4 of each
+    # other (scaled) over ~0.06 of arclength: steps held to half that gap took ~10,000
+    # evaluations, and the tracing gave up, leaving the value after it on the other branch
+    s0 = -0.43190059575350315
+    m = watt_six_bar(0.8, 3.8332059824945017, 1.7375209316550309, 4.770726914149533, coupler_point=(0, 3),
+                     rocker_point=(0, 3), link_5=1.0, link_6=3.9658570442229797, start=s0)
+    u = np.linspace(s0, s0 + 2 * np.pi, 178)
+    with Evaluations() as ev:
+        res = m.sweep(u)
+    assert ev.calls <= 3000, ev.calls
+    limits = sorted(e.input for e in res.events if e.kind == "limit")
+    # the smooth branch turns back 0.0373 past the change point, and meets it again at -0.0373
+    np.testing.assert_allclose(limits[:2], [-0.037308708833, 0.037308708833], atol=1e-9)
+    assert [e.kind for e in res.events].count("bifurcation") >= 1
+    # the value between the change point and that limit is on the smooth branch: a fine sweep
+    # to it agrees; the value past the limit, on the other branch, is JUMPED
+    fine = m.sweep(np.linspace(s0, u[13], 400))
+    assert res.status[13] == Status.SOLVED and fine.status[-1] == Status.SOLVED
+    np.testing.assert_allclose(res.q[13], fine.q[-1], atol=1e-9)
+    assert res.status[14] == Status.JUMPED
+    assert not jumps(res, ["B", "C", "D", "E"])
+    assert not np.any(res.status == Status.NOT_CONVERGED)

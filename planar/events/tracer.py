@@ -13,6 +13,7 @@ MOVE = 0.5
 GAP_CROSS = 1e-5  # scaled distance below which another curve is taken to cross this one
 CROSS_STEP = 1e-3  # scaled arclength of a step over a crossing
 ROUNDING = 1e-12  # scaled correction at the corrector's own tolerance: no jump
+SLOPE = 0.01  # least rate of change of the gap along the curve that a step is sized for
 
 
 def _quiet(f):
@@ -138,25 +139,55 @@ class Tracer:
     @_quiet
     def step(self, y, t, h, gap=None):
         """One certified step from (y, t) with step control; returns (y, t, det, h_used,
-        h_next, gap at the new point). ``gap`` (:meth:`gap` at y) bounds the step: no longer
-        than MOVE times the distance to another solution curve, and the corrector's move no
-        more than CERT times that distance at the new point, so the step cannot land on a
-        neighbouring curve. Closer than GAP_CROSS the curves are taken to cross: the step is
-        at least CROSS_STEP, over the crossing to where the curves are apart again."""
+        h_next, gap at the new point). ``gap`` (:meth:`gap` at y) bounds the step so that it
+        cannot land on a neighbouring curve: the corrector's move is no more than CERT times
+        the distance to another solution curve at the new point, and the step no longer than
+        MOVE times the distance at which that curve would meet this one, at the rate the gap
+        is seen to change (taken as 1 at the first step, and at least SLOPE: two curves
+        side by side, crossing at a shallow angle, are passed in long steps, checked at their
+        midpoint). Closer than GAP_CROSS the curves are taken to cross: the step is at least
+        CROSS_STEP, over the crossing to where the curves are apart again."""
         if gap is None:
             gap = self.gap(self.H(y)[1], t)
-        h = min(h, MOVE * gap) if gap >= GAP_CROSS else max(h, CROSS_STEP)
+            h = min(h, MOVE * gap)
+        if gap < GAP_CROSS:
+            h = max(h, CROSS_STEP)
         while h > 1e-13:
-            got = self.correct(y + h * t, t)
+            got = self._landed(y, t, h, gap)
             if got is not None:
-                y1, A1 = got
-                t1, det1 = self.tangent(A1, t)
-                gap1 = self.gap(A1, t1)
-                moved = np.linalg.norm(y1 - (y + h * t))
-                if moved <= 0.3 * h and t1 @ t > 0.8 and moved <= max(CERT * gap1, ROUNDING):
-                    return y1, t1, det1, h, min(2 * h, self.h_max), gap1
+                y1, t1, det1, gap1, rate = got
+                return y1, t1, det1, h, min(2 * h, self.h_max, MOVE * gap1 / max(rate, SLOPE)), gap1
             h /= 2
         return None
+
+    def _landed(self, y, t, h, gap):
+        """The step of length h from (y, t) if it is certified: (y1, t1, det1, gap1, the rate
+        of change of the gap over it), else None."""
+        got = self.correct(y + h * t, t)
+        if got is None:
+            return None
+        y1, A1 = got
+        t1, det1 = self.tangent(A1, t)
+        gap1 = self.gap(A1, t1)
+        moved = np.linalg.norm(y1 - (y + h * t))
+        if not (moved <= 0.3 * h and t1 @ t > 0.8 and moved <= max(CERT * gap1, ROUNDING)):
+            return None
+        rate = abs(gap1 - gap) / h
+        if h <= MOVE * gap or gap < GAP_CROSS:
+            return y1, t1, det1, gap1, rate
+        # a long step: the gap at its midpoint too, and the step within MOVE times the
+        # distance at which it would close at the steepest rate seen on either half
+        mid = self.correct(y + 0.5 * h * t, t)
+        if mid is None:
+            return None
+        ym, Am = mid
+        gm = self.gap(Am, self.tangent(Am, t)[0])
+        rate = max(abs(gm - gap), abs(gap1 - gm)) / (0.5 * h)
+        if np.linalg.norm(ym - (y + 0.5 * h * t)) > max(CERT * gm, ROUNDING):
+            return None
+        if h > MOVE * min(gap, gm, gap1) / max(rate, SLOPE):
+            return None
+        return y1, t1, det1, gap1, rate
 
     def at(self, y, t, h):
         """The curve point at arclength offset ~h from (y, t): (y_h, t_h, det_h)."""
