@@ -517,7 +517,8 @@ def loop(rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rate
     the calling thread (no threads to start)."""
     N = rows.shape[0]
     if N <= CHUNK:
-        _values(0, N, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
+        # lo as an int64 variable: the literal 0 would compile _values a second time, for Literal[int]
+        _values(np.int64(0), N, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
                 SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, _buffers(T))
         return
     for chunk in numba.prange((N + CHUNK - 1) // CHUNK):
