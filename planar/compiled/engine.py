@@ -541,7 +541,7 @@ def ready():
     if not _missing(stamp):
         return
     start = time.perf_counter()
-    _say("planar: compiling the numba engine, once per installation (about a minute; every later sweep, of any "
+    _say("planar: compiling the numba engine, once per installation (about half a minute; every later sweep, of any "
          "mechanism, loads it)")
     done = threading.Event()
 

@@ -157,9 +157,9 @@ class Model:
         bodies, points or joints wanted: only the blocks they need are solved), ``branch``
         ("smooth" or "other" at a bifurcation), ``rates`` (False: positions only, velocities
         and accelerations NaN: the velocity and acceleration solves are skipped), ``engine``
-        ("numpy", or "numba": the per-value work in a loop compiled for the mechanism's
-        structure, 4-6x faster at large N; needs the ``fast`` extra; the first sweep of a
-        structure compiles for 10-65 s, then it is cached on disk; see :mod:`planar.compiled`).
+        ("numpy", or "numba": the per-value work in one loop of machine code; needs the ``fast``
+        extra; the first sweep of an installation compiles it, about half a minute, then every
+        mechanism loads it from disk; see :mod:`planar.compiled`).
         """
         from planar import arguments, tracking
         from planar.sweep import run_sweep
