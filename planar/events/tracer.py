@@ -6,9 +6,9 @@ import numpy as np
 
 from planar.acceptance import CERT
 
-# a traced step is certified to stay on its solution curve when it is no longer than MOVE, and
-# its correction no larger than CERT (planar.acceptance's), times the distance to the nearest
-# other curve (scaled)
+# a traced step is certified to stay on its solution curve when it is no longer than MOVE times
+# the distance along the curve at which the nearest other curve would meet it, and its
+# correction no larger than CERT (planar.acceptance's) times the distance to that curve (scaled)
 MOVE = 0.5
 GAP_CROSS = 1e-5  # scaled distance below which another curve is taken to cross this one
 CROSS_STEP = 1e-3  # scaled arclength of a step over a crossing
