@@ -200,6 +200,9 @@ def two_intervals(draw, ranges, margin=0.05):
     return draw(st.floats(a + 1e-9, b - 1e-9))
 
 
+WORK_TWO_INTERVALS = 2000  # evaluations a sweep of a crank with two intervals may take (see below)
+
+
 @st.composite
 def two_interval_four_bars(draw):
     """A crank-driven four-bar whose crank reaches two separate intervals over a turn (the
@@ -253,8 +256,10 @@ def test_a_four_bar_whose_crank_reaches_two_intervals_loses_no_value(case, cross
     o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1 if crossed else 1)
     assert_no_lost_value(res, ranges, o["th3"])
     assert_limits_named(res, ranges)
-    # the values in the order of the input: the range and each gap crossed once (~100-400)
-    assert count.calls <= 1500, count.calls
+    # the values in the order of the input: the range and each gap crossed once (~100-400); values
+    # jumping across both gaps walk to a limit up to six times, ~250 evaluations each as the
+    # steps shrink towards it (the most in 2000 long-run cases: 1570)
+    assert count.calls <= WORK_TWO_INTERVALS, count.calls
 
 
 @PROPS
@@ -268,7 +273,7 @@ def test_a_slider_crank_whose_crank_reaches_two_intervals_loses_no_value(case, c
     o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e, sigma=-1 if crossed else 1)
     assert_no_lost_value(res, ranges, o["th3"])
     assert_limits_named(res, ranges)
-    assert count.calls <= 1500, count.calls
+    assert count.calls <= WORK_TWO_INTERVALS, count.calls
 
 
 def test_a_watt_six_bar_on_a_parallelogram_keeps_its_branch_past_its_change_points():
