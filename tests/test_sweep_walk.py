@@ -320,12 +320,6 @@ def grashof_boundary_watt_six_bars(draw):
 @example(args=dict(ground=2.3596475420856833, crank=1.7194630113541287, coupler=2.45422202326443,
                    rocker=1.6248885301753824, coupler_point=(0.25, 1.0406557143548225), rocker_point=(0.25, 0.0),
                    link_5=3.3567032173558995, link_6=5.999186132581008, crossed=True, crossed_2=False, start=-3.0))
-# sketched 1.2e-3 from the lower end of its first interval: the values of its second interval, a
-# turn on from where the sweep downwards re-enters it, were left NOT_CONVERGED (the search from
-# the sketch's angles found another circuit there)
-@example(args=dict(ground=0.56640625, crank=1.40234375, coupler=1.46875, rocker=0.5, coupler_point=(-2.08984375, 2.1875),
-                   rocker_point=(-2.09375, 2.25), link_5=1.58984375, link_6=4.57421875, crossed=False, crossed_2=False,
-                   start=-2.08984375))
 def test_a_watt_six_bar_on_the_grashof_boundary_does_not_jump_between_valid_values(args):
     # a sketch within ~1e-8 of the change point (crank along the ground) is an ambiguous start
     # that the walk may not leave (hardening.md): not drawn here

@@ -172,19 +172,7 @@ class Walker:
     def enter_any(self, guesses, signs, targets, tries=4):
         """(index, pose) of the first of ``targets`` (M, f) where the branch can be entered:
         a batched least-squares search from each guess, then Newton, the mode test and, on
-        another mode, the way round through a limit; where that finds none and the input has a
-        period, the same from the guesses moved a period either way. None if none found."""
-        best = self._search(guesses, signs, targets, tries)
-        per = self.period() if best is None and targets.shape[1] == 1 else None
-        if per is not None:
-            # none found: each guess a period on either side (the same pose, its angles whole
-            # turns on): the search from an input a turn nearer or further finds other minima,
-            # and the branch where the one from the guess itself finds another circuit
-            best = self._search([g + k * per[1] for g in guesses for k in (-1.0, 1.0)], signs, targets, tries)
-        return best
-
-    def _search(self, guesses, signs, targets, tries):
-        """:meth:`enter_any`'s search from the given guesses."""
+        another mode, the way round through a limit. None if none found."""
         br = self.br
         best = None
         # the first few targets and a few spread over the rest: a least-squares search of each
