@@ -333,6 +333,27 @@ def test_a_watt_six_bar_on_the_grashof_boundary_does_not_jump_between_valid_valu
     assert not np.any(res.status == Status.NOT_CONVERGED)
 
 
+def test_a_watt_six_bar_reaches_its_second_interval_a_turn_on_from_where_it_enters_it_the_other_way():
+    # the crank reaches two intervals over a turn, the sketch 1.2e-3 from the first's lower end;
+    # past the first's upper end the search finds only another circuit at the second's values
+    # (they came back NOT_CONVERGED): the sweep downwards enters the second's image a turn back
+    s0 = -2.08984375
+    m = watt_six_bar(ground=0.56640625, crank=1.40234375, coupler=1.46875, rocker=0.5,
+                     coupler_point=(-2.08984375, 2.1875), rocker_point=(-2.09375, 2.25), link_5=1.58984375,
+                     link_6=4.57421875, start=s0).compile()
+    u = np.arange(s0, s0 + 2 * np.pi, 0.023)
+    res = m.sweep(u)
+    second = (u > 1.0871) & (u < 2.0911)
+    assert res.ok[second].all() and not res.ok[(u > -1.0871) & ~second].any()
+    assert not np.any(res.status == Status.NOT_CONVERGED)
+    limits = [e.input for e in res.events if e.kind == "limit"]
+    np.testing.assert_allclose(limits, [-1.0871, 1.0871, 2.0911], atol=1e-4)
+    # the same poses as a sweep that walks down through the interval's image first
+    wide = m.sweep(np.r_[np.arange(s0 - 2 * np.pi, s0, 0.005), u])
+    d = res.position("E")[second] - wide.position("E")[-u.size :][second]
+    np.testing.assert_allclose(d, 0, atol=1e-12)
+
+
 def test_a_watt_six_bar_crossing_its_change_point_at_a_shallow_angle_keeps_the_smooth_branch():
     # the two branches through the first loop's change point at 0 run within 1e-5..1e-4 of each
     # other (scaled) over ~0.06 of arclength: steps held to half that gap took ~10,000

@@ -51,10 +51,12 @@ def output_columns(model, outputs):
 
 
 def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
-              engine="numpy"):
+              engine="numpy", images=True):
     """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
     from instead of the sketch, reached from the sketch by continuation with no event between
-    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch."""
+    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``images``:
+    values past a gap that no search enters are looked for a period the other way round (see
+    :func:`_enter_by_images`)."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     cols = output_columns(model, outputs)
@@ -171,13 +173,18 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         if got[0] == "limit":
             state = (got[2][0], got[2][1], state[2])
         # out of reach: the next anchor that assembles on the branch, a whole period on from a
-        # value solved, else by one batched search
+        # value solved, else by one batched search, else (where only another circuit or mode
+        # assembles there) a period the other way round from the sketch
         known = np.flatnonzero(solved)
         found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:]])
         upto = anchors.size if found is None else k + found[0]
-        nearer = walker.enter_any([state[0], model.q0], chosen, U[anchors[k:upto]]) if upto > k else None
+        nearer, assembles = (walker.enter_any([state[0], model.q0], chosen, U[anchors[k:upto]]) if upto > k
+                             else (None, False))
         if nearer is not None:
             found = (*nearer, chosen)
+        if found is None and assembles and images:
+            options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
+            found = _enter_by_images(model, walker, U[anchors[k:]], state[1], chosen, options)
         if found is None:
             break
         c, qe, se = found
@@ -286,6 +293,30 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         jumps = (cand if limits else [], prev)
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
+
+
+def _enter_by_images(model, walker, targets, u, signs, options):
+    """(index, pose, modes) of the first of ``targets`` (M, 1), past a gap from ``u``, whose
+    image a period back (or on) the sweep from the sketch the other way round reaches, its pose
+    moved a period on (back). The search past a gap may find only other circuits where the
+    branch's range a period on is re-entered the other way round (a Watt six-bar's second
+    interval: its image a turn back lies past the limit the sketch sits next to). None if
+    the input has no period or none is reached."""
+    per = walker.period() if targets.shape[1] == 1 else None
+    if per is None:
+        return None
+    P, _ = per
+    k = np.sign(targets[0, 0] - u[0])
+    V = targets[::-1] - k * P  # (from the sketch outwards, the way the walk there goes)
+    zero = np.zeros_like(V)
+    res = run_sweep(model, V, zero, zero, rates=False, images=False, **options)
+    for c in V.shape[0] - 1 - np.flatnonzero(res.ok[::-1])[:4]:
+        # (columns the outputs leave unsolved are not the plan's: any value does)
+        q = np.where(np.isnan(res.q[c]), model.q0, res.q[c])
+        got = walker._shorten(q, V[c], signs, k)
+        if got is not None:
+            return V.shape[0] - 1 - int(c), got[0], signs
+    return None
 
 
 def _input_order(U, u0):

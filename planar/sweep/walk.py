@@ -170,11 +170,12 @@ class Walker:
         return "ok", qn[0], br.signs(qn, target[None])[0]
 
     def enter_any(self, guesses, signs, targets, tries=4):
-        """(index, pose) of the first of ``targets`` (M, f) where the branch can be entered:
-        a batched least-squares search from each guess, then Newton, the mode test and, on
-        another mode, the way round through a limit. None if none found."""
+        """((index, pose) of the first of ``targets`` (M, f) where the branch can be entered,
+        or None if none found; whether any target searched assembles at all): a batched
+        least-squares search from each guess, then Newton, the mode test and, on another mode,
+        the way round through a limit."""
         br = self.br
-        best = None
+        best, assembles = None, False
         # the first few targets and a few spread over the rest: a least-squares search of each
         # of hundreds of values would cost more than the walk
         pick = np.unique(np.r_[np.arange(min(len(targets), 4 * tries)),
@@ -182,6 +183,7 @@ class Walker:
         for g in guesses:
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick])
             near = np.flatnonzero(gap <= GAP)
+            assembles |= near.size > 0
             # the first few, and a few spread over the rest: next to a limit's far side Newton
             # may find only the other mode, where a value further on enters the branch
             for c in np.unique(np.r_[near[:tries], near[np.linspace(0, near.size - 1, tries).astype(int)]]
@@ -192,7 +194,7 @@ class Walker:
                 if qe is not None:
                     best = (int(pick[c]), qe)
                     break
-        return best
+        return best, assembles
 
     def enter_by_period(self, qs, us, signs, targets, tries=8):
         """(index, pose, modes) of the first of ``targets`` (M, 1) within a step of a pose solved
