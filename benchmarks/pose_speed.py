@@ -1,4 +1,4 @@
-"""Poses on demand and small sweeps: planar's numpy engine beside the vectorised closed form.
+"""Poses on demand and small sweeps: planar's engines beside the vectorised closed form.
 
 The four-bar of ``peers.py`` (ground 4, crank 2, coupler 3.5, rocker 3, coupler point C), full
 kinematics (positions, velocities, accelerations). Prints, in one run and in interleaved rounds
@@ -14,6 +14,9 @@ pylinkage's ``step()`` on the same linkage (``peers.py``; when pylinkage is inst
 crank to the same inputs: one step per pose (from the last pose; one step from the sketch's
 angle for "from the sketch"), one step per value for the values over a turn. ``step()`` gives
 positions only (planar gives velocities and accelerations too).
+
+The rows come for each engine (numpy, and numba where it is installed: its one-off compile is
+done before the timing).
 
     python3 benchmarks/pose_speed.py                # 5 rounds
     python3 benchmarks/pose_speed.py --rounds 2     # a quicker, noisier run
@@ -76,12 +79,12 @@ class Stepper:
         return out
 
 
-def cases(rng):
+def cases(rng, engine):
     """(label, planar calls, closed-form call, pylinkage calls or None, calls per round) for
-    each row: the planar and pylinkage calls made afresh each round."""
+    each row of ``engine``: the planar and pylinkage calls made afresh each round."""
     warm = build()
-    warm.sweep(np.linspace(0, 2 * np.pi, 100))
-    tracker = warm.track()
+    warm.sweep(np.linspace(0, 2 * np.pi, 100), engine=engine)
+    tracker = warm.track(engine=engine)
     tracker.move(1.0)
     near = iter(1.0 + 0.01 * np.sin(np.arange(10**7)))
     far = iter(rng.uniform(0, 2 * np.pi, 10**6))
@@ -100,24 +103,25 @@ def cases(rng):
          stepped(lambda: stepper.move(next(near_p))), 20),
         ("1 pose, warm, far from the last", lambda r: [lambda: tracker.move(next(far))] * r, one(2.0),
          stepped(lambda: stepper.move(next(far_p))), 20),
-        ("1 pose at pi, from the sketch", lambda r: _fresh(lambda m: m.sweep([np.pi]), r), one(np.pi),
+        ("1 pose at pi, from the sketch", lambda r: _fresh(lambda m: m.sweep([np.pi], engine=engine), r), one(np.pi),
          peer and (lambda r: [lambda s=Stepper(): s.move(np.pi) for _ in range(r)]), 3),
     ]
     for n in (1, 10, 100, 1000):
         U = np.linspace(0, 2 * np.pi, n)
         sweep = stepped(lambda U=U: stepper.sweep(U))
-        out.append((f"{n} values over a turn, warm", lambda r, U=U: [lambda: warm.sweep(U)] * r,
+        out.append((f"{n} values over a turn, warm", lambda r, U=U: [lambda: warm.sweep(U, engine=engine)] * r,
                     lambda U=U: closed_form(U), sweep, 5))
-        out.append((f"{n} values over a turn, from the sketch", lambda r, U=U: _fresh(lambda m: m.sweep(U), r),
-                    lambda U=U: closed_form(U), sweep, 3))
-    return out
+        out.append((f"{n} values over a turn, from the sketch",
+                    lambda r, U=U: _fresh(lambda m: m.sweep(U, engine=engine), r), lambda U=U: closed_form(U), sweep, 3))
+    return [(f"{engine}: {label}", *rest) for label, *rest in out]
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5, help="interleaved rounds (the best is kept)")
     args = ap.parse_args(argv)
-    rows = cases(np.random.default_rng(1))
+    engines = ["numpy"] + (["numba"] if importlib.util.find_spec("numba") else [])
+    rows = [row for e in engines for row in cases(np.random.default_rng(1), e)]
     best = {label: [np.inf, np.inf, np.inf] for label, *_ in rows}
     for _ in range(args.rounds):
         for label, fn, ref, peer, repeat in rows:
@@ -125,12 +129,12 @@ def main(argv=None):
             best[label][1] = min(best[label][1], _best([ref] * repeat))
             if peer:
                 best[label][2] = min(best[label][2], _best(peer(repeat)))
-    print(f"four-bar {LENGTHS} + coupler point, numpy engine, best of {args.rounds} interleaved rounds")
-    print(f"| {'work':<40} | planar ms | closed form ms | planar / closed | pylinkage step() ms | planar / step() |")
-    print(f"|{'-' * 42}|-----------|----------------|-----------------|---------------------|-----------------|")
+    print(f"four-bar {LENGTHS} + coupler point, best of {args.rounds} interleaved rounds")
+    print(f"| {'engine: work':<47} | planar ms | closed form ms | planar / closed | pylinkage step() ms | planar / step() |")
+    print(f"|{'-' * 49}|-----------|----------------|-----------------|---------------------|-----------------|")
     for label, (t, tc, tp) in best.items():
         peer = f"{tp * 1e3:19.4f} | {t / tp:15.1f}" if np.isfinite(tp) else f"{'-':>19} | {'-':>15}"
-        print(f"| {label:<40} | {t * 1e3:9.3f} | {tc * 1e3:14.4f} | {t / tc:15.0f} | {peer} |")
+        print(f"| {label:<47} | {t * 1e3:9.3f} | {tc * 1e3:14.4f} | {t / tc:15.0f} | {peer} |")
 
 
 if __name__ == "__main__":

@@ -13,10 +13,11 @@ end nearest the value is the tail of the walk from the sketch. Where that walk m
 a branch event (past which the way on depends on the whole walk: where the range is re-entered,
 which branch is taken) the sweep is done again from the sketch. So the results, statuses and
 events are those of the sweep from the sketch, at the cost of the distance from the nearest
-known pose on the branch. One value within the sweep's direct reach of a known pose is solved
-as one walk step from it (:func:`pose`, the one-value path: none of the sweep's machinery),
-with the sweep's acceptance test; what it cannot certify goes to the sweep. Models with more
-inputs sweep from the sketch.
+known pose on the branch. Values each within the sweep's direct reach of a known pose (a move
+of a dragged input; a sweep over a stretch the model has swept) are solved in one batch, each
+as one walk step from the known pose nearest it (:func:`direct`, the direct path: none of the
+sweep's machinery), with the sweep's acceptance test; what it cannot certify goes to the sweep.
+Models with more inputs sweep from the sketch.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -42,7 +43,8 @@ BREAKS = ("limit", "bifurcation", "singular")  # events past which the branch is
 # (the sweep's ROUND, 1e-13) for Newton's quadratic constant K up to 1 (0.2-0.6 on the catalogue's
 # linkages): the final step's one factorisation then gives the pose, its certificate and its rates
 SETTLED = 3e-7
-NEWTON = 8  # Newton iterations of the one-value path (the sweep's walk step allows as many)
+NEWTON = 8  # Newton iterations of the direct path (the sweep's walk step allows as many)
+DIRECT = 4096  # values the direct path takes in one batch: more are the sweep's (its bulk is made for them)
 
 
 class Poses:
@@ -50,7 +52,7 @@ class Poses:
     kinematic coefficients ``qu``, ``quu`` (K, n), dq/du and d2q/du2 (NaN where not computed
     yet); the sketch's among them, always. A sweep's poses are merged in (sorted, at most CAP
     kept); the poses of moves are appended after them, up to CAP before the next merge.
-    ``signs``: the blocks' modes on the branch (the sketch's), once the one-value path has
+    ``signs``: the blocks' modes on the branch (the sketch's), once the direct path has
     asked; ``refused``: the value it could not certify last, while no pose has been learned
     since (the sweep it goes to asks again)."""
 
@@ -86,9 +88,12 @@ class Poses:
         return self._rows[2, : self.size]
 
     def nearest(self, u):
-        """(q, u) of the known pose nearest the input value u."""
-        k = int(np.argmin(np.abs(self.u - u)))
-        return self.q[k], self.u[k : k + 1]
+        """(K,) the index of the known pose nearest each input value u (K,)."""
+        order = np.argsort(self.u, kind="stable")
+        known = self.u[order]
+        j = np.clip(np.searchsorted(known, u), 1, max(known.size - 1, 1))
+        left = np.abs(u - known[j - 1]) <= np.abs(known[np.minimum(j, known.size - 1)] - u)
+        return order[np.where(left, j - 1, np.minimum(j, known.size - 1))]
 
     def learn(self, res):
         """Remember the poses of a sweep (one started from a known pose) up to its first
@@ -130,19 +135,19 @@ class Poses:
 
 def sweep(model, U, Ud, Udd, **options):
     """:func:`planar.sweep.run_sweep` from the known pose nearest U[0] (see the module), and
-    the poses it reaches remembered. One value near a known pose takes the one-value path
-    (:func:`pose`). Sweeps that ask only for some ``outputs`` (the other coordinates are not
+    the poses it reaches remembered. Values each near a known pose take the direct path
+    (:func:`direct`). Sweeps that ask only for some ``outputs`` (the other coordinates are not
     solved) start from a known pose but teach none."""
     from planar.sweep import run_sweep
 
     if U.shape[1] != 1:
         return run_sweep(model, U, Ud, Udd, **options)
-    if U.shape[0] == 1:
-        res = pose(model, U[0, 0], Ud[0, 0], Udd[0, 0], options)
-        if res is not None:
-            return res
+    res = direct(model, U, Ud, Udd, options)
+    if res is not None:
+        return res
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
-    start = poses.nearest(U[0, 0])
+    k = poses.nearest(U[:1, 0])[0]
+    start = poses.q[k], poses.u[k : k + 1]
     if start[1][0] == poses.u0:
         start = None  # the sketch itself (the sweep from it checks it)
     res = run_sweep(model, U, Ud, Udd, start, **options)
@@ -155,71 +160,84 @@ def sweep(model, U, Ud, Udd, **options):
     return res
 
 
-def pose(model, value, velocity, acceleration, options):
-    """The one-value path: the pose at input ``value`` of a one-input model as one walk step
-    of the sweep from the known pose nearest it, a one-value :class:`planar.Sweep` equal to
-    the sweep's (None where the path does not apply; the caller sweeps). It applies where that
-    pose lies within the sweep's direct reach (SPARSE walk steps of ``max_step``, where the
-    sweep too solves a value from the Taylor predictor rather than walking to it), whole
-    results are asked for (no ``outputs``) of the numpy engine, and the input is within the
-    sweep's FAR of the sketch's. Then: the predictor from the known pose and its kinematic
-    coefficients, Newton on the model's blocks to a rounding-level guess, and the sweep's
-    final step (:func:`planar.sweep.final_step`: the pose, its status and its rates from one
+def direct(model, U, Ud, Udd, options):
+    """The direct path: the poses at the input values U (M, 1) of a one-input model, each as
+    one walk step of the sweep from the known pose nearest it, a :class:`planar.Sweep` equal to
+    the sweep's (None where the path does not apply; the caller sweeps). It applies where each
+    value lies within the sweep's direct reach of a known pose (SPARSE walk steps of
+    ``max_step``, where the sweep too solves a value from the Taylor predictor rather than
+    walking to it), M is at most DIRECT, whole results are asked for (no ``outputs``), and the
+    inputs are within the sweep's FAR of the sketch's. Then, all values
+    in one batch: the predictor from the known pose and its kinematic coefficients, Newton on
+    the model's blocks to a rounding-level guess, and the sweep's final step
+    (:func:`planar.sweep.final_step`: the pose, its status and its rates from one
     factorisation) with the sweep's acceptance test (:meth:`planar.sweep.Branch.accept`:
-    converged, certified, the branch's assembly modes, close to the predictor). A value it
-    cannot certify, or whose status is not SOLVED or NEAR_SINGULAR, is left to the sweep."""
+    converged, certified, the branch's assembly modes, close to the predictor). Where a value
+    is not certified, or its status is not SOLVED or NEAR_SINGULAR, all are left to the sweep."""
     from planar.blocks import plan as block_plan
     from planar.sweep import FAR, SPARSE, Branch, check_sketch, final_step, near_stretches, input_scale
 
-    if (options.get("outputs") is not None or options.get("engine", "numpy") != "numpy" or model.u0.size != 1
-            or options.get("branch", "smooth") not in ("smooth", "other")):
-        return None  # (the sweep refuses a branch option it does not know)
+    engine = options.get("engine", "numpy")
+    if (options.get("outputs") is not None or engine not in ("numpy", "numba") or model.u0.size != 1
+            or options.get("branch", "smooth") not in ("smooth", "other") or U.shape[0] > DIRECT):
+        return None  # (the sweep refuses the options it does not know)
     max_step = options.get("max_step", 0.05)
     scale = float(input_scale(model)[0])
-    if not model.input_lengths[0] and abs(value - model.u0[0]) > FAR:
+    u = U[:, 0]
+    if not model.input_lengths[0] and np.max(np.abs(u - model.u0[0])) > FAR:
         return None  # (the sweep solves those whole periods back)
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
-    k = int(np.argmin(np.abs(poses.u - value)))
-    du = value - poses.u[k]
-    if abs(du) * scale > SPARSE * max_step or value == poses.refused:
-        return None
+    k = poses.nearest(u)
+    du = (u - poses.u[k])[:, None]
+    if not np.max(np.abs(du)) * scale <= SPARSE * max_step or (u.size == 1 and u[0] == poses.refused):
+        return None  # (NaN inputs: the sweep's)
     p = block_plan(model)
-    br = Branch(model, p, options.get("tol", 1e-12))
+    br = Branch(model, p, options.get("tol", 1e-12), engine=engine)
     if poses.signs is None:
         check_sketch(model, p)  # (a sketch on a singular position is refused, as the sweep does)
         poses.signs = br.signs(model.q0[None], model.u0[None])
-    qk, uk = poses.q[k : k + 1], poses.u[k : k + 1, None]
-    one, zero = np.ones((1, 1)), np.zeros((1, 1))
-    if np.isnan(poses.qu[k, 0]):
-        poses.qu[k], poses.quu[k] = br.state(qk, uk, one)[:2]
+    one, zero = np.ones((u.size, 1)), np.zeros((u.size, 1))
+    new = np.unique(k[np.isnan(poses.qu[k, 0])])
+    if new.size:
+        poses.qu[new], poses.quu[new] = br.state(poses.q[new], poses.u[new, None], one[: new.size])[:2]
+    qk = poses.q[k]
     q_pred = qk + poses.qu[k] * du + 0.5 * poses.quu[k] * du**2
-    U = np.array([[value]])
-    q, cs = q_pred, model.col_scale[p.cols]
+    q = _settle(br, q_pred, U)
+    # the sweep's final step at a unit input rate: its rates are the kinematic coefficients of
+    # the new poses (the next moves' predictor); the asked rates follow from them linearly
+    r = final_step(br, q, U, one, zero)
+    ok = br.accept(r["q"], q_pred, lambda rows: qk[rows], r["conv"], r["signs"], poses.signs, r["sing"])
+    if not (ok.all() and np.isin(r["status"], CLEAN).all()):
+        poses.refused = u[0] if u.size == 1 else None
+        return None
+    q, qu, quu = r["q"], r["qd"], r["qdd"]
+    if u.size == 1:
+        poses.append(u[0], q[0], qu[0], quu[0])
+    else:
+        poses.merge(u, (q, qu, quu))
+    if options.get("rates", True):
+        qd, qdd = qu * Ud, quu * Ud**2 + qu * Udd
+    else:
+        qd = qdd = np.broadcast_to(np.nan, q.shape)
+    status = r["status"].astype(np.int8)
+    return Sweep(model, U, Ud, Udd, q, qd, qdd, status, r["res"], r["iters"], r["sing"], r["branch"],
+                 np.broadcast_to(np.nan, u.size), tuple(near_stretches(model, U, r["sing"], status, ())))
+
+
+def _settle(br, q, U):
+    """Newton on the branch's blocks from guesses q at inputs U until every step is below
+    SETTLED (at most NEWTON steps; the compiled engine's in one call)."""
+    if br.compiled is not None:
+        return br.compiled.final(br.m, br.p, q, U, U, U, rates=False, steps=NEWTON, tol=np.inf, step_tol=SETTLED)["q"]
+    p = br.p
     with np.errstate(all="ignore"):
         for _ in range(NEWTON):
             Phi, _, Jv = p.evaluate(q, U)
             dq = p.factor(Jv, dets=False).solve(Phi)
             q = q - dq
-            step = np.max(np.abs(dq[0, p.cols] / cs))
-            if not step > SETTLED:  # (NaN: a failed solve, rejected below)
+            if not np.max(np.abs(dq[:, p.cols] / br.cs)) > SETTLED:  # (NaN: a failed solve, rejected later)
                 break
-    # the sweep's final step at a unit input rate: its rates are the kinematic coefficients of
-    # the new pose (the next move's predictor); the asked rates follow from them linearly
-    r = final_step(br, q, U, one, zero)
-    ok = br.accept(r["q"], q_pred, lambda rows: qk, r["conv"], r["signs"], poses.signs, r["sing"])[0]
-    if not (ok and r["status"][0] in CLEAN):
-        poses.refused = value
-        return None
-    q, qu, quu = r["q"], r["qd"], r["qdd"]
-    poses.append(value, q[0], qu[0], quu[0])
-    if options.get("rates", True):
-        qd, qdd = qu * velocity, quu * velocity**2 + qu * acceleration
-    else:
-        qd = qdd = np.broadcast_to(np.nan, q.shape)
-    status = r["status"].astype(np.int8)
-    return Sweep(model, U, np.array([[velocity]]), np.array([[acceleration]]), q, qd, qdd, status, r["res"],
-                 r["iters"], r["sing"], r["branch"], np.broadcast_to(np.nan, 1),
-                 tuple(near_stretches(model, U, r["sing"], status, ())))
+    return q
 
 
 def _clean_end(res):
@@ -248,7 +266,7 @@ class Tracker:
     """An input moved by hand: each :meth:`move` goes on from the last pose (or the known pose
     nearest the new value), with the statuses, events and branch of a sweep from the sketch.
     ``pose`` is the last result (None before the first move); ``direct`` whether it came by
-    the one-value path (:func:`pose`, for a value and rates given as numbers) rather than a
+    the direct path (:func:`direct`, for a value and rates given as numbers) rather than a
     sweep. Made by :meth:`planar.Model.track`; ``options`` are the sweep's (``branch``,
     ``tol``, ``max_step``, ``rates``, ``engine``)."""
 
@@ -276,7 +294,8 @@ class Tracker:
                                            for x in (value, velocity, acceleration)):
             v, a = float(velocity), float(acceleration)
             if math.isfinite(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
-                res = pose(self.model, float(value), v, a, self.options)
+                res = direct(self.model, np.array([[float(value)]]), np.array([[v]]), np.array([[a]]),
+                             self.options)
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             value = np.asarray(value, dtype=float)
