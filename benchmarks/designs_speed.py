@@ -4,7 +4,7 @@ N = 180 crank angles (positions, velocities and accelerations), swept by planar.
 go, as a study on a cluster writes them to its store), the designs given two ways: to the
 catalogue's builder (planar.mechanisms.four_bar, a Mechanism built per design, "builder") and as
 the numbers of one dimensioned four-bar (planar.Vary: its stated lengths, no Mechanism per
-design, "Vary"), beside
+design, "Vary"; also with the compiled engine, "Vary numba", where numba is installed), beside
 
 - the closed form vectorised over all designs at once (tests/oracles.py: four_bar),
 - planar's per-design loop (build, compile and sweep each design alone; at D <= --loop-up-to,
@@ -80,16 +80,16 @@ def numbers(table):
             "A-C": np.hypot(pq[:, 0], pq[:, 1]), "B-C": np.hypot(r3 - pq[:, 0], pq[:, 1])}
 
 
-def chunked(table, D, vary):
+def chunked(table, D, vary, engine="numpy"):
     """planar.sweep_designs over the designs BATCH at a time; the largest error of C against
     the closed form (every chunk's results let go once checked)."""
     err = 0.0
     for lo in range(0, D, BATCH):
         part = chunk(table, lo, min(lo + BATCH, D))
         if vary:
-            study = planar.sweep_designs(FAMILY, numbers(part), TH)
+            study = planar.sweep_designs(FAMILY, numbers(part), TH, engine=engine)
         else:
-            study = planar.sweep_designs(four_bar, part, TH, fixed=dict(ground=GROUND))
+            study = planar.sweep_designs(four_bar, part, TH, fixed=dict(ground=GROUND), engine=engine)
         assert study.ok.all() and study.batched.all()
         cf = closed_form(part)
         err = max(err, np.abs(study.position("C") - cf["C"]).max(), np.abs(study.velocity("C") - cf["C_vel"]).max(),
@@ -150,11 +150,14 @@ def main(argv=None):
     peer = importlib.util.find_spec("pylinkage") is not None
     if peer:
         pylinkage_loop(designs(2), 2)  # numba compiles (or loads) its loops once, outside the timings
+    compiled = importlib.util.find_spec("numba") is not None
     chunked(designs(2), 2, True)  # (the family's template compiled, once a process)
+    if compiled:
+        chunked(designs(2), 2, True, "numba")  # (the compiled engine compiled or loaded, outside the timings)
     print(f"four-bar designs x {N} crank angles; times in seconds (best of 3 for the closed form); "
           f"loops timed on at most {args.loop} designs and scaled to D")
     print(f"{'D':>7} {'D x N':>9} {'closed form':>12} {'builder':>9} {'x closed':>9} {'Vary':>9} {'x closed':>9} "
-          f"{'us/value':>9} {'max |C err|':>12} {'planar loop':>12} {'x closed':>9} {'pylinkage loop':>15} "
+          f"{'us/value':>9} {'Vary numba':>11} {'x closed':>9} {'max |C err|':>12} {'planar loop':>12} {'x closed':>9} {'pylinkage loop':>15} "
           f"{'x closed':>9} {'pylinkage err':>14}")
     for D in args.designs:
         table = designs(D)
@@ -162,6 +165,10 @@ def main(argv=None):
         t_b, err_b = timed(lambda: chunked(table, D, False))
         t_v, err = timed(lambda: chunked(table, D, True))
         err = max(err, err_b)
+        numba = f"{'(not installed)':>11} {'-':>9}"
+        if compiled:
+            t_n, err_n = timed(lambda: chunked(table, D, True, "numba"))
+            numba, err = f"{t_n:>11.3f} {t_n / t_cf:>9.1f}", max(err, err_n)
         k = min(D, args.loop)
         loop = pyl = "-"
         if D <= args.loop_up_to:
@@ -177,7 +184,7 @@ def main(argv=None):
         else:
             pyl = f"{'(not installed)':>15} {'-':>9} {'-':>14}"
         print(f"{D:>7} {D * N:>9} {t_cf:>12.4f} {t_b:>9.3f} {t_b / t_cf:>9.1f} {t_v:>9.3f} {t_v / t_cf:>9.1f} "
-              f"{1e6 * t_v / (D * N):>9.2f} "
+              f"{1e6 * t_v / (D * N):>9.2f} {numba} "
               f"{err:>12.1e} {loop} {pyl}", flush=True)
     table = designs(2 * BATCH, seed=1)
     tracemalloc.start()

@@ -39,11 +39,7 @@ CAP = 256  # poses kept per branch option: a turn of the crank at the default ma
 KEYS = 4  # branch options and tolerances remembered per model (the oldest is forgotten)
 CLEAN = (Status.SOLVED, Status.NEAR_SINGULAR)  # values reached on the branch, no event at them
 BREAKS = ("limit", "bifurcation", "singular")  # events past which the branch is not a function of the input
-# a Newton step s below this (scaled) leaves a next correction of about K s^2 at rounding level
-# (the sweep's ROUND, 1e-13) for Newton's quadratic constant K up to 1 (0.2-0.6 on the catalogue's
-# linkages): the final step's one factorisation then gives the pose, its certificate and its rates
-SETTLED = 3e-7
-NEWTON = 8  # Newton iterations of the direct path (the sweep's walk step allows as many)
+NEWTON = 8  # Newton steps of the direct path (the sweep's walk step allows as many)
 DIRECT = 4096  # values the direct path takes in one batch: more are the sweep's (its bulk is made for them)
 
 
@@ -167,11 +163,10 @@ def direct(model, U, Ud, Udd, options):
     value lies within the sweep's direct reach of a known pose (SPARSE walk steps of
     ``max_step``, where the sweep too solves a value from the Taylor predictor rather than
     walking to it), M is at most DIRECT, whole results are asked for (no ``outputs``), and the
-    inputs are within the sweep's FAR of the sketch's. Then, all values
-    in one batch: the predictor from the known pose and its kinematic coefficients, Newton on
-    the model's blocks to a rounding-level guess, and the sweep's final step
-    (:func:`planar.sweep.final_step`: the pose, its status and its rates from one
-    factorisation) with the sweep's acceptance test (:meth:`planar.sweep.Branch.accept`:
+    inputs are within the sweep's FAR of the sketch's. Then, all values in one batch: the
+    predictor from the known pose and its kinematic coefficients, then the sweep's final step
+    with Newton first (:func:`planar.sweep.final_step`: Newton on the model's blocks to a
+    rounding-level guess, and the pose, its status and its rates from one factorisation) with the sweep's acceptance test (:meth:`planar.sweep.Branch.accept`:
     converged, certified, the branch's assembly modes, close to the predictor). Where a value
     is not certified, or its status is not SOLVED or NEAR_SINGULAR, all are left to the sweep."""
     from planar.blocks import plan as block_plan
@@ -202,10 +197,10 @@ def direct(model, U, Ud, Udd, options):
         poses.qu[new], poses.quu[new] = br.state(poses.q[new], poses.u[new, None], one[: new.size])[:2]
     qk = poses.q[k]
     q_pred = qk + poses.qu[k] * du + 0.5 * poses.quu[k] * du**2
-    q = _settle(br, q_pred, U)
-    # the sweep's final step at a unit input rate: its rates are the kinematic coefficients of
-    # the new poses (the next moves' predictor); the asked rates follow from them linearly
-    r = final_step(br, q, U, one, zero)
+    # Newton and the sweep's final step at a unit input rate: its rates are the kinematic
+    # coefficients of the new poses (the next moves' predictor); the asked rates follow from
+    # them linearly
+    r = final_step(br, q_pred, U, one, zero, steps=NEWTON)
     ok = br.accept(r["q"], q_pred, lambda rows: qk[rows], r["conv"], r["signs"], poses.signs, r["sing"])
     if not (ok.all() and np.isin(r["status"], CLEAN).all()):
         poses.refused = u[0] if u.size == 1 else None
@@ -222,22 +217,6 @@ def direct(model, U, Ud, Udd, options):
     status = r["status"].astype(np.int8)
     return Sweep(model, U, Ud, Udd, q, qd, qdd, status, r["res"], r["iters"], r["sing"], r["branch"],
                  np.broadcast_to(np.nan, u.size), tuple(near_stretches(model, U, r["sing"], status, ())))
-
-
-def _settle(br, q, U):
-    """Newton on the branch's blocks from guesses q at inputs U until every step is below
-    SETTLED (at most NEWTON steps; the compiled engine's in one call)."""
-    if br.compiled is not None:
-        return br.compiled.final(br.m, br.p, q, U, U, U, rates=False, steps=NEWTON, tol=np.inf, step_tol=SETTLED)["q"]
-    p = br.p
-    with np.errstate(all="ignore"):
-        for _ in range(NEWTON):
-            Phi, _, Jv = p.evaluate(q, U)
-            dq = p.factor(Jv, dets=False).solve(Phi)
-            q = q - dq
-            if not np.max(np.abs(dq[:, p.cols] / br.cs)) > SETTLED:  # (NaN: a failed solve, rejected later)
-                break
-    return q
 
 
 def _clean_end(res):

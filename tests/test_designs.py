@@ -94,10 +94,14 @@ def _alone(build, design, values, *rates):
     return build(**design).compile().sweep(values, *rates)
 
 
-def test_a_batch_of_designs_is_each_design_swept_alone_and_freudensteins_closed_form():
+ENGINES = ["numpy", pytest.param("numba", marks=pytest.mark.numba)]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_batch_of_designs_is_each_design_swept_alone_and_freudensteins_closed_form(engine):
     rng = np.random.default_rng(5)
     designs = _crank_rockers(rng, 16)
-    study = sweep_designs(four_bar, designs, lambda d: d["start"] + TH, 1.3, 0.4)
+    study = sweep_designs(four_bar, designs, lambda d: d["start"] + TH, 1.3, 0.4, engine=engine)
     assert study.batched.all() and study.ok.all() and all(e is None for e in study.errors)
     col = lambda k: np.array([d[k] for d in designs])[:, None]  # noqa: E731
     pq = np.array([d["coupler_point"] for d in designs])
@@ -197,10 +201,11 @@ CATALOGUE = {
 }
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name", sorted(CATALOGUE))
-def test_designs_of_every_joint_type_are_batched_and_each_is_its_sweep_alone(name):
+def test_designs_of_every_joint_type_are_batched_and_each_is_its_sweep_alone(name, engine):
     build, designs, U = CATALOGUE[name]
-    study = sweep_designs(build, designs, U, 1.3, 0.2)
+    study = sweep_designs(build, designs, U, 1.3, 0.2, engine=engine)
     assert study.batched.all()
     for d, design in enumerate(designs):
         alone = _alone(build, design, U, 1.3, 0.2)

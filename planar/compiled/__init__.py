@@ -42,12 +42,16 @@ import numpy as np
 from planar.errors import InputError
 
 _TABLES = weakref.WeakKeyDictionary()
-CHUNK = 1024  # values per task of the parallel loop (a call with fewer runs on one thread)
+CHUNK = 1024  # values per task of the parallel loop, at most
+# values per task at least: a call of fewer than twice this many runs on the calling thread (a
+# task of these takes ~50 us, several times what starting the threads costs)
+MIN_CHUNK = 128
 STEPS = 4  # Newton steps a batch value may take in the loop (while its last step is below engine.CLOSE)
 
 Tables = namedtuple("Tables", [
-    # joints: type code, number of rows, input column (-1: none), parameters, row constants, the
-    # plan's rows they write, their bodies; the Jacobian entries read: joint j's are
+    # joints: type code, number of rows, input column (-1: none), parameters and row constants
+    # (per design: (D, joints, ...), D = 1 but for designs swept together), the plan's rows
+    # they write, their bodies; the Jacobian entries read: joint j's are
     # jac_at[j]:jac_at[j + 1], each entry (row, column) of its block to Jv[jac_to]
     "code", "nr", "inp", "par", "jc", "jrows", "slots", "jac_at", "jac_r", "jac_c", "jac_to",
     # the plan's rows and their scales; its driver rows and their input columns; the columns
@@ -69,7 +73,7 @@ Tables = namedtuple("Tables", [
     "det0", "lam_c", "det_c",
     # sizes: bodies, rows, coordinates, Jacobian values (the last a zero), the largest block,
     # the largest Schur complement, the most variables of a block, the most rows and bodies of a
-    # joint
+    # joint; the inputs' column holding each value's design (-1: one design)
     "dims",
 ])
 # the blk columns: size, offset into eqs/cols/brs/bcs and the norm's rows, upstream count and
@@ -77,7 +81,7 @@ Tables = namedtuple("Tables", [
 # offset, steps' count and offset, lam's variables' count and offset, flags
 (B_K, B_O, B_NW, B_UO, B_CO, B_NV, B_VO, B_NF, B_FO, B_R, B_RO, B_NS, B_SO, B_NL, B_LO, B_ANGLE, B_LENGTHS,
  B_WEIGHTED) = range(18)
-D_BODIES, D_M, D_N, D_NNZ, D_KMAX, D_RMAX, D_NV, D_JROWS, D_JBODIES = range(9)
+D_BODIES, D_M, D_N, D_NNZ, D_KMAX, D_RMAX, D_NV, D_JROWS, D_JBODIES, D_DESIGN = range(10)
 
 
 def check(plan):
@@ -107,16 +111,17 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
     many steps, each value until its residual is below ``tol`` and its step below ``step_tol``
     (or its pose is no longer finite), the dict's values those of its last step."""
     N = q.shape[0]
-    T, run = _compiled(model, plan)
+    T, engine = _compiled(model, plan)
     n, nb = T.dims[D_N], T.blk.shape[0]
     q = np.array(q, dtype=float, order="C")
     qd, qdd = (np.empty((N, n)), np.empty((N, n))) if rates else (np.empty((0, n)), np.empty((0, n)))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
     signs, iters = np.empty((N, nb), np.int8), np.empty(N, np.int64)
     no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
-    run(np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, n)), np.zeros((0, nb), np.int8), float(tol),
-        float(step_tol), q, np.require(U, float, ("C", "W")), _rates_in(Ud), _rates_in(Udd), bool(rates), qd, qdd,
-        res, signs, sing, branch, step, off, red, no_b, np.zeros(0, np.int8), iters, no_b, no_b, T)
+    engine.loop(engine.chunk(N), np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, n)),
+                np.zeros((0, nb), np.int8), float(tol), float(step_tol), q, np.require(U, float, ("C", "W")),
+                _rates_in(Ud), _rates_in(Udd), bool(rates), qd, qdd, res, signs, sing, branch, step, off, red, no_b,
+                np.zeros(0, np.int8), iters, no_b, no_b, T)
     if not rates:  # as the numpy engine: one read-only NaN
         qd = qdd = np.broadcast_to(np.nan, q.shape)
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch,
@@ -133,15 +138,15 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
     solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
     the general path, but for solved anchors among them, which keep their poses and modes."""
-    T, run = _compiled(model, plan)
+    T, engine = _compiled(model, plan)
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
-    run(np.ascontiguousarray(rows, np.int64), True, STEPS, np.ascontiguousarray(adj, bool),
-        np.ascontiguousarray(G, np.int64), np.ascontiguousarray(P, float), np.ascontiguousarray(SA, np.int8),
-        float(tol), 0.0, S["q"], S["U"], _rates_in(S["Ud"]), _rates_in(S["Udd"]), bool(rates), S["qd"], S["qdd"],
-        S["res"], S["signs"], S["sing"], S["branch"], no, no, no, ok, S["status"], S["iters"], S["solved"], S["done"],
-        T)
+    engine.loop(engine.chunk(rows.size), np.ascontiguousarray(rows, np.int64), True, STEPS,
+                np.ascontiguousarray(adj, bool), np.ascontiguousarray(G, np.int64), np.ascontiguousarray(P, float),
+                np.ascontiguousarray(SA, np.int8), float(tol), 0.0, S["q"], S["U"], _rates_in(S["Ud"]),
+                _rates_in(S["Udd"]), bool(rates), S["qd"], S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no,
+                no, no, ok, S["status"], S["iters"], S["solved"], S["done"], T)
     return ok
 
 
@@ -155,13 +160,13 @@ def _rates_in(a):
 
 
 def _compiled(model, plan):
-    """The tables and the loop."""
+    """The tables and the engine's module, its loop ready."""
     from planar.compiled import engine
 
     if plan not in _TABLES:
         _TABLES[plan] = tables(model, plan)
     engine.ready()
-    return _TABLES[plan], engine.loop
+    return _TABLES[plan], engine
 
 
 def tables(model, plan):
@@ -179,27 +184,34 @@ def tables(model, plan):
         read |= {int(e) for e in blk.coup}
     read.discard(nnz - 1)
     J = {k: [] for k in ("code", "nr", "inp", "par", "jc", "jrows", "slots", "jac")}
+    # designs of one structure (planar.system.System.over_designs): each joint's parameters and
+    # row constants per design, read by the design index in the inputs' last column
+    D = max([next(iter(g.P.values())).shape[0] for g in sysm.groups if g.per_design and g.P] + [1])
     for g, (start, _, (n_rows, _, K)) in zip(sysm.groups, sysm.block_spans):
-        keys = g.kind.scalar_kernels[0]
-        flat = [np.asarray(g.P[key], float).reshape(K, -1) for key in keys]
-        flat = np.concatenate(flat, axis=1) if flat else np.zeros((K, 0))
+        def per_design(a):  # (D, K, w): the joints' numbers, per design
+            a = np.asarray(a, float).reshape(D if g.per_design else 1, K, -1)
+            return np.broadcast_to(a, (D,) + a.shape[1:])
+
+        flat = [per_design(g.P[key]) for key in g.kind.scalar_kernels[0]]
+        flat = np.concatenate(flat, axis=2) if flat else np.zeros((D, K, 0))
+        c = per_design(g.P["c"])
         nc = 3 * g.bodies.shape[1]
         for k in range(K):
             J["code"].append(kinds().index(g.kind))
             J["nr"].append(n_rows)
             J["inp"].append(int(g.inputs[k]))
-            J["par"].append(flat[k])
-            J["jc"].append(np.asarray(g.P["c"][k], float).reshape(-1))
+            J["par"].append(flat[:, k])
+            J["jc"].append(c[:, k])
             J["jrows"].append([int(r) for r in g.rows[k]])
             J["slots"].append([int(b) for b in g.bodies[k]])
             J["jac"].append([(r, col, e) for r in range(n_rows) for col in range(nc)
                              if (e := start + k + (r * nc + col) * K) in read])
     nj = len(J["code"])
-    par = np.zeros((nj, max([len(p) for p in J["par"]] + [1])))
+    par = np.zeros((D, nj, max([p.shape[1] for p in J["par"]] + [1])))
     jr, jb = max(J["nr"] + [1]), max([len(b) for b in J["slots"]] + [1])
-    jc, jrows, slots = np.zeros((nj, jr)), np.zeros((nj, jr), np.int64), np.zeros((nj, jb), np.int64)
+    jc, jrows, slots = np.zeros((D, nj, jr)), np.zeros((nj, jr), np.int64), np.zeros((nj, jb), np.int64)
     for j in range(nj):
-        par[j, : len(J["par"][j])], jc[j, : len(J["jc"][j])] = J["par"][j], J["jc"][j]
+        par[:, j, : J["par"][j].shape[1]], jc[:, j, : J["jc"][j].shape[1]] = J["par"][j], J["jc"][j]
         jrows[j, : len(J["jrows"][j])], slots[j, : len(J["slots"][j])] = J["jrows"][j], J["slots"][j]
     jac = [e for entries in J["jac"] for e in entries]
     red = np.asarray(model.redundant_rows, int)
@@ -270,7 +282,7 @@ def tables(model, plan):
         i64(plan.cols), model.col_scale[plan.cols].astype(float), i64(red), model.row_scale[red].astype(float),
         blk, **flat, det0=det0, lam_c=lam_c, det_c=det_c,
         dims=i64([sysm.n_bodies, sysm.m, model.n, nnz, kmax, rmax, max([P.var.shape[0] for P, _ in progs] + [1]), jr,
-                  jb]))
+                  jb, model.u0.size if any(g.per_design for g in sysm.groups) else -1]))
 
 
 __all__ = ["check", "final", "fill", "tables", "Tables"]

@@ -21,7 +21,8 @@ import numpy as np
 from numba.extending import register_jitable
 
 from planar.acceptance import CERT, JUMP, ROUND, certified, on_course
-from planar.compiled import CHUNK, D_BODIES, D_JBODIES, D_JROWS, D_KMAX, D_M, D_N, D_NNZ, D_NV, D_RMAX, kinds
+from planar.compiled import CHUNK, D_BODIES, D_DESIGN, D_JBODIES, D_JROWS, D_KMAX, D_M, D_N, D_NNZ, D_NV, D_RMAX
+from planar.compiled import MIN_CHUNK, kinds
 from planar.compiled import B_ANGLE, B_CO, B_FO, B_K, B_LENGTHS, B_LO, B_NF, B_NL, B_NS, B_NV, B_NW, B_O, B_R
 from planar.compiled import B_RO, B_SO, B_UO, B_VO, B_WEIGHTED
 from planar.events import HELD, NEAR, SINGULAR, status_of
@@ -195,10 +196,17 @@ def _frames(q, qd, rates, fb, ref, near):
 
 
 @_inline
-def _row_constants(T, j, u, c):
-    """Joint j's row constants into c: the sketch's, a driver's first its input value."""
+def _design(T, u):
+    """The design of the value at inputs u: its index in u's last column for designs of one
+    structure swept together, else 0."""
+    return int(u[T.dims[D_DESIGN]]) if T.dims[D_DESIGN] >= 0 else 0
+
+
+@_inline
+def _row_constants(T, d, j, u, c):
+    """Joint j's row constants of design d into c: the sketch's, a driver's first its input value."""
     for r in range(c.size):
-        c[r] = T.jc[j, r]
+        c[r] = T.jc[d, j, r]
     if T.inp[j] >= 0:
         c[0] = u[T.inp[j]]
 
@@ -207,9 +215,10 @@ def _row_constants(T, j, u, c):
 def _evaluate(T, q, u, fb, Phi, Jv, c, phi, jac, ref, near):
     """Phi at q, and the Jacobian entries factor and solve read into Jv: each joint's kernel."""
     _frames(q, q, False, fb, ref, near)
+    d = _design(T, u)
     for j in range(T.code.size):
-        _row_constants(T, j, u, c)
-        _rows(T.code[j], T.par[j], c, fb, T.slots[j], phi, jac)
+        _row_constants(T, d, j, u, c)
+        _rows(T.code[j], T.par[d, j], c, fb, T.slots[j], phi, jac)
         for r in range(T.nr[j]):
             Phi[T.jrows[j, r]] = phi[r]
         for e in range(T.jac_at[j], T.jac_at[j + 1]):
@@ -220,9 +229,10 @@ def _evaluate(T, q, u, fb, Phi, Jv, c, phi, jac, ref, near):
 def _gammas(T, q, qd, u, fb, Phi, c, g, ref, near):
     """gamma at q and the velocities qd into Phi: each joint's gamma kernel."""
     _frames(q, qd, True, fb, ref, near)
+    d = _design(T, u)
     for j in range(T.code.size):
-        _row_constants(T, j, u, c)
-        _gamma(T.code[j], T.par[j], c, fb, T.slots[j], g)
+        _row_constants(T, d, j, u, c)
+        _gamma(T.code[j], T.par[d, j], c, fb, T.slots[j], g)
         for r in range(T.nr[j]):
             Phi[T.jrows[j, r]] = g[r]
 
@@ -510,19 +520,26 @@ def _buffers(T):
             V, np.empty(rmax), np.empty(kmax), 1.0 / T.cs)
 
 
+def chunk(N):
+    """Values per task of :func:`loop` for a call of N values: CHUNK, fewer to give every thread
+    one, down to MIN_CHUNK (asked here: numba cannot cache a loop that asks the thread count)."""
+    threads = numba.get_num_threads()
+    return min(CHUNK, max(MIN_CHUNK, (N + threads - 1) // threads))
+
+
 @numba.njit(**dict(_JIT, parallel=True))
-def loop(rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH,
-         STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T):
-    """The values in chunks on all cores, each chunk with its own buffers; a chunk or less on
-    the calling thread (no threads to start)."""
+def loop(size, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING,
+         BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T):
+    """The values in chunks of ``size`` (:func:`chunk`) on all cores, each chunk with its own
+    buffers; a chunk or less on the calling thread (no threads to start)."""
     N = rows.shape[0]
-    if N <= CHUNK:
+    if N <= size:
         # lo as an int64 variable: the literal 0 would compile _values a second time, for Literal[int]
         _values(np.int64(0), N, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
                 SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, _buffers(T))
         return
-    for chunk in numba.prange((N + CHUNK - 1) // CHUNK):
-        _values(chunk * CHUNK, min(N, (chunk + 1) * CHUNK), rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q,
+    for chunk in numba.prange((N + size - 1) // size):
+        _values(chunk * size, min(N, (chunk + 1) * size), rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q,
                 U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE,
                 T, _buffers(T))
 

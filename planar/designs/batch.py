@@ -8,6 +8,7 @@ import numpy as np
 from planar.blocks import plan as block_plan
 from planar.events import NEAR_CURVE
 from planar.results import Status
+from planar.solver import PREDICTED
 from planar.sweep import CHUNK, Branch, final_step, output_columns, sweep_anchors
 
 
@@ -32,16 +33,17 @@ class Results:
         return {k: v for k, v in vars(self).items() if k != "U"} | {"inputs": self.U}
 
 
-def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs):
+def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
     """Sweep the designs of tables ``t`` (:class:`planar.designs.tables.Tables`) together on
-    their template's plan, writing their rows ``t.index`` of ``out``. Returns (ok, fits), each
+    their template's plan, writing their rows ``t.index`` of ``out`` (``engine``: as a sweep's,
+    the compiled one reading each configuration's design from its inputs' last column). Returns (ok, fits), each
     (D,): ``ok`` for the designs every value of which was certified regular, ``fits`` for
     those the plan holds (a design with a non-zero where the template has a structural zero,
     as a slider along x, needs another)."""
     ref, rows = t.model, t.index
     D = len(rows)
     U = out.U[rows]
-    N, n = U.shape[1], ref.n
+    N, n, f = U.shape[1], ref.n, U.shape[2]
     q, u = t.q0.copy(), t.u0.copy()
     every = np.arange(D)
     ids = np.arange(D, dtype=float)[:, None]
@@ -50,19 +52,27 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs):
         return np.concatenate([u, ids[d]], axis=1)
 
     p, fits = block_plan(ref, output_columns(ref, outputs)).over_designs(t.system, q, at(u, every), ref.col_scale)
-    br = Branch(ref, p, tol)
+    br = Branch(ref, p, tol, engine=engine)
     with np.errstate(all="ignore"):
         ref_signs, sing = br.modes(q, at(u, every))
     ok = fits & (sing >= NEAR_CURVE)
     scale = np.where(ref.input_lengths, 1.0 / t.L[:, None], 1.0)
 
-    # 1. the walk over the anchors of every design, all designs a step at a time
+    # 1. the walk over the anchors of every design, all designs a step at a time: each step
+    # the predictor from the pose before, then Newton and the final step in one call (the pose,
+    # its certificate, modes and rates); one input: the rates at a unit input rate, the
+    # kinematic coefficients of the next step's predictor, and the anchor's value's rates follow
+    # from them linearly
     found = {}  # the anchors depend on the values and the input scales only: once per pair
     for d in range(D):
         key = (U[d].tobytes(), scale[d].tobytes())
         if key not in found:
             found[key] = sweep_anchors(_Scales(ref.input_lengths, t.L[d]), U[d], max_step)
     anchors = np.unique(np.concatenate(list(found.values())))
+    one = f == 1
+    if one:
+        qu, quu = br.state(q, at(u, every), np.ones((D, 1)))[:2]
+        Ka = np.empty((anchors.size, 2, D, n))
     Qa = np.empty((anchors.size, D, n))
     act = np.flatnonzero(ok)
     for k, a in enumerate(anchors):
@@ -73,42 +83,63 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs):
             if not act.size:
                 break
             nxt = u[act] + (target[act] - u[act]) / (parts - j)
-            q_pred, _ = br.predict(q[act], at(u[act], act), nxt - u[act])
-            qn, conv, _, _ = br.solve(q_pred, at(nxt, act))
-            sn, sg = br.modes(qn, at(nxt, act))
+            du = nxt - u[act]
+            if one:
+                q_pred = q[act] + qu[act] * du + 0.5 * quu[act] * du**2
+                rin = np.ones((act.size, 1)), np.zeros((act.size, 1))
+            else:
+                q_pred = br.predict(q[act], at(u[act], act), du)[0]
+                rin = Ud[a][None].repeat(act.size, 0), Udd[a][None].repeat(act.size, 0)
+            r = final_step(br, q_pred, at(nxt, act), *rin, steps=PREDICTED)
             start = q[act]
-            good = br.accept(qn, q_pred, lambda r: start[r], conv, sn, ref_signs[act], sg) & (sg >= NEAR_CURVE)
-            q[act[good]], u[act[good]] = qn[good], nxt[good]
+            good = br.accept(r["q"], q_pred, lambda s: start[s], r["conv"], r["signs"], ref_signs[act], r["sing"])
+            good &= (r["status"] == Status.SOLVED) & (r["sing"] >= NEAR_CURVE)
+            g = act[good]
+            q[g], u[g] = r["q"][good], nxt[good]
+            if one:
+                qu[g], quu[g] = r["qd"][good], r["qdd"][good]
             ok[act[~good]] = False
-            act = act[good]
+            act = g
         Qa[k] = q
+        if one:
+            Ka[k] = qu, quu
+        if act.size:  # the anchor's value, of the designs still walking: its last step's
+            r = {key: v[good] for key, v in r.items()}
+            if one:
+                r["qd"], r["qdd"] = r["qd"] * Ud[a], r["qdd"] * Ud[a] ** 2 + r["qd"] * Udd[a]
+            _put(out, rows[act], a, r)
 
-    # 2. every value from the anchor before it (a Taylor predictor), its final Newton step,
+    # 2. every other value from the anchor before it (a Taylor predictor), its final Newton step,
     # certificate and rates in one pass over (design, value) rows
     k_of = np.searchsorted(anchors, np.arange(N), side="right") - 1
-    flat = (act[:, None] * N + np.arange(N)[None]).ravel()
+    rest = np.setdiff1d(np.arange(N), anchors)
+    flat = (act[:, None] * N + rest[None]).ravel()
     for lo in range(0, flat.size, CHUNK):
-        r = flat[lo : lo + CHUNK]
-        d, i = r // N, r % N
+        d, i = np.divmod(flat[lo : lo + CHUNK], N)
         qa, ua = Qa[k_of[i], d], U[d, anchors[k_of[i]]]
         du = U[d, i] - ua
-        q_pred = qa.copy()  # (an anchor's value is its pose)
-        move = np.flatnonzero(np.any(du != 0.0, axis=1))
-        if move.size:
-            q_pred[move] = br.predict(qa[move], at(ua[move], d[move]), du[move])[0]
-        f = final_step(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
-        good = br.accept(f["q"], q_pred, lambda s: qa[s], f["conv"], f["signs"], ref_signs[d], f["sing"], off=f["off"])
-        good &= (f["status"] == Status.SOLVED) & (f["sing"] >= NEAR_CURVE)
+        if one:
+            q_pred = qa + Ka[k_of[i], 0, d] * du + 0.5 * Ka[k_of[i], 1, d] * du**2
+        else:
+            q_pred = br.predict(qa, at(ua, d), du)[0]
+        r = final_step(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
+        good = br.accept(r["q"], q_pred, lambda s: qa[s], r["conv"], r["signs"], ref_signs[d], r["sing"],
+                         off=r["off"])
+        good &= (r["status"] == Status.SOLVED) & (r["sing"] >= NEAR_CURVE)
         ok[np.unique(d[~good])] = False
-        g = rows[d]
-        out.q[g, i], out.qd[g, i], out.qdd[g, i] = f["q"], f["qd"], f["qdd"]
-        out.residual[g, i], out.singularity[g, i], out.branch[g, i] = f["res"], f["sing"], f["branch"]
-        out.iterations[g, i], out.status[g, i] = f["iters"], f["status"]
+        _put(out, rows[d], i, r)
     if p.cols.size < n:  # coordinates the outputs do not need: not solved
         drop = np.setdiff1d(np.arange(n), p.cols)
         for a in (out.q, out.qd, out.qdd):
             a[np.ix_(rows[ok], np.arange(N), drop)] = np.nan
     return ok, fits
+
+
+def _put(out, g, i, r):
+    """Values i of designs (rows) g of ``out`` from a final step's results r."""
+    out.q[g, i], out.qd[g, i], out.qdd[g, i] = r["q"], r["qd"], r["qdd"]
+    out.residual[g, i], out.singularity[g, i], out.branch[g, i] = r["res"], r["sing"], r["branch"]
+    out.iterations[g, i], out.status[g, i] = r["iters"], r["status"]
 
 
 @dataclass(frozen=True)

@@ -101,7 +101,7 @@ BATCH = 1024  # designs swept together: the batch's temporaries stay ~BATCH * N 
 def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fixed=None, batch=BATCH, **options):
     """Sweep each design ``build(**fixed, **design)`` over ``values`` with the input rates
     ``velocity`` and ``acceleration``, as :meth:`planar.Model.sweep` does (``options``: ``tol``,
-    ``max_step``, ``outputs``, ``branch``). ``designs`` is a dict of parameter columns
+    ``max_step``, ``outputs``, ``branch``, ``engine``). ``designs`` is a dict of parameter columns
     (equal lengths, or scalars) or a sequence of dicts. ``values`` is what every design
     sweeps ((N,), or (N, f) for f inputs), or one row per design ((D, N), or (D, N, f)), or a
     function of the design dict, for inputs that depend on the design (its start, its range):
@@ -157,8 +157,9 @@ def study_options(batch, options):
     if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
         raise InputError(f"batch must be a positive whole number of designs, got {batch!r}")
     options = arguments.sweep_options(options, run_sweep)
-    if set(options) - {"tol", "max_step", "outputs", "branch"}:
-        raise InputError(f"sweep_designs takes the options tol, max_step, outputs and branch, got {sorted(options)}")
+    if set(options) - {"tol", "max_step", "outputs", "branch", "engine"}:
+        raise InputError(f"sweep_designs takes the options tol, max_step, outputs, branch and engine, got "
+                         f"{sorted(options)}")
     return options
 
 
@@ -274,7 +275,8 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             block_plan(g.model)  # the structure is drivable (else each design is swept alone, and refused)
         except PlanarError:
             continue
-        ok, fits = sweep_batch(g, out, Ud, Udd, options.get("tol", 1e-12), options["max_step"], options.get("outputs"))
+        ok, fits = sweep_batch(g, out, Ud, Udd, options.get("tol", 1e-12), options["max_step"], options.get("outputs"),
+                               options.get("engine", "numpy"))
         batched[g.index] = ok
         retry = np.flatnonzero(~fits)
         retry = retry[retry > 0]  # (the first fits its own plan)

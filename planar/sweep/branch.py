@@ -10,6 +10,12 @@ from planar.results import Status
 from planar.solver import DISTANT, PREDICTED, acceleration, newton, velocity
 
 
+# a Newton step s below this (scaled) leaves a next correction of about K s^2 at rounding level
+# (ROUND) for Newton's quadratic constant K up to 1 (0.2-0.6 on the catalogue's linkages): the
+# final step's one factorisation then gives the pose, its certificate and its rates
+SETTLED = 3e-7
+
+
 def input_scale(model):
     """(f,) the factor that scales each input: 1 / L (the model's length scale) for a length, 1 for an angle."""
     return np.where(model.input_lengths, 1.0 / model.L, 1.0)
@@ -106,16 +112,22 @@ def _rates(p, lu, q, U, Ud, Udd):
         return qd, acceleration(p, lu, q, qd, U, Udd)
 
 
-def _step(br, q, U, Ud, Udd):
+def _step(br, q, U, Ud, Udd, steps=1):
     """One Newton step from poses q and, with the factorisation at q, the rates at the
     corrected poses: a dict of q (corrected where the step is finite), qd, qdd (NaN without
     rates), the scaled residual ``res`` at q, the scaled ``step`` and ``off`` (its size over
     the finite components: how far the pose moved), the largest scaled redundant row ``red``,
-    the blocks' det ``signs``, the singularity measure ``sing`` and the ``branch``. The
-    compiled engine computes the same in :func:`planar.compiled.final`."""
+    the blocks' det ``signs``, the singularity measure ``sing``, the ``branch`` and the
+    Newton steps taken ``iters``. With ``steps`` > 1, Newton steps before it, each pose's until
+    its step is below SETTLED (at most steps - 1). The compiled engine computes the same in
+    :func:`planar.compiled.final` (its steps until one is at rounding level)."""
     if br.compiled is not None:
-        return br.compiled.final(br.m, br.p, q, U, Ud, Udd, br.rates)
+        return br.compiled.final(br.m, br.p, q, U, Ud, Udd, br.rates, steps=steps, tol=br.tol, step_tol=ROUND)
     m, p = br.m, br.p
+    iters = np.ones(q.shape[0], int)
+    if steps > 1:
+        q, _, _, it = newton(m, q, U, tol=np.inf, step_tol=SETTLED, max_iter=steps - 1, plan=p)
+        iters += it
     with np.errstate(all="ignore"):
         Phi, full, Jv = p.evaluate(q, U)
         lu = p.factor(Jv)
@@ -136,22 +148,26 @@ def _step(br, q, U, Ud, Udd):
     else:  # positions only: no velocity and acceleration solves, no rate arrays (read-only NaN)
         qd = qdd = np.broadcast_to(np.nan, q.shape)
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, red=_redundant(m, full), signs=lu.signs,
-                sing=lu.sing, branch=np.prod(lu.signs, axis=1))
+                sing=lu.sing, branch=np.prod(lu.signs, axis=1), iters=iters)
 
 
-def final_step(br, q, U, Ud, Udd):
+def final_step(br, q, U, Ud, Udd, steps=1):
     """Final poses from good guesses q, with their rates and statuses. One evaluation and one
     factorisation serve a Newton step, its certificate (the residual at the guess and the size
     of the correction) and, where the correction is at rounding level (ROUND, scaled), the
     velocity and acceleration solves: the Jacobian at the guess differs from the one at the
     final pose by that little. The other points take the general Newton and one more step at
-    its solution for their modes and rates."""
+    its solution for their modes and rates. ``steps`` > 1: guesses from a predictor (a walk's
+    step), Newton first (see :func:`_step`), so that one call solves and finishes them."""
     m, p, tol = br.m, br.p, br.tol
     guess = q
-    f = _step(br, q, U, Ud, Udd)
+    f = _step(br, q, U, Ud, Udd, steps)
     q, qd, qdd, res, step, off = f["q"], f["qd"], f["qdd"], f["res"], f["step"], f["off"]
     red_res, signs, sing, branch = f["red"], f["signs"], f["sing"], f["branch"]
-    iters = np.ones(q.shape[0], int)
+    iters = np.array(f["iters"], int)
+    if steps > 1:  # (how far from the guess, over all the steps)
+        with np.errstate(invalid="ignore"):
+            off = np.max(np.abs((q - guess)[:, p.cols] / br.cs), axis=1)
     # a guess that holds the constraints where the Jacobian is singular (the correction is not
     # finite) is a pose on the singular position itself: kept, status SINGULAR, no rates
     on_singular = (res <= tol) & ~np.isfinite(step)
@@ -160,7 +176,7 @@ def final_step(br, q, U, Ud, Udd):
     slow = np.flatnonzero(~conv)
     if slow.size:
         qs, cv, _, it = newton(m, q[slow], U[slow], tol=tol, max_iter=DISTANT, plan=p, engine=br.compiled)
-        q[slow], conv[slow], iters[slow] = qs, cv, it + 1
+        q[slow], conv[slow], iters[slow] = qs, cv, iters[slow] + it
         g = _step(br, qs, U[slow], Ud[slow], Udd[slow])
         res[slow], red_res[slow] = g["res"], g["red"]
         if br.rates:
