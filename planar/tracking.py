@@ -40,6 +40,7 @@ KEYS = 4  # branch options and tolerances remembered per model (the oldest is fo
 CLEAN = (Status.SOLVED, Status.NEAR_SINGULAR)  # values reached on the branch, no event at them
 BREAKS = ("limit", "bifurcation", "singular")  # events past which the branch is not a function of the input
 NEWTON = 8  # Newton steps of the direct path (the sweep's walk step allows as many)
+SLOWEST = np.sqrt(np.finfo(float).tiny)  # input rates below this teach no kinematic coefficients
 DIRECT = 4096  # values the direct path takes in one batch: more are the sweep's (its bulk is made for them)
 
 
@@ -100,9 +101,13 @@ class Poses:
         take = np.unique(np.linspace(0, end - 1, min(end, CAP // 2)).astype(int))
         # the kinematic coefficients from the rates: qd = v q_u, qdd = v^2 q_uu + a q_u
         v, a = res.input_rates[take], res.input_accelerations[take]
-        with np.errstate(all="ignore"):  # (NaN where the rates are not known: computed when needed)
-            qu = np.where(v != 0, res.qd[take] / v, np.nan)
+        # (NaN where the rates are not known, or the input rate too small for v^2 to be a normal
+        # number: computed when needed)
+        with np.errstate(all="ignore"):
+            qu = np.where(np.abs(v) >= SLOWEST, res.qd[take] / v, np.nan)
             quu = (res.qdd[take] - a * qu) / v**2
+        known = np.isfinite(qu).all(axis=1) & np.isfinite(quu).all(axis=1)  # (rates of 1e200 overflow)
+        qu[~known] = quu[~known] = np.nan
         self.merge(res.inputs[take, 0], (res.q[take], qu, quu))
 
     def merge(self, u, rows):

@@ -71,8 +71,11 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
     anchors = np.unique(np.concatenate(list(found.values())))
     one = f == 1
     if one:
+        # q_u, q_uu and q_uuu: the last from the change of q_uu over the step before (none at the
+        # first): the predictor's error then falls from ~h^3 to ~h^4, and Newton takes a step less
         qu, quu = br.state(q, at(u, every), np.ones((D, 1)))[:2]
-        Ka = np.empty((anchors.size, 2, D, n))
+        quuu = np.zeros_like(qu)
+        Ka = np.empty((anchors.size, 3, D, n))
     Qa = np.empty((anchors.size, D, n))
     act = np.flatnonzero(ok)
     for k, a in enumerate(anchors):
@@ -85,7 +88,7 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
             nxt = u[act] + (target[act] - u[act]) / (parts - j)
             du = nxt - u[act]
             if one:
-                q_pred = q[act] + qu[act] * du + 0.5 * quu[act] * du**2
+                q_pred = q[act] + du * (qu[act] + du * (0.5 * quu[act] + du * quuu[act] / 6))
                 rin = np.ones((act.size, 1)), np.zeros((act.size, 1))
             else:
                 q_pred = br.predict(q[act], at(u[act], act), du)[0]
@@ -97,20 +100,22 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
             g = act[good]
             q[g], u[g] = r["q"][good], nxt[good]
             if one:
+                with np.errstate(all="ignore"):
+                    quuu[g] = np.where(du[good] != 0, (r["qdd"][good] - quu[g]) / du[good], 0.0)
                 qu[g], quu[g] = r["qd"][good], r["qdd"][good]
             ok[act[~good]] = False
             act = g
         Qa[k] = q
         if one:
-            Ka[k] = qu, quu
+            Ka[k] = qu, quu, quuu
         if act.size:  # the anchor's value, of the designs still walking: its last step's
             r = {key: v[good] for key, v in r.items()}
             if one:
                 r["qd"], r["qdd"] = r["qd"] * Ud[a], r["qdd"] * Ud[a] ** 2 + r["qd"] * Udd[a]
             _put(out, rows[act], a, r)
 
-    # 2. every other value from the anchor before it (a Taylor predictor), its final Newton step,
-    # certificate and rates in one pass over (design, value) rows
+    # 2. every other value from the anchor before it (a Taylor predictor), Newton, its final
+    # step, certificate and rates in one pass over (design, value) rows
     k_of = np.searchsorted(anchors, np.arange(N), side="right") - 1
     rest = np.setdiff1d(np.arange(N), anchors)
     flat = (act[:, None] * N + rest[None]).ravel()
@@ -119,10 +124,11 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
         qa, ua = Qa[k_of[i], d], U[d, anchors[k_of[i]]]
         du = U[d, i] - ua
         if one:
-            q_pred = qa + Ka[k_of[i], 0, d] * du + 0.5 * Ka[k_of[i], 1, d] * du**2
+            K = Ka[k_of[i], :, d]
+            q_pred = qa + du * (K[:, 0] + du * (0.5 * K[:, 1] + du * K[:, 2] / 6))
         else:
             q_pred = br.predict(qa, at(ua, d), du)[0]
-        r = final_step(br, q_pred, at(U[d, i], d), Ud[i], Udd[i])
+        r = final_step(br, q_pred, at(U[d, i], d), Ud[i], Udd[i], steps=PREDICTED)
         good = br.accept(r["q"], q_pred, lambda s: qa[s], r["conv"], r["signs"], ref_signs[d], r["sing"],
                          off=r["off"])
         good &= (r["status"] == Status.SOLVED) & (r["sing"] >= NEAR_CURVE)
