@@ -1,7 +1,8 @@
 """Sweep speed against error: planar's generic solver beside vectorised numpy closed forms and
 peer libraries.
 
-Prints, in one run, the time per position and the maximum error against the closed form for
+Prints, in one run, the time per position (of sweeps from the sketch, as a model's first
+sweep) and the maximum error against the closed form for
 the four-bar with a coupler point, the offset slider-crank, the Watt six-bar and the geared
 five-bar at N from 1e3 up, for several solver tolerances; the scaling with the number of loops
 (a chain of k drag-link loops, k up to 100); the peak memory of one sweep at N = 1e6; and the
@@ -113,6 +114,14 @@ CASES = {"four-bar + coupler point": case_four_bar, "offset slider-crank": case_
          "Watt six-bar": case_watt, "geared five-bar": case_geared}
 
 
+def cold(model, *args, **options):
+    """``model.sweep`` as a model's first sweep: the walk from the sketch (a model remembers the
+    poses it solved, and solves values on a turn it knows without the walk; those are timed in
+    ``pose_speed.py``)."""
+    model.known_poses.clear()
+    return model.sweep(*args, **options)
+
+
 def timed(f, repeat):
     best = np.inf
     for _ in range(repeat):
@@ -155,14 +164,14 @@ def main(argv=None):
         m, closed, ours, L = build()
         model = m.compile()
         if numba:  # the compiled loop of this structure: built (or loaded from the disk cache) once
-            t, _ = timed(lambda: model.sweep(model.u0[0] + np.linspace(0, 0.1, 50), engine="numba"), 1)
+            t, _ = timed(lambda: cold(model, model.u0[0] + np.linspace(0, 0.1, 50), engine="numba"), 1)
             print(f"{name:26s} numba: compiling or loading the loop took {t:.1f} s (excluded below)")
         for N in sizes:
             th = model.u0[0] + np.linspace(0, 2 * np.pi, N, endpoint=False)
             if name == "geared five-bar":
                 th = np.linspace(0, np.radians(200), N)  # inside the range of its sketched branch
             tols = [1e-12] if N > 1000 else [1e-8, 1e-10, 1e-12]
-            runs = {(e, tol): (lambda e=e, tol=tol: model.sweep(th, tol=tol, engine=e)) for e in ENGINES for tol in tols}
+            runs = {(e, tol): (lambda e=e, tol=tol: cold(model, th, tol=tol, engine=e)) for e in ENGINES for tol in tols}
             if name == "geared five-bar":  # its closed form is a continuation (~100 us per value): once
                 tc, ref = timed(lambda: closed(th), 1)
             else:
@@ -172,7 +181,7 @@ def main(argv=None):
                 tc, ref = best["closed"], closed(th)
             for engine in ENGINES:
                 for tol in tols:
-                    tp, res = best[engine, tol], model.sweep(th, tol=tol, engine=engine)  # (its outputs: untimed)
+                    tp, res = best[engine, tol], cold(model, th, tol=tol, engine=engine)  # (its outputs: untimed)
                     errs = error(ref, ours(res), L)
                     print(f"{name:26s} {engine:6s} {N:8d} {tol:6.0e} {tp / N * 1e6:13.3f} {tc / N * 1e6:13.3f} "
                           f"{tp / tc:6.3g}  " + _errs(errs.values()))
@@ -185,7 +194,7 @@ def main(argv=None):
     for k in ks:
         model = chain(k).compile()
         th = np.linspace(0, 2 * np.pi, n_chain)
-        t, res = timed(lambda: model.sweep(th), repeat)
+        t, res = timed(lambda: cold(model, th), repeat)
         print(f"  k = {k:3d}: {t / n_chain * 1e6:9.1f} us per position, {t / n_chain / k * 1e6:7.2f} us per loop,"
               f" all solved: {bool(res.ok.all())}")
     if not args.quick and max(sizes) >= 1_000_000:
@@ -224,9 +233,9 @@ def side_by_side(sizes, quick, repeat, four_bar_runs):
                 if (N, engine) in four_bar_runs and not threads:
                     tp, errs = four_bar_runs[N, engine]  # (its ratio: to this table's closed form)
                 else:  # a peer's own (smaller) N, or one thread: time planar here
-                    tp, res = timed(lambda: model.sweep(th, engine=engine), repeat)
+                    tp, res = timed(lambda: cold(model, th, engine=engine), repeat)
                     errs = error(ref, ours(res), L)
-                tq, res = timed(lambda: model.sweep(th, rates=False, engine=engine), repeat)
+                tq, res = timed(lambda: cold(model, th, rates=False, engine=engine), repeat)
             print(line.format(label, "full", N, tp / N * 1e6, tp / tc, _errs(errs.values())))
             print(line.format(label + " rates=False", "positions", N, tq / N * 1e6, tq / tc,
                               _errs(error({"C": ref["C"]}, {"C": res.position("C")}, L).values())))
@@ -286,7 +295,7 @@ def targets(sizes, repeat, with_peers=True):
             for what, rates in (("full", True), ("positions", False)):
                 def run(e=engine, n=threads, r=rates):
                     with _threads(n):
-                        model.sweep(th, engine=e, rates=r)
+                        cold(model, th, engine=e, rates=r)
                 runs[engine, threads, what] = run
         best = rounds(runs, repeat)
         print(f"  N = {N:.0e}: closed form {best['closed'] / N * 1e6:.3f} us" + "".join(

@@ -295,10 +295,12 @@ def test_a_mechanisms_numbers_vary_without_a_mechanism_per_design_and_match_freu
 @given(st.lists(st.tuples(st.floats(0.3, 5.0), st.floats(0.3, 5.0), st.floats(0.3, 5.0), st.floats(-np.pi, np.pi),
                           st.floats(-1.5, 1.5), st.floats(-1.5, 1.5), st.booleans()), min_size=1, max_size=6),
        st.booleans())
-def test_any_batch_of_designs_with_coupler_points_is_each_design_swept_alone(rows, numbers):
+@pytest.mark.parametrize("engine", ENGINES)
+def test_any_batch_of_designs_with_coupler_points_is_each_design_swept_alone(engine, rows, numbers):
     """Random four-bars with coupler points, either assembly mode, regular or not (some cannot
     be assembled, some meet limits or branch events), from the builder or as a dimensioned
-    mechanism's numbers: the batch reports what each design swept alone does."""
+    mechanism's numbers, on either engine: the batch reports what each design swept alone
+    does."""
     U = np.linspace(-1.0, 1.0, 21)
     if numbers:
         build = Vary(_dimensioned_four_bar(1.0, 3.5, 3.5))
@@ -310,7 +312,7 @@ def test_any_batch_of_designs_with_coupler_points_is_each_design_swept_alone(row
                    for a, b, c, s, p, q, x in rows]
         start = "start"
     try:
-        study = sweep_designs(build, designs, lambda d: d[start] + U)
+        study = sweep_designs(build, designs, lambda d: d[start] + U, engine=engine)
     except planar.InputError as e:  # no design assembles
         assert "no design could be built" in str(e)
         return
