@@ -127,3 +127,17 @@ def test_random_moves_equal_sweeps_from_the_sketch(name, moves):
     for d in moves:
         u = u + d if abs(d) <= 0.08 else d
         _same(tracker.move(u), _from_sketch(name, [u]))
+
+
+@settings(max_examples=25, deadline=None)
+@given(name=st.sampled_from(sorted(MECHANISMS)),
+       values=st.lists(st.one_of(st.floats(-1.0, 7.5), st.sampled_from([0.0, np.pi, 1.7913295877157296, 2.9096233]).map(
+           lambda x: x + 1e-7)), min_size=1, max_size=40))
+def test_random_values_of_a_swept_stretch_equal_sweeps_from_the_sketch(name, values):
+    """Values in any order, repeated, on a stretch the model has swept (solved in one batch by
+    the direct path where each is near a known pose), past its limits and next to its change
+    points give the sweep from the sketch."""
+    model = MECHANISMS[name]().compile()
+    model.sweep(np.linspace(-1.0, 7.5, 200))
+    U = np.array(values)
+    _same(model.sweep(U), _from_sketch(name, U))
