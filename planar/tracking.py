@@ -146,11 +146,15 @@ def sweep(model, U, Ud, Udd, **options):
     res = direct(model, U, Ud, Udd, options)
     if res is not None:
         return res
+    from planar.sweep import FAR
+
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     k = poses.nearest(U[:1, 0])[0]
     start = poses.q[k], poses.u[k : k + 1]
-    if start[1][0] == poses.u0:
-        start = None  # the sketch itself (the sweep from it checks it)
+    if start[1][0] == poses.u0 or (not model.input_lengths[0] and np.max(np.abs(U[:, 0] - poses.u0)) > FAR):
+        # the sketch itself (the sweep from it checks it), or values the sweep solves whole
+        # periods back, from the sketch
+        start = None
     res = run_sweep(model, U, Ud, Udd, start, **options)
     if start is not None and not _clean(res):
         # past a limit or a branch event the way on (re-entering the range, the branch taken)

@@ -352,6 +352,15 @@ def test_a_watt_six_bar_reaches_its_second_interval_a_turn_on_from_where_it_ente
     wide = m.sweep(np.r_[np.arange(s0 - 2 * np.pi, s0, 0.005), u])
     d = res.position("E")[second] - wide.position("E")[-u.size :][second]
     np.testing.assert_allclose(d, 0, atol=1e-12)
+    # a million radians on, the same (solved whole periods back: the images of the second
+    # interval's values just past the sketch, not 1e6 rad from it)
+    with Evaluations() as ev:
+        far = m.sweep(u + 2 * np.pi * 159155)
+    assert ev.calls <= WORK_TWO_INTERVALS, ev.calls
+    np.testing.assert_array_equal(far.status, res.status)
+    # (u + 1e6 carries 1e-10 of rounding, which the values next to the limits, their points
+    # moving 10-20x the crank there, pass on)
+    np.testing.assert_allclose(far.position("E")[res.ok] - res.position("E")[res.ok], 0, atol=1e-8)
 
 
 def test_a_watt_six_bar_crossing_its_change_point_at_a_shallow_angle_keeps_the_smooth_branch():

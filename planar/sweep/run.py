@@ -297,23 +297,24 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
 
 def _enter_by_images(model, walker, targets, u, signs, options):
     """(index, pose, modes) of the first of ``targets`` (M, 1), past a gap from ``u``, whose
-    image a period back (or on) the sweep from the sketch the other way round reaches, its pose
-    moved a period on (back). The search past a gap may find only other circuits where the
-    branch's range a period on is re-entered the other way round (a Watt six-bar's second
-    interval: its image a turn back lies past the limit the sketch sits next to). None if
-    the input has no period or none is reached."""
+    image whole periods back (or on: the first just past the sketch, the other way round) the
+    sweep from the sketch reaches, its pose moved those periods on (back). The search past a
+    gap may find only other circuits where the branch's range a period on is re-entered the
+    other way round (a Watt six-bar's second interval: its image a turn back lies past the
+    limit the sketch sits next to). None if the input has no period or none is reached."""
     per = walker.period() if targets.shape[1] == 1 else None
     if per is None:
         return None
     P, _ = per
     k = np.sign(targets[0, 0] - u[0])
-    V = targets[::-1] - k * P  # (from the sketch outwards, the way the walk there goes)
+    n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
+    V = targets[::-1] - n * P  # (from the sketch outwards, the way the walk there goes)
     zero = np.zeros_like(V)
     res = run_sweep(model, V, zero, zero, rates=False, images=False, **options)
     for c in V.shape[0] - 1 - np.flatnonzero(res.ok[::-1])[:4]:
         # (columns the outputs leave unsolved are not the plan's: any value does)
         q = np.where(np.isnan(res.q[c]), model.q0, res.q[c])
-        got = walker._shorten(q, V[c], signs, k)
+        got = walker._shorten(q, V[c], signs, n)
         if got is not None:
             return V.shape[0] - 1 - int(c), got[0], signs
     return None
