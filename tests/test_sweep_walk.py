@@ -363,6 +363,26 @@ def test_a_watt_six_bar_reaches_its_second_interval_a_turn_on_from_where_it_ente
     np.testing.assert_allclose(far.position("E")[res.ok] - res.position("E")[res.ok], 0, atol=1e-8)
 
 
+def test_a_far_input_of_a_six_bar_whose_smooth_branch_changes_modes_every_turn_costs_what_a_near_one_does():
+    # the first loop on the Grashof boundary: its crank passes a change point every turn, and the
+    # smooth branch comes out in the other modes of that loop, back in the sketch's after two
+    # turns. A million radians on, the values were NOT_CONVERGED (no period of one turn: the
+    # walk there is over any bound)
+    args = dict(ground=1.498206210302061, crank=1.2983701472653801, coupler=3.2007591141589344,
+                rocker=3.400595177195615, coupler_point=(2.1816104775288014, -2.121830334246634),
+                rocker_point=(2.17007541691748, -0.4042472840475053), link_5=2.3667273919627716,
+                link_6=2.7162233124631436, crossed=False, crossed_2=True, start=2.865334347525425)
+    a = args["start"] + np.arange(0, 2 * np.pi, 0.035)
+    near = {t: watt_six_bar(**args).compile().sweep(a + 2 * np.pi * t) for t in (1, 2)}
+    for turns in (159155, 159156):  # odd, even
+        with Evaluations() as ev:
+            far = watt_six_bar(**args).compile().sweep(a + 2 * np.pi * turns)
+        assert ev.calls <= 2000, ev.calls
+        assert far.ok.all()
+        # (the inputs' rounding at 1e6, 1e-10, moves the points ~1e-8 next to the change points)
+        np.testing.assert_allclose(far.position("E"), near[2 - turns % 2].position("E"), atol=1e-7)
+
+
 def test_a_watt_six_bar_crossing_its_change_point_at_a_shallow_angle_keeps_the_smooth_branch():
     # the two branches through the first loop's change point at 0 run within 1e-5..1e-4 of each
     # other (scaled) over ~0.06 of arclength: steps held to half that gap took ~10,000

@@ -14,6 +14,7 @@ HALVINGS = 5  # natural-parameter step halvings before the arclength tracer take
 # side the first tries may fail where a value further on enters
 ROUNDS = 5
 PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
+MODE_PERIODS = 4  # periods the walk from the sketch may go on in other modes before it comes back
 SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
 WALK_STEPS = 20000  # steps of one walk without a period to shorten it: farther targets are not reached
 
@@ -41,28 +42,36 @@ class Walker:
         return self._symmetry or None
 
     def period(self):
-        """(P, D) of :meth:`symmetry`, checked on the branch: the walk from the sketch through
-        one period comes back to the sketch up to whole turns D of its angles (a full-turn
-        crank: its coupler and rocker may turn too), or meets a limit (a rocking input: values
-        a period apart are the same pose, reached by re-entry). None otherwise (a circuit that
-        closes after more turns than the symmetry's period)."""
+        """(P, D): whole periods of :meth:`symmetry` after which the walk from the sketch comes
+        back to the sketch up to whole turns D of its angles (a full-turn crank: its coupler and
+        rocker may turn too), in its modes: after one, or after several where each passes a
+        change point on the smooth branch and comes out in other modes (a Watt six-bar on the
+        Grashof boundary: in the sketch's again after two). Or the symmetry's where the first
+        period's walk meets a limit (a rocking input: values a period apart are the same pose,
+        reached by re-entry). None otherwise (a circuit that closes after more turns)."""
         if self._period is None:
             self._period = False
             sym = self.symmetry()
             if sym is not None:
                 m = self.br.m
-                P, D = sym
+                P = sym[0]
                 k, rounds = len(self.events), self.rounds
                 s0 = self.br.signs(m.q0[None], m.u0[None])[0]
-                got = self.walk(m.q0, m.u0, s0, m.u0 + P, 0)
-                del self.events[k:]  # that turn is no part of the sweep
+                q, u, s = m.q0, m.u0, s0
+                for j in range(1, MODE_PERIODS + 1):
+                    got = self.walk(q, u, s, u + P, 0)
+                    if got[0] == "limit" and j == 1:
+                        self._period = sym
+                    if got[0] != "ok":
+                        break
+                    q, u, s = got[1], u + P, got[2]
+                    if np.all(s == s0):
+                        D = _turns(self.br, q - m.q0)
+                        self._period = False if D is None else (j * P, D)
+                        self.turns = D is not None
+                        break
+                del self.events[k:]  # those turns are no part of the sweep
                 self.rounds = rounds
-                if got[0] == "limit":
-                    self._period = sym
-                elif got[0] == "ok" and np.all(got[2] == s0):
-                    D = _turns(self.br, got[1] - m.q0)
-                    self._period = False if D is None else (P, D)
-                    self.turns = D is not None
         return self._period or None
 
     def _shorten(self, q, u, signs, k):
