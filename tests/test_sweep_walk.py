@@ -383,6 +383,24 @@ def test_a_far_input_of_a_six_bar_whose_smooth_branch_changes_modes_every_turn_c
         np.testing.assert_allclose(far.position("E"), near[2 - turns % 2].position("E"), atol=1e-7)
 
 
+def test_a_far_input_of_a_six_bar_that_meets_limits_every_other_turn_is_the_sweep_a_turn_on():
+    # as above, but in the first loop's other modes the second loop meets a limit pair: the
+    # walk over a turn from the sketch comes back in other modes, and over the next meets a
+    # limit. The period (two turns) is then found by a sweep from the sketch over four, and
+    # the far values are those an odd number of periods back: a turn on
+    values = watt_six_bar(ground=2.262237374804487, crank=1.2649326418576359, coupler=1.6325053564764112,
+                          rocker=2.629810089423262, coupler_point=(-2.7075533425727167, -2.5665641329489106),
+                          rocker_point=(2.0088656738883204, 2.940484434441621), link_5=5.716326024466156,
+                          link_6=3.5938018593740626, start=-0.2765457554083546)
+    a = -0.2765457554083546 + np.arange(0, 2 * np.pi, 0.035)
+    near = values.compile().sweep(a + 2 * np.pi)
+    far = values.compile().sweep(a + 2 * np.pi * 159155)
+    assert not np.any(far.status == Status.NOT_CONVERGED)
+    assert (near.status == Status.NOT_ASSEMBLABLE).sum() == 40
+    np.testing.assert_array_equal(far.status, near.status)
+    np.testing.assert_allclose(far.position("E")[near.ok], near.position("E")[near.ok], atol=1e-7)
+
+
 def test_a_watt_six_bar_crossing_its_change_point_at_a_shallow_angle_keeps_the_smooth_branch():
     # the two branches through the first loop's change point at 0 run within 1e-5..1e-4 of each
     # other (scaled) over ~0.06 of arclength: steps held to half that gap took ~10,000

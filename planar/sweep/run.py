@@ -14,7 +14,7 @@ from planar.sweep.anchors import MAX_WAVE, WAVE, Kin, from_anchors, solve_wave, 
 from planar.sweep.branch import Branch, input_scale, scaled_norm
 from planar.sweep.finish import Out, finish
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
-from planar.sweep.walk import TWO_PI_A1, TWO_PI_A2, TWO_PI_B, Walker
+from planar.sweep.walk import MODE_PERIODS, TWO_PI_A1, TWO_PI_A2, TWO_PI_B, Walker, _turns
 
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
@@ -51,12 +51,12 @@ def output_columns(model, outputs):
 
 
 def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
-              engine="numpy", images=True):
+              engine="numpy", nested=False):
     """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
     from instead of the sketch, reached from the sketch by continuation with no event between
-    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``images``:
-    values past a gap that no search enters are looked for a period the other way round (see
-    :func:`_enter_by_images`)."""
+    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``nested``: a
+    sweep made by another for what it asks of the branch (:func:`_enter_by_images`,
+    :func:`_period_by_sweep`), which makes no such sweeps itself."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     cols = output_columns(model, outputs)
@@ -106,8 +106,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # whole periods back, nearer the sketch, and shifted back at the end: angles of 1e6 rad
     # would carry rounding of 1e-10 rad into the constraints
     U_in, shift = U, None
+    options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
     if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
-        per = walker.period()
+        per = walker.period() or (None if nested else _period_by_sweep(model, walker, options))
         if per is not None:
             start = None  # the sketch, whole periods back, is nearer than any known pose
             block = per[0] * np.ceil(FAR / per[0])
@@ -182,8 +183,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                              else (None, False))
         if nearer is not None:
             found = (*nearer, chosen)
-        if found is None and assembles and images:
-            options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
+        if found is None and assembles and not nested:
             found = _enter_by_images(model, walker, U[anchors[k:]], state[1], chosen, options)
         if found is None:
             break
@@ -310,13 +310,37 @@ def _enter_by_images(model, walker, targets, u, signs, options):
     n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
     V = targets[::-1] - n * P  # (from the sketch outwards, the way the walk there goes)
     zero = np.zeros_like(V)
-    res = run_sweep(model, V, zero, zero, rates=False, images=False, **options)
+    res = run_sweep(model, V, zero, zero, rates=False, nested=True, **options)
     for c in V.shape[0] - 1 - np.flatnonzero(res.ok[::-1])[:4]:
         # (columns the outputs leave unsolved are not the plan's: any value does)
         q = np.where(np.isnan(res.q[c]), model.q0, res.q[c])
         got = walker._shorten(q, V[c], signs, n)
         if got is not None:
             return V.shape[0] - 1 - int(c), got[0], signs
+    return None
+
+
+def _period_by_sweep(model, walker, options):
+    """(P, D) of the input's period where the walk from the sketch over the symmetry's periods
+    (:meth:`planar.sweep.walk.Walker.period`) meets a limit before it is back in the sketch's
+    modes: the first of up to MODE_PERIODS of them after which the sweep from the sketch (with
+    its re-entries past gaps) is back at the sketch's pose, up to whole turns, and modes (a Watt
+    six-bar whose smooth branch passes a change point every turn, in modes that meet a limit
+    pair every other turn: two). Kept as the walker's period; None if there is none."""
+    sym = walker.symmetry()
+    if sym is None:
+        return None
+    P = sym[0]
+    V = model.u0[0] + P * np.arange(1.0, MODE_PERIODS + 1)[:, None]
+    zero = np.zeros_like(V)
+    res = run_sweep(model, V, zero, zero, rates=False, nested=True, **options)
+    s0 = walker.br.signs(model.q0[None], model.u0[None])[0]
+    for j in np.flatnonzero(res.ok):
+        q = np.where(np.isnan(res.q[j]), model.q0, res.q[j])  # (columns the outputs leave unsolved)
+        D = _turns(walker.br, q - model.q0)
+        if D is not None and np.all(walker.br.signs(q[None], V[j][None])[0] == s0):
+            walker.keep_period((j + 1) * P, D, turns=not any(e.kind == "limit" for e in res.events))
+            return walker.period()
     return None
 
 

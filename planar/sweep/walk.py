@@ -74,6 +74,11 @@ class Walker:
                 self.rounds = rounds
         return self._period or None
 
+    def keep_period(self, P, D, turns):
+        """Take (P, D) as the period (found by a sweep where :meth:`period`'s walk meets a limit;
+        ``turns``: the input turns fully)."""
+        self._period, self.turns = (P, D), turns
+
     def _shorten(self, q, u, signs, k):
         """(q, u) moved by k whole periods of the input (:meth:`period`): the pose there is
         the pose at u shifted by whole turns. None where it does not solve there."""
