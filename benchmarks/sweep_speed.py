@@ -171,7 +171,8 @@ def main(argv=None):
             if name == "geared five-bar":
                 th = np.linspace(0, np.radians(200), N)  # inside the range of its sketched branch
             tols = [1e-12] if N > 1000 else [1e-8, 1e-10, 1e-12]
-            runs = {(e, tol): (lambda e=e, tol=tol: cold(model, th, tol=tol, engine=e)) for e in ENGINES for tol in tols}
+            runs = {(e, tol): (lambda e=e, tol=tol: cold(model, th, tol=tol, engine=e))
+                    for e in ENGINES for tol in tols}
             if name == "geared five-bar":  # its closed form is a continuation (~100 us per value): once
                 tc, ref = timed(lambda: closed(th), 1)
             else:

@@ -58,8 +58,10 @@ def max_step(step):
 
 @functools.cache
 def _options(run):
-    """{name: default} of ``run``'s keyword-only parameters (read once: a tracker asks per move)."""
-    return {k: p.default for k, p in inspect.signature(run).parameters.items() if p.kind == p.KEYWORD_ONLY}
+    """{name: default} of ``run``'s keyword-only parameters but its private ones (``_name``; read
+    once: a tracker asks per move)."""
+    return {k: p.default for k, p in inspect.signature(run).parameters.items()
+            if p.kind == p.KEYWORD_ONLY and not k.startswith("_")}
 
 
 def sweep_options(options, run):

@@ -175,9 +175,10 @@ def direct(model, U, Ud, Udd, options):
     inputs are within the sweep's FAR of the sketch's. Then, all values in one batch: the
     predictor from the known pose and its kinematic coefficients, then the sweep's final step
     with Newton first (:func:`planar.sweep.final_step`: Newton on the model's blocks to a
-    rounding-level guess, and the pose, its status and its rates from one factorisation) with the sweep's acceptance test (:meth:`planar.sweep.Branch.accept`:
-    converged, certified, the branch's assembly modes, close to the predictor). Where a value
-    is not certified, or its status is not SOLVED or NEAR_SINGULAR, all are left to the sweep."""
+    rounding-level guess, and the pose, its status and its rates from one factorisation) with
+    the sweep's acceptance test (:meth:`planar.sweep.Branch.accept`: converged, certified, the
+    branch's assembly modes, close to the predictor). Where a value is not certified, or its
+    status is not SOLVED or NEAR_SINGULAR, all are left to the sweep."""
     from planar.blocks import plan as block_plan
     from planar.sweep import FAR, SPARSE, Branch, check_sketch, final_step, near_stretches, input_scale
 

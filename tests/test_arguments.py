@@ -37,6 +37,9 @@ def test_options_are_the_run_s_keywords_and_max_step_is_filled_in():
         arguments.sweep_options({"tolerance": 1e-10}, run_sweep)
     with pytest.raises(InputError, match="rates must be True or False"):
         arguments.sweep_options({"rates": 1}, run_sweep)
+    # the sweep's private keywords (a sweep made by another) are no options
+    with pytest.raises(InputError, match="'_nested': the options are tol, max_step, outputs, branch, rates, engine$"):
+        arguments.sweep_options({"_nested": True}, run_sweep)
     assert arguments.sweep_options({"rates": np.bool_(False)}, run_sweep)["rates"] == np.False_
 
 

@@ -51,10 +51,10 @@ def output_columns(model, outputs):
 
 
 def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
-              engine="numpy", nested=False):
+              engine="numpy", _nested=False):
     """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
     from instead of the sketch, reached from the sketch by continuation with no event between
-    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``nested``: a
+    (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``_nested``: a
     sweep made by another for what it asks of the branch (:func:`_enter_by_images`,
     :func:`_period_by_sweep`), which makes no such sweeps itself."""
     if branch not in ("smooth", "other"):
@@ -108,7 +108,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     U_in, shift = U, None
     options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
     if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
-        per = walker.period() or (None if nested else _period_by_sweep(model, walker, options))
+        per = walker.period() or (None if _nested else _period_by_sweep(model, walker, options))
         if per is not None:
             start = None  # the sketch, whole periods back, is nearer than any known pose
             block = per[0] * np.ceil(FAR / per[0])
@@ -183,7 +183,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                              else (None, False))
         if nearer is not None:
             found = (*nearer, chosen)
-        if found is None and assembles and not nested:
+        if found is None and assembles and not _nested:
             found = _enter_by_images(model, walker, U[anchors[k:]], state[1], chosen, options)
         if found is None:
             break
@@ -310,7 +310,7 @@ def _enter_by_images(model, walker, targets, u, signs, options):
     n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
     V = targets[::-1] - n * P  # (from the sketch outwards, the way the walk there goes)
     zero = np.zeros_like(V)
-    res = run_sweep(model, V, zero, zero, rates=False, nested=True, **options)
+    res = run_sweep(model, V, zero, zero, rates=False, _nested=True, **options)
     for c in V.shape[0] - 1 - np.flatnonzero(res.ok[::-1])[:4]:
         # (columns the outputs leave unsolved are not the plan's: any value does)
         q = np.where(np.isnan(res.q[c]), model.q0, res.q[c])
@@ -333,7 +333,7 @@ def _period_by_sweep(model, walker, options):
     P = sym[0]
     V = model.u0[0] + P * np.arange(1.0, MODE_PERIODS + 1)[:, None]
     zero = np.zeros_like(V)
-    res = run_sweep(model, V, zero, zero, rates=False, nested=True, **options)
+    res = run_sweep(model, V, zero, zero, rates=False, _nested=True, **options)
     s0 = walker.br.signs(model.q0[None], model.u0[None])[0]
     for j in np.flatnonzero(res.ok):
         q = np.where(np.isnan(res.q[j]), model.q0, res.q[j])  # (columns the outputs leave unsolved)
