@@ -139,15 +139,13 @@ def sweep(model, U, Ud, Udd, **options):
     the poses it reaches remembered. Values each near a known pose take the direct path
     (:func:`direct`). Sweeps that ask only for some ``outputs`` (the other coordinates are not
     solved) start from a known pose but teach none."""
-    from planar.sweep import run_sweep
+    from planar.sweep import FAR, run_sweep
 
     if U.shape[1] != 1:
         return run_sweep(model, U, Ud, Udd, **options)
     res = direct(model, U, Ud, Udd, options)
     if res is not None:
         return res
-    from planar.sweep import FAR
-
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     k = poses.nearest(U[:1, 0])[0]
     start = poses.q[k], poses.u[k : k + 1]

@@ -36,10 +36,10 @@ class Results:
 def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
     """Sweep the designs of tables ``t`` (:class:`planar.designs.tables.Tables`) together on
     their template's plan, writing their rows ``t.index`` of ``out`` (``engine``: as a sweep's,
-    the compiled one reading each configuration's design from its inputs' last column). Returns (ok, fits), each
-    (D,): ``ok`` for the designs every value of which was certified regular, ``fits`` for
-    those the plan holds (a design with a non-zero where the template has a structural zero,
-    as a slider along x, needs another)."""
+    the compiled one reading each configuration's design from its inputs' last column).
+    Returns (ok, fits), each (D,): ``ok`` for the designs every value of which was certified
+    regular, ``fits`` for those the plan holds (a design with a non-zero where the template
+    has a structural zero, as a slider along x, needs another)."""
     ref, rows = t.model, t.index
     D = len(rows)
     U = out.U[rows]
