@@ -26,6 +26,8 @@ from functools import cached_property
 
 import numpy as np
 
+from planar import lu
+
 ZERO, CONST, VAR = 0, 1, 2
 
 
@@ -198,7 +200,9 @@ class Program:
         flat = v.reshape(v.shape[0], shape[0] * shape[1])
         E = (self.forms @ flat + self.form0[:, None]).reshape((-1,) + shape)
         r = len(self.rows)
-        A, perm, det = _dense_lu(E[: r * r].reshape((r, r) + shape).copy())
+        A = E[: r * r].reshape((r, r) + shape).copy()
+        perm = np.empty((r,) + shape, np.intp)
+        det = lu.factor(A, perm, r)
         if not dets:
             return A, perm, E, None
         sq = flat * flat
@@ -230,7 +234,9 @@ class Program:
                 rhs[i] -= m * rhs[p]
         x = np.empty(rhs.shape)
         if self.rows:
-            x[self._cols] = _lu_solve(A, perm, rhs[self._rows])
+            y = np.empty((len(self.rows),) + rhs.shape[1:])
+            lu.solve(A, perm, rhs[self._rows], y, len(self.rows))
+            x[self._cols] = y
         for p, c, d, mults, us in reversed(self.steps):
             t = rhs[p]
             for j, f in us:
@@ -250,7 +256,9 @@ class Program:
             for j, f in us:
                 rhs[j] -= E[f] * z[p]
         if self.rows:
-            z[self._rows] = _lu_solve_transpose(A, perm, rhs[self._cols])
+            y = np.empty((len(self.rows),) + rhs.shape[1:])
+            lu.solve_transpose(A, perm, rhs[self._cols], y, len(self.rows))
+            z[self._rows] = y
         for p, c, d, mults, us in reversed(self.steps):
             for i, m in mults:
                 z[p] -= m * z[i]
@@ -286,70 +294,3 @@ def _norm_terms(F, coup, angle, nv):
     lam_c = max((abs(F[i][j].get(None, 0.0)) for i in range(k) for j in cols), default=0.0)
     lam_v = sorted({key for i in range(k) for j in cols for key in F[i][j] if key is not None})
     return (c[0], c[1], M[0], M[1]), (lam_c, lam_v, bool(cols), k - len(cols))
-
-
-def _dense_lu(A):
-    """In-place LU with partial pivoting of (k, k, G, N) blocks: (factors, row permutation
-    (k, G, N) or None, det (G, N); 1 for k = 0)."""
-    k = A.shape[0]
-    perm = sign = None
-    for j in range(k - 1):
-        # the row swaps as masked copies: whole-array passes, where gathers at the swapped
-        # poses walk the few rows pose by pose; the pivot row (relative to j) the first of the
-        # largest, by comparisons (argmax over the short leading axis costs ~10x more)
-        best, piv = np.abs(A[j, j]), np.zeros(A.shape[2:], np.intp)
-        for r in range(1, k - j):
-            a = np.abs(A[j + r, j])
-            larger = a > best
-            piv[larger] = r
-            best = np.where(larger, a, best)
-        for r in range(1, k - j):
-            swap = piv == r
-            if not swap.any():
-                continue
-            if perm is None:
-                perm = np.broadcast_to(np.arange(k)[:, None, None], A.shape[1:]).copy()
-                sign = np.ones(A.shape[2:])
-            top = A[j].copy()
-            np.copyto(A[j], A[j + r], where=swap)
-            np.copyto(A[j + r], top, where=swap)
-            top = perm[j].copy()
-            np.copyto(perm[j], perm[j + r], where=swap)
-            np.copyto(perm[j + r], top, where=swap)
-            np.negative(sign, out=sign, where=swap)
-        l = A[j + 1 :, j] / A[j, j]
-        A[j + 1 :, j] = l
-        A[j + 1 :, j + 1 :] -= l[:, None] * A[j, j + 1 :][None]
-    det = np.ones(A.shape[2:]) if k == 0 else A[0, 0].copy()
-    for i in range(1, k):
-        det *= A[i, i]
-    return A, perm, det if sign is None else sign * det
-
-
-def _lu_solve(A, perm, b):
-    """x (k, G, N) with (P A) x = P b for the factors of :func:`_dense_lu`."""
-    k = A.shape[0]
-    b = np.take_along_axis(b, perm, axis=0) if perm is not None else b.copy()
-    for i in range(1, k):
-        for j in range(i):
-            b[i] -= A[i, j] * b[j]
-    for i in range(k - 1, -1, -1):
-        for j in range(i + 1, k):
-            b[i] -= A[i, j] * b[j]
-        b[i] /= A[i, i]
-    return b
-
-
-def _lu_solve_transpose(A, perm, b):
-    """z (k, G, N) with A^T z = b for the factors (P A = L U) of :func:`_dense_lu`: U^T
-    forward, L^T backward, then the rows put back in place."""
-    k = A.shape[0]
-    b = b.copy()
-    for i in range(k):
-        for j in range(i):
-            b[i] -= A[j, i] * b[j]
-        b[i] /= A[i, i]
-    for i in range(k - 1, -1, -1):
-        for j in range(i + 1, k):
-            b[i] -= A[j, i] * b[j]
-    return b if perm is None else np.take_along_axis(b, np.argsort(perm, axis=0), axis=0)

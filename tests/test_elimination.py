@@ -16,7 +16,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from planar.blocks import plan
-from planar.elimination import CONST, VAR, ZERO, Program, _dense_lu, _lu_solve, _parity
+from planar import lu
+from planar.elimination import CONST, VAR, ZERO, Program, _parity
 from planar.mechanisms import CATALOGUE, four_bar
 
 N = 6  # poses
@@ -152,8 +153,16 @@ def test_a_limit_position_reads_singular():
     assert far.max() > 0.1
 
 
+def _factored(A):
+    """planar.lu's factors of the (k, k, G, N) blocks A (a copy): (factors, row order, det)."""
+    k = A.shape[0]
+    A = A.copy()
+    perm = np.empty(A.shape[1:], np.intp)
+    return A, perm, lu.factor(A, perm, k)
+
+
 @pytest.mark.parametrize("k", [0, 1, 2, 3, 5, 8])
-def test_dense_lu_and_solve_are_numpys(k):
+def test_the_lu_and_its_solves_are_numpys(k):
     rng = np.random.default_rng(k)
     G = 3
     A = rng.normal(size=(k, k, G, N))
@@ -161,55 +170,58 @@ def test_dense_lu_and_solve_are_numpys(k):
         A[0, 0, :, ::2] = 0.0  # a zero first pivot at every other pose: rows must swap
     b = rng.normal(size=(k, G, N))
     M = np.moveaxis(A, (0, 1), (-2, -1))  # (G, N, k, k)
-    fac, perm, det = _dense_lu(A.copy())
-    np.testing.assert_allclose(det, np.linalg.det(M) if k else np.ones((G, N)), rtol=1e-10, atol=1e-12)
+    fac, perm, det = _factored(A)
+    np.testing.assert_allclose(det * np.ones((G, N)), np.linalg.det(M) if k else np.ones((G, N)), rtol=1e-10,
+                               atol=1e-12)
     if k == 0:
         return
     lower = np.tril(np.ones((k, k), bool), -1)
     assert np.all(np.abs(fac[lower]) <= 1.0)  # partial pivoting: no multiplier above 1 in size
-    x = _lu_solve(fac, perm, b)
-    want = np.linalg.solve(M, np.moveaxis(b, 0, -1)[..., None])[..., 0]
-    np.testing.assert_allclose(np.moveaxis(x, 0, -1), want, rtol=1e-9, atol=1e-9)
+    x, z = np.empty_like(b), np.empty_like(b)
+    lu.solve(fac, perm, b, x, k)
+    lu.solve_transpose(fac, perm, b.copy(), z, k)
+    rhs = np.moveaxis(b, 0, -1)[..., None]
+    for got, want in ((x, np.linalg.solve(M, rhs)), (z, np.linalg.solve(np.swapaxes(M, -1, -2), rhs))):
+        np.testing.assert_allclose(np.moveaxis(got, 0, -1), want[..., 0], rtol=1e-9, atol=1e-9)
 
 
-def test_dense_lu_of_a_singular_block_gives_a_zero_det_and_no_exception():
+def test_the_lu_of_a_singular_block_gives_a_zero_det_and_no_exception():
     A = np.zeros((3, 3, 1, 2))
     A[:, :, 0, 0] = [[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 1.0, 1.0]]
     A[:, :, 0, 1] = np.eye(3)
+    x = np.empty((3, 1, 2))
     with np.errstate(all="ignore"):
-        fac, perm, det = _dense_lu(A.copy())
-        x = _lu_solve(fac, perm, np.ones((3, 1, 2)))
+        fac, perm, det = _factored(A)
+        lu.solve(fac, perm, np.ones((3, 1, 2)), x, 3)
     assert det[0, 0] == 0.0 and det[0, 1] == 1.0
     assert not np.isfinite(x[:, 0, 0]).all()
     np.testing.assert_array_equal(x[:, 0, 1], np.ones(3))
 
 
-@settings(max_examples=50, deadline=None)
-@given(st.permutations(list(range(6))))
-def test_parity_is_the_determinant_of_the_permutation_matrix(order):
-    P = np.eye(len(order))[order]
-    assert _parity(order) == round(np.linalg.det(P))
+@pytest.mark.numba
+@pytest.mark.parametrize("k", [1, 2, 3, 5])
+def test_the_compiled_engine_runs_the_same_lu_to_the_bit(k):
+    """One definition, two kinds of entry: the compiled engine's factors, det and solve, pose
+    by pose, equal the numpy engine's on all poses at once, bit for bit."""
+    import numba
 
+    from planar.compiled import engine
 
-@pytest.mark.parametrize("name", sorted(CATALOGUE))
-def test_plan_factors_at_random_poses_are_numpys(name):
-    """Every catalogue mechanism far from its sketch: the block solves give numpy's solution of
-    the square system, the blocks' det signs multiply to numpy's det sign (up to the one sign
-    of the matching's permutation), and the singularity is the smallest normalised |det|."""
-    model = CATALOGUE[name]().compile()
-    p = plan(model)
-    rng = np.random.default_rng(8)
-    q = model.q0 + 0.3 * rng.normal(size=(N, model.n)) * model.col_scale
-    u = model.u0 + 0.3 * rng.normal(size=(N, model.u0.size))
-    _, _, Jv = p.evaluate(q, u)
-    lu = p.factor(Jv)
-    _, J = model.system.evaluate(q, u)
-    A = J[:, p.rows][:, :, p.cols]
-    b = rng.normal(size=(N, p.rows.size))
-    np.testing.assert_allclose(lu.solve(b)[:, p.cols], np.linalg.solve(A, b[..., None])[..., 0], rtol=1e-8,
-                               atol=1e-8 * model.L)
-    flip = np.prod(lu.signs, axis=1) * np.sign(np.linalg.det(A))
-    assert np.all(flip == flip[0]) and flip[0] in (-1, 1)
-    np.testing.assert_array_equal(lu.signs, np.sign(lu.dets))
-    np.testing.assert_array_equal(lu.sing, np.abs(lu.dets).min(axis=1))
-    assert np.all((lu.sing > 0) & (lu.sing <= 1))
+    @numba.njit
+    def one_pose(A, perm, b, x, k):
+        det = engine._lu_det(A, perm, k)
+        engine._lu_solve(A, perm, b, x, k)
+        return det
+
+    rng = np.random.default_rng(10 + k)
+    A = rng.normal(size=(k, k, 1, N))
+    A[0, 0, :, ::2] *= 1e-3  # (rows swap at every other pose)
+    b = rng.normal(size=(k, 1, N))
+    fac, perm, det = _factored(A)
+    x = np.empty_like(b)
+    lu.solve(fac, perm, b, x, k)
+    for n in range(N):
+        An, pn, xn = A[:, :, 0, n].copy(), np.empty(k, np.int64), np.empty(k)
+        assert one_pose(An, pn, b[:, 0, n].copy(), xn, k) == det[0, n]
+        assert np.array_equal(An, fac[:, :, 0, n]) and np.array_equal(pn, perm[:, 0, n])
+        assert np.array_equal(xn, x[:, 0, n])

@@ -27,6 +27,7 @@ from planar.compiled import B_ANGLE, B_CO, B_FO, B_K, B_LENGTHS, B_LO, B_NF, B_N
 from planar.compiled import B_RO, B_SO, B_UO, B_VO, B_WEIGHTED
 from planar.events import HELD, NEAR, SINGULAR, status_of
 from planar.joints import scalar
+from planar.lu import lu
 from planar.results import Status
 
 NEAR_ANGLE = 0.05  # a bulk value's angles within this of its anchor's: cos and sin from the anchor's
@@ -102,73 +103,32 @@ def _mx(a, b):
 
 
 @_inline
-def _lu_det(A, perm, k):
-    """LU with partial pivoting of a k x k block in place, as planar.elimination._dense_lu: its
-    det. U's diagonal is left as its reciprocals, which _lu_solve multiplies by. The sizes that
-    occur (a loop's Schur complement: 1 or 2) written out."""
-    if k == 1:
-        perm[0] = 0
-        det = A[0, 0]
-        A[0, 0] = 1.0 / det
-        return det
-    if k == 2:
-        perm[0], perm[1], det = 0, 1, 1.0
-        if abs(A[1, 0]) > abs(A[0, 0]):
-            A[0, 0], A[1, 0], A[0, 1], A[1, 1] = A[1, 0], A[0, 0], A[1, 1], A[0, 1]
-            perm[0], perm[1], det = 1, 0, -1.0
-        r = 1.0 / A[0, 0]
-        l = A[1, 0] * r
-        A[1, 0] = l
-        A[1, 1] -= l * A[0, 1]
-        det *= A[0, 0] * A[1, 1]
-        A[0, 0], A[1, 1] = r, 1.0 / A[1, 1]
-        return det
-    det = 1.0
-    for i in range(k):
-        perm[i] = i
-    for j in range(k - 1):
-        piv, big = j, abs(A[j, j])
-        for i in range(j + 1, k):
-            if abs(A[i, j]) > big:
-                piv, big = i, abs(A[i, j])
-        if piv != j:
-            for col in range(k):
-                A[j, col], A[piv, col] = A[piv, col], A[j, col]
-            perm[j], perm[piv] = perm[piv], perm[j]
-            det = -det
-        r = 1.0 / A[j, j]
-        for i in range(j + 1, k):
-            l = A[i, j] * r
-            A[i, j] = l
-            for col in range(j + 1, k):
-                A[i, col] -= l * A[j, col]
-        det *= A[j, j]
-        A[j, j] = r  # (the pivot's reciprocal: the solves multiply)
-    det *= A[k - 1, k - 1]
-    A[k - 1, k - 1] = 1.0 / A[k - 1, k - 1]
-    return det
+def _pick(c, a, b):
+    return a if c else b
 
 
 @_inline
-def _lu_solve(A, perm, z, y, k):
-    """y with (P A) y = P z for the factors of _lu_det."""
-    if k == 1:
-        y[0] = z[0] * A[0, 0]
-        return
-    if k == 2:
-        y0, y1 = z[perm[0]], z[perm[1]]
-        y1 = (y1 - A[1, 0] * y0) * A[1, 1]
-        y[0], y[1] = (y0 - A[0, 1] * y1) * A[0, 0], y1
-        return
+def _swap_rows(A, perm, j, i, c, k):
+    if c:
+        for col in range(k):
+            A[j, col], A[i, col] = A[i, col], A[j, col]
+        perm[j], perm[i] = perm[i], perm[j]
+
+
+@_inline
+def _permute(z, perm, y, k):
     for i in range(k):
         y[i] = z[perm[i]]
-    for i in range(1, k):
-        for j in range(i):
-            y[i] -= A[i, j] * y[j]
-    for i in range(k - 1, -1, -1):
-        for j in range(i + 1, k):
-            y[i] -= A[i, j] * y[j]
-        y[i] *= A[i, i]
+
+
+@_inline
+def _unpermute(w, perm, y, k):
+    for i in range(k):
+        y[perm[i]] = w[i]
+
+
+# planar.lu's factorisation and solve, on one pose's numbers
+_lu_det, _lu_solve, _ = (_inline(f) for f in lu(_pick, _swap_rows, _permute, _unpermute))
 
 
 @_inline
@@ -619,8 +579,8 @@ def _warm():
 
 def _stamp():
     """A hash of what the cached machine code compiles in besides this file: every joint type's
-    kernels and their shared pieces, the acceptance and status rules and the constants."""
-    modules = {sys.modules[cls.__module__] for cls in kinds()} | {scalar}
+    kernels and their shared pieces, the LU, the acceptance and status rules and the constants."""
+    modules = {sys.modules[cls.__module__] for cls in kinds()} | {scalar, sys.modules[lu.__module__]}
     text = "".join(sorted(inspect.getsource(m) for m in modules)) + "".join(map(inspect.getsource, SHARED))
     text += repr(([c.__name__ for c in kinds()], CERT, JUMP, ROUND, NEAR, SINGULAR, HELD, list(Status)))
     return hashlib.sha1(text.encode()).hexdigest()
