@@ -74,9 +74,11 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
     y, t, det = tr.start(q)
     dets = tr.block_dets(y)
     sing_min, y_min = np.min(np.abs(dets)), y
+    y_start = y
     h, gap = min(max_step, 0.1 * tr.d), None
     gap_min, y_gap = np.inf, y
     last_regular = (q, np.array(u_a, float))
+    at_target = False
     # bounded: a degenerate curve is given up; the allowance covers approaches to crossings, whose
     # certified steps shrink with the gap (~150 steps each from gap 0.1 down to GAP_CROSS)
     for _ in range(int(20 * tr.d / max_step) + 2000):
@@ -167,10 +169,13 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
             w = (tr.d - y[-1]) / (y1[-1] - y[-1]) if y1[-1] != y[-1] else 1.0
             guess = tr.q_of(y + w * (y1 - y))
             out.q = guess
+            at_target = y_min is y1
             break
         y, t, det = y1, t1, det1
     if not any(e.kind in ("bifurcation", "singular") for e in out.events):
-        if 0 < sing_min < NEAR:
+        # (closest at either end, the start or the target: that pose says what it is, a limit
+        # there or a near-singular value; not an approach on the way)
+        if 0 < sing_min < NEAR and not (at_target or y_min is y_start):
             out.events.append(Event("near_singular", _scalar(tr.u_of(y_min)), index, tr.q_of(y_min),
                                     singularity=float(sing_min), error=float(np.finfo(float).eps / sing_min),
                                     note="the branch passes close to a singular position: values near here are "
