@@ -401,6 +401,27 @@ def test_a_far_input_of_a_six_bar_that_meets_limits_every_other_turn_is_the_swee
     np.testing.assert_allclose(far.position("E")[near.ok], near.position("E")[near.ok], atol=1e-7)
 
 
+def test_a_turn_of_a_six_bar_that_meets_limits_every_other_turn_swept_alone_is_the_dense_sweeps():
+    # the walk from the sketch to the fourth turn meets the second's limit: the search past it
+    # among the fourth turn's values entered the circuit nearest them (every value SOLVED, E
+    # 6.9 from the dense sweep's), where the sweep through every turn enters the range right
+    # past the gap and meets the limits again two turns on. The values' images a period back
+    # are entered instead
+    values = watt_six_bar(ground=2.262237374804487, crank=1.2649326418576359, coupler=1.6325053564764112,
+                          rocker=2.629810089423262, coupler_point=(-2.7075533425727167, -2.5665641329489106),
+                          rocker_point=(2.0088656738883204, 2.940484434441621), link_5=5.716326024466156,
+                          link_6=3.5938018593740626, start=-0.2765457554083546)
+    a = -0.2765457554083546 + np.arange(0, 2 * np.pi, 0.035)
+    dense = values.compile().sweep(np.concatenate([a + 2 * np.pi * t for t in range(4)]))
+    n = a.size
+    assert [(dense.status[t * n : (t + 1) * n] == Status.NOT_ASSEMBLABLE).sum() for t in range(4)] == [0, 40, 0, 40]
+    for t in (2, 3):
+        alone = values.compile().sweep(a + 2 * np.pi * t)
+        np.testing.assert_array_equal(alone.status, dense.status[t * n : (t + 1) * n])
+        ok = alone.ok
+        np.testing.assert_allclose(alone.position("E")[ok], dense.position("E")[t * n : (t + 1) * n][ok], atol=1e-9)
+
+
 def test_a_watt_six_bar_crossing_its_change_point_at_a_shallow_angle_keeps_the_smooth_branch():
     # the two branches through the first loop's change point at 0 run within 1e-5..1e-4 of each
     # other (scaled) over ~0.06 of arclength: steps held to half that gap took ~10,000
