@@ -383,16 +383,21 @@ def test_a_far_input_of_a_six_bar_whose_smooth_branch_changes_modes_every_turn_c
         np.testing.assert_allclose(far.position("E"), near[2 - turns % 2].position("E"), atol=1e-7)
 
 
+# a Watt six-bar on the Grashof boundary whose smooth branch passes its first loop's change point
+# every turn, into modes where its second loop meets a limit pair: back in the sketch's after two
+LIMITS_EVERY_OTHER_TURN = dict(ground=2.262237374804487, crank=1.2649326418576359, coupler=1.6325053564764112,
+                               rocker=2.629810089423262, coupler_point=(-2.7075533425727167, -2.5665641329489106),
+                               rocker_point=(2.0088656738883204, 2.940484434441621), link_5=5.716326024466156,
+                               link_6=3.5938018593740626, start=-0.2765457554083546)
+
+
 def test_a_far_input_of_a_six_bar_that_meets_limits_every_other_turn_is_the_sweep_a_turn_on():
     # as above, but in the first loop's other modes the second loop meets a limit pair: the
     # walk over a turn from the sketch comes back in other modes, and over the next meets a
     # limit. The period (two turns) is then found by a sweep from the sketch over four, and
     # the far values are those an odd number of periods back: a turn on
-    values = watt_six_bar(ground=2.262237374804487, crank=1.2649326418576359, coupler=1.6325053564764112,
-                          rocker=2.629810089423262, coupler_point=(-2.7075533425727167, -2.5665641329489106),
-                          rocker_point=(2.0088656738883204, 2.940484434441621), link_5=5.716326024466156,
-                          link_6=3.5938018593740626, start=-0.2765457554083546)
-    a = -0.2765457554083546 + np.arange(0, 2 * np.pi, 0.035)
+    values = watt_six_bar(**LIMITS_EVERY_OTHER_TURN)
+    a = LIMITS_EVERY_OTHER_TURN["start"] + np.arange(0, 2 * np.pi, 0.035)
     near = values.compile().sweep(a + 2 * np.pi)
     far = values.compile().sweep(a + 2 * np.pi * 159155)
     assert not np.any(far.status == Status.NOT_CONVERGED)
@@ -407,11 +412,8 @@ def test_a_turn_of_a_six_bar_that_meets_limits_every_other_turn_swept_alone_is_t
     # 6.9 from the dense sweep's), where the sweep through every turn enters the range right
     # past the gap and meets the limits again two turns on. The values' images a period back
     # are entered instead
-    values = watt_six_bar(ground=2.262237374804487, crank=1.2649326418576359, coupler=1.6325053564764112,
-                          rocker=2.629810089423262, coupler_point=(-2.7075533425727167, -2.5665641329489106),
-                          rocker_point=(2.0088656738883204, 2.940484434441621), link_5=5.716326024466156,
-                          link_6=3.5938018593740626, start=-0.2765457554083546)
-    a = -0.2765457554083546 + np.arange(0, 2 * np.pi, 0.035)
+    values = watt_six_bar(**LIMITS_EVERY_OTHER_TURN)
+    a = LIMITS_EVERY_OTHER_TURN["start"] + np.arange(0, 2 * np.pi, 0.035)
     dense = values.compile().sweep(np.concatenate([a + 2 * np.pi * t for t in range(4)]))
     n = a.size
     assert [(dense.status[t * n : (t + 1) * n] == Status.NOT_ASSEMBLABLE).sum() for t in range(4)] == [0, 40, 0, 40]
