@@ -185,7 +185,8 @@ def test_open_a_mechanism_file_edit_its_stated_length_and_export_it(page, tmp_pa
     pg.locator(".planar-open input[type=file]").set_input_files(str(path))
     _wait_message(pg, "limit position at crank = 117.2796 deg")  # the circuit's limits, from the file
     _wait_message(pg, "Grashof class: triple-rocker")
-    assert pg.locator(".planar-choice select").input_value() == "mechanism file"
+    # (the page's choice follows its messages: under load, a moment later)
+    sync_api.expect(pg.locator(".planar-choice select")).to_have_value("mechanism file", timeout=20000)
     _type(pg, "O4-B", "3.5")
     _wait_message(pg, "Grashof class: triple-rocker (s + l - p - q = 0.5)")
     with pg.expect_download() as download:
