@@ -20,6 +20,7 @@ FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
+MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
 FAR = 100.0  # radians of input from the sketch beyond which a full-turn input is solved periods back
 
 
@@ -133,7 +134,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         shift = None if shift is None else (shift[0][order], shift[1])
     state = origin
     limits = []  # (limit event, direction of the input that hit it)
-    images = {}  # periods back -> the images of targets past a gap and their sweep (_enter_a_period_back)
+    entries = 0  # ranges entered at a gap's far end
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
     anchors = sweep_anchors(model, U, max_step)
     kin = Kin()  # the anchors' kinematic coefficients where known (one input)
@@ -179,10 +180,18 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         # assembles there) a period the other way round from the sketch
         known = np.flatnonzero(solved)
         found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:]])
-        imaged = found is None and not _nested
-        found = _enter_a_period_back(model, walker, U[anchors[k:]], images, options) if imaged else found
-        # (the targets before one entered by its image have images the sweep does not reach)
-        upto = anchors.size if found is None else k + (0 if imaged else found[0])
+        if found is None and got[0] == "limit" and entries < MAX_ENTRIES:
+            # the range past the gap entered at its far end, as a sweep with values all the way
+            # enters it: the first of the walk's steps past the limit where the branch can be
+            # entered, and walked on from there
+            grid = _past_gap(model, state[1], U[anchors[k]], max_step)
+            nearer = walker.enter_any([state[0], model.q0], chosen, grid)[0] if grid.size else None
+            if nearer is not None:
+                entries += 1
+                u_e = grid[nearer[0]]
+                state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
+                continue
+        upto = anchors.size if found is None else k + found[0]
         nearer, assembles = (walker.enter_any([state[0], model.q0], chosen, U[anchors[k:upto]]) if upto > k
                              else (None, False))
         if nearer is not None:
@@ -324,45 +333,18 @@ def _enter_by_images(model, walker, targets, u, signs, options):
     return None
 
 
-def _enter_a_period_back(model, walker, targets, images, options):
-    """(index, pose, modes) of the first of ``targets`` (M, 1), past a gap, whose image whole
-    periods back towards the sketch (within the first period from it, the same way round) the
-    sweep from the sketch reaches, its pose moved those periods on; None where the targets lie
-    within that period, or the period is no longer than the symmetry's. Where the branch comes
-    back to the sketch only after several periods of the symmetry, with limits on the way (a
-    Watt six-bar whose smooth branch meets a limit pair every other turn), the search past a
-    gap among the targets would enter the circuit nearest them, where the sweep through every
-    period between enters the range right past the gap and comes out a period on: the images
-    a period back are that sweep's, and a sweep of one turn gives what the dense sweep gives
-    there. (The search is asked only for targets two symmetry periods from the sketch.)"""
-    sym = walker.symmetry()
-    u0 = model.u0[0]
-    if targets.shape[1] != 1 or sym is None or abs(targets[0, 0] - u0) < 2 * sym[0]:
-        return None
-    per = walker.period() or _period_by_sweep(model, walker, options)
-    if per is None or per[0] <= sym[0]:
-        return None
-    P = per[0]
-    n = float(np.trunc((targets[0, 0] - u0) / P))
-    if n == 0:
-        return None
-    within = np.flatnonzero(np.abs(targets[:, 0] - targets[0, 0]) < P)
-    V = targets[within, 0] - n * P
-    if n not in images or not np.isin(V, images[n][0]).all():
-        # (one sweep serves each gap of those values: the next re-entry reads it)
-        zero = np.zeros((V.size, 1))
-        images[n] = V, run_sweep(model, V[:, None], zero, zero, rates=False, _nested=True, **options)
-    known, res = images[n]
-    at = np.argsort(known, kind="stable")
-    rows = at[np.searchsorted(known[at], V)]
-    for c in np.flatnonzero(res.ok[rows])[:4]:
-        r = rows[c]
-        q = np.where(np.isnan(res.q[r]), model.q0, res.q[r])  # (columns the outputs leave unsolved)
-        modes = walker.br.signs(q[None], known[r : r + 1][None])[0]  # (the sketch's or, a turn on, others)
-        got = walker._shorten(q, known[r : r + 1], modes, n)
-        if got is not None:
-            return int(within[c]), got[0], modes
-    return None
+def _past_gap(model, u_limit, u_next, max_step):
+    """(M, 1) inputs a walk step apart from a limit at ``u_limit`` (1,) towards the next value
+    ``u_next`` (1,), before it, over at most a turn (scaled): where a sweep with values all the
+    way would look for the range past the gap. Empty for another input count or a value within
+    a step."""
+    if u_limit.size != 1:
+        return np.zeros((0, 1))
+    scale = float(input_scale(model)[0])
+    h, d = max_step / scale, float(u_next[0] - u_limit[0])
+    steps = np.arange(1, int(min(abs(d), TURN / scale) / h) + 1) * h
+    steps = steps[steps < abs(d) - 0.5 * h]
+    return (u_limit[0] + np.sign(d) * steps)[:, None]
 
 
 def _period_by_sweep(model, walker, options):
