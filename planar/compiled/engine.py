@@ -127,8 +127,9 @@ def _unpermute(w, perm, y, k):
         y[perm[i]] = w[i]
 
 
-# planar.lu's factorisation and solve, on one pose's numbers
-_lu_det, _lu_solve, _ = (_inline(f) for f in lu(_pick, _swap_rows, _permute, _unpermute))
+# planar.lu's factorisation and solve, on one pose's numbers (the loop needs no transposed solve)
+_factor_one, _solve_one, _ = lu(_pick, _swap_rows, _permute, _unpermute)
+_lu_det, _lu_solve = _inline(_factor_one), _inline(_solve_one)
 
 
 @_inline
