@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, assume, example, given, settings, strategies
 
 from planar.blocks import Plan
 from planar.errors import PlanarError
-from planar.mechanisms import four_bar, slider_crank, watt_six_bar
+from planar.mechanisms import four_bar, gear_train, planetary_gear_train, rack_and_pinion, rolling_wheel, slider_crank, watt_six_bar
 from planar.results import POSED, VALID, Status
 from tests import oracles
 
@@ -139,6 +139,76 @@ def test_far_repeated_and_shuffled_inputs_of_a_full_turn_four_bar(r, crossed, st
     assert count.calls <= 1000 + 500 * len(U), count.calls
     o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1 if crossed else 1)
     assert_no_lost_value(res, [(-np.pi, np.pi)], o["th3"])
+
+
+far_turns = st.floats(1e3, 1e6).flatmap(lambda x: st.sampled_from([x, -x]))
+
+
+@PROPS
+@given(radii=st.lists(st.floats(0.2, 5.0), min_size=2, max_size=4), start=st.floats(-np.pi, np.pi),
+       values=st.lists(far_turns, min_size=1, max_size=3))
+def test_a_far_input_of_a_gear_train_of_any_ratio_costs_what_a_near_one_does(radii, start, values):
+    # a ratio of no small period: the gears' angles are moved along the tangent by a turn of
+    # the input, exactly (the gear rows read them linearly)
+    m = gear_train(radii, start=start)
+    U = np.array([start, start + 0.5] + values + [start + 0.3])
+    with Evaluations() as count:
+        res = m.sweep(U)
+    assert res.ok.all(), res.status
+    assert count.calls <= 300, count.calls
+    for k, Rk in enumerate(radii, 1):
+        ratio = (-1) ** (k - 1) * radii[0] / Rk
+        expected = res.angle(f"gear{k}")[0] + ratio * (U - start)
+        np.testing.assert_allclose(res.angle(f"gear{k}"), expected, rtol=1e-14, atol=1e-12)
+
+
+@PROPS
+@given(Rs=st.floats(0.2, 5.0), Rp=st.floats(0.2, 5.0), planets=st.integers(1, 3),
+       fixed=st.sampled_from(["sun", "carrier", "ring"]), pick=st.booleans(), start=st.floats(-np.pi, np.pi),
+       values=st.lists(far_turns, min_size=1, max_size=3))
+def test_a_far_input_of_a_planetary_train_is_solved_a_whole_turn_of_its_carrier_back(Rs, Rp, planets, fixed, pick,
+                                                                                       start, values):
+    driver = [b for b in ("sun", "carrier", "ring") if b != fixed][int(pick)]
+    m = planetary_gear_train(Rs, Rp, planets=planets, fixed=fixed, driver=driver, start=start)
+    U = np.array([start, start + 0.5] + values + [start + 0.3])
+    with Evaluations() as count:
+        res = m.sweep(U)
+    assert res.ok.all(), res.status
+    assert count.calls <= 400, count.calls
+    # Willis: Rs (th_s - th_c) + Rr (th_r - th_c) = 0, to rounding of angles of up to 1e6 rad
+    Rr = Rs + 2 * Rp
+    th = {b: (res.angle(b) - res.angle(b)[0] if b != fixed else 0.0) for b in ("sun", "carrier", "ring")}
+    np.testing.assert_allclose(Rs * (th["sun"] - th["carrier"]) + Rr * (th["ring"] - th["carrier"]), 0.0,
+                               atol=1e-13 * Rr * (1 + np.abs(U).max()) * (1 + Rr / min(Rs, Rp)))
+    # the planets' centres a planet's pitch circle from the sun's centre, the carrier's arm
+    carrier = res.angle("carrier") if fixed != "carrier" else np.zeros_like(U)
+    for k in range(1, planets + 1):
+        c = res.position(f"P{k}")
+        # (through the carrier's angle of up to 1e6 rad: its rounding)
+        np.testing.assert_allclose(np.hypot(*c.T), Rs + Rp, rtol=1e-15 * (1 + np.abs(U).max()))
+        arm = np.arctan2(c[:, 1], c[:, 0]) - carrier
+        np.testing.assert_allclose(np.angle(np.exp(1j * (arm - arm[0]))), 0.0, atol=1e-9)
+
+
+@pytest.mark.parametrize("build, kw, L", [
+    (rolling_wheel, dict(radius=0.7, track_radius=2.3), 2.3),  # the centre goes round in 2 pi (2.3 - 0.7) / 0.7
+    (rolling_wheel, dict(radius=0.7, driver="centre"), 0.7),
+    (rack_and_pinion, dict(radius=0.7, driver="rack"), 0.7),
+])
+@pytest.mark.parametrize("far", [1e4, -7e5])
+def test_a_far_input_of_a_rolling_contact_is_its_near_pose_moved_along(build, kw, L, far):
+    m = build(start=0.2, **kw)
+    near = m.sweep([0.2, 0.5, 0.2 + (far % (2 * np.pi * L)), 0.4])
+    with Evaluations() as count:
+        res = m.sweep([0.2, 0.5, 0.2 + far, 0.4])
+    assert res.ok.all(), res.status
+    assert count.calls <= 400, count.calls
+    np.testing.assert_allclose(res.q[[0, 1, 3]], near.q[[0, 1, 3]], atol=1e-12)
+    if "track_radius" in kw:  # the wheel's centre a turn of it round the track on: where it was
+        k = 0.7 / (2.3 - 0.7)
+        phi = far * k - 2 * np.pi * np.round(far * k / (2 * np.pi))
+        psi = np.angle(np.exp(1j * (-np.pi / 2 - k * 0.2 - phi)))
+        np.testing.assert_allclose(res.position("centre")[2], 1.6 * np.array([np.cos(psi), np.sin(psi)]), atol=1e-9)
 
 
 @st.composite

@@ -14,7 +14,7 @@ from planar.solver import ALONG_TANGENT, least_squares_gap
 from planar.sweep.anchors import CHUNK
 from planar.sweep.branch import final_step, input_scale
 from planar.sweep.located import EVENT_TOL
-from planar.sweep.walk import GAP, add_turns
+from planar.sweep.walk import GAP, add_periods
 
 BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
 
@@ -139,11 +139,10 @@ def finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event
         shift = None if shift is None else (shift[0][inv], shift[1])
     if shift is not None:
         k, (P, D) = shift
-        whole = np.round(D / (2 * np.pi))
-        q[:] = add_turns(q, k[:, None] * whole)
+        q[:] = add_periods(q, k[:, None], D)
         at = lambda e: k[min(e.index, N - 1)]  # noqa: E731
-        events = tuple(replace(e, input=add_turns(e.input, at(e) * round(P / (2 * np.pi))),
-                               q=None if e.q is None else add_turns(e.q, at(e) * whole)) for e in events)
+        events = tuple(replace(e, input=add_periods(e.input, at(e), P),
+                               q=None if e.q is None else add_periods(e.q, at(e), D)) for e in events)
         U = U_in
     return Sweep(model, U, Ud, Udd, q, qd, qdd, status, residual, iters, sing, branch, gap, events)
 

@@ -14,14 +14,14 @@ from planar.sweep.anchors import MAX_WAVE, WAVE, Kin, from_anchors, solve_wave, 
 from planar.sweep.branch import Branch, input_scale, scaled_norm
 from planar.sweep.finish import Out, finish
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
-from planar.sweep.walk import MODE_PERIODS, TWO_PI_A1, TWO_PI_A2, TWO_PI_B, Walker, _turns
+from planar.sweep.walk import MODE_PERIODS, Walker, _turns, less_periods
 
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
 MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
-FAR = 100.0  # radians of input from the sketch beyond which a full-turn input is solved periods back
+FAR = 100.0  # scaled input from the sketch beyond which a periodic input is solved periods back
 
 
 def output_columns(model, outputs):
@@ -102,21 +102,20 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         far = limits and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
         return past_limit(limits, u_from, u_to, walker.period() if far else None)
 
-    # far values of an angle input whose pose is periodic (the same up to whole turns of its
-    # angles: an input that turns fully, or a rocking input's range a period on) are solved
-    # whole periods back, nearer the sketch, and shifted back at the end: angles of 1e6 rad
-    # would carry rounding of 1e-10 rad into the constraints
+    # far values of an input whose pose is periodic (the same up to whole turns of its angles,
+    # or moved along the tangent where the rows read a coordinate linearly: an input that turns
+    # fully, a rocking input's range a period on, a gear train) are solved whole periods back,
+    # nearer the sketch, and shifted back at the end: angles of 1e6 rad would carry rounding of
+    # 1e-10 rad into the constraints
     U_in, shift = U, None
     options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
-    if U.shape[1] == 1 and not model.input_lengths[0] and np.max(np.abs(U[:, 0] - model.u0[0])) > FAR:
+    if U.shape[1] == 1 and np.max(np.abs(U[:, 0] - model.u0[0])) * input_scale(model)[0] > FAR:
         per = walker.period() or (None if _nested else _period_by_sweep(model, walker, options))
         if per is not None:
             start = None  # the sketch, whole periods back, is nearer than any known pose
-            block = per[0] * np.ceil(FAR / per[0])
+            block = per[0] * np.ceil(FAR / (per[0] * input_scale(model)[0]))
             k = np.trunc((U[:, 0] - model.u0[0]) / block) * (block / per[0])
-            turns = k * round(per[0] / (2 * np.pi))
-            # (the large terms first)
-            U = (((U[:, 0] - turns * TWO_PI_A1) - turns * TWO_PI_A2) - turns * TWO_PI_B)[:, None]
+            U = less_periods(U[:, 0], k, per[0])[:, None]
             shift = (k, per)
 
     # 1. the sequential walk over anchors, from the assembled sketch
@@ -364,7 +363,7 @@ def _period_by_sweep(model, walker, options):
     s0 = walker.br.signs(model.q0[None], model.u0[None])[0]
     for j in np.flatnonzero(res.ok):
         q = np.where(np.isnan(res.q[j]), model.q0, res.q[j])  # (columns the outputs leave unsolved)
-        D = _turns(walker.br, q - model.q0)
+        D = _turns(walker.br, q - model.q0, (j + 1) * sym[1])
         if D is not None and np.all(walker.br.signs(q[None], V[j][None])[0] == s0):
             walker.keep_period((j + 1) * P, D, turns=not any(e.kind == "limit" for e in res.events))
             return walker.period()

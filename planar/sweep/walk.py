@@ -6,7 +6,7 @@ import numpy as np
 from planar.events.crossing import around, cross
 from planar.solver import DISTANT, REENTRY, least_squares_gap, newton
 from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
-from planar.sweep.branch import scaled_norm
+from planar.sweep.branch import input_scale, scaled_norm
 
 GAP = 1e-8  # scaled residual above which a least-squares minimum is not an assembly
 HALVINGS = 5  # natural-parameter step halvings before the arclength tracer takes over
@@ -30,13 +30,17 @@ class Walker:
         self.turns = False  # the walk went round a whole period (no limit): the input turns fully
 
     def symmetry(self):
-        """(P, D): the input period P (whole turns of one angle input) and the pose shift D over
-        it (whole turns of the angles of the bodies that turn with the input, 0 elsewhere) where
-        the sketch shifted by D solves the constraints at its input plus P in the same assembly
-        modes: the revolute and slider rows of a pure linkage read angles through their sines
-        and cosines, while a gear or a slider's relative angle passes the input on linearly
-        (a gear pair of ratio 7/6 comes back after 7 turns). None where no pose within PERIODS
-        turns is the sketch's shifted by whole turns (a gear train of ratio pi)."""
+        """(P, D): an input period P and the pose shift D over it where the sketch shifted by D
+        solves the constraints at its input plus P in the same assembly modes, the constraints
+        themselves unchanged by the shift. Either whole turns P of one angle input, D whole turns
+        of the angles of the bodies that turn with it (the revolute and slider rows of a pure
+        linkage read angles through their sines and cosines, while a gear or a slider's
+        relative angle passes the input on linearly: a gear pair of ratio 7/6 comes back after
+        7 turns); or, where the rows read some coordinates only linearly (a gear's angle about
+        its own pivot, a rack's travel), an input P after which the angles read through sines
+        and cosines are back by whole turns, the others moved along the tangent (a gear train
+        of any ratio, a planetary train a turn of its carrier on). None where neither holds (a
+        geared linkage of ratio pi)."""
         if self._symmetry is None:
             self._symmetry = _symmetry(self.br) or False
         return self._symmetry or None
@@ -66,7 +70,7 @@ class Walker:
                         break
                     q, u, s = got[1], u + P, got[2]
                     if np.all(s == s0):
-                        D = _turns(self.br, q - m.q0)
+                        D = _turns(self.br, q - m.q0, j * sym[1])
                         self._period = False if D is None else (j * P, D)
                         self.turns = D is not None
                         break
@@ -83,8 +87,8 @@ class Walker:
         """(q, u) moved by k whole periods of the input (:meth:`period`): the pose there is
         the pose at u shifted by whole turns. None where it does not solve there."""
         P, D = self.period()
-        uk = u + k * P
-        qk, conv, _, _ = self.br.solve((q + k * D)[None], uk[None])
+        uk = add_periods(u, k, P)
+        qk, conv, _, _ = self.br.solve(add_periods(q, k, D)[None], uk[None])
         if conv[0] and np.all(self.br.signs(qk, uk[None])[0] == signs):
             return qk[0], uk
         return None
@@ -99,7 +103,7 @@ class Walker:
         the work is bounded and the value left unreached)."""
         if periodic and u.size == 1:
             d = float(target[0] - u[0])
-            per = self.period() if abs(d) >= 2 * np.pi else None
+            per = self.period() if abs(d) * float(input_scale(self.br.m)[0]) >= 2 * np.pi else None
             k = np.trunc(d / per[0]) if per is not None else 0.0
             start = self._shorten(q, u, signs, k) if k else (q, u)
             if start is not None:
@@ -298,14 +302,49 @@ def add_turns(x, n):
     return ((x + n * TWO_PI_B) + n * TWO_PI_A2) + n * TWO_PI_A1
 
 
+def add_periods(x, n, P):
+    """x + n P (P per component, or one) to the rounding of the result, for x small next to
+    n P: whole turns by :func:`add_turns`, another period split into a head of 26 significant
+    bits (n times it is exact for |n| < 2^26) and the rest.
+
+    >>> float(add_periods(0.25, 3.0, 2 * np.pi)) == float(add_turns(0.25, 3.0)), float(add_periods(1.0, -2.0, 0.75))
+    (True, -0.5)
+    """
+    if np.all(n == 0):
+        return x
+    whole, turns, head = _split(P)
+    return np.where(whole, add_turns(x, n * turns), (x + n * (P - head)) + n * head)
+
+
+def less_periods(u, k, P):
+    """u - k P for u near k P (a far input brought back by whole periods: the large terms
+    first, so the small result keeps its rounding).
+
+    >>> float(less_periods(1e6, 159155.0, 2 * np.pi)), float(less_periods(1e6 + 0.5, 1e6, 1.0))
+    (-0.357564167085735, 0.5)
+    """
+    whole, turns, head = _split(P)
+    t = k * turns
+    return np.where(whole, ((u - t * TWO_PI_A1) - t * TWO_PI_A2) - t * TWO_PI_B, (u - k * head) - k * (P - head))
+
+
+def _split(P):
+    """Whether each P is whole turns, their number, and P's head of 26 significant bits."""
+    turns = np.round(P / (2 * np.pi))
+    frac, e = np.frexp(P)
+    return np.abs(P - 2 * np.pi * turns) <= 4e-16 * np.abs(P), turns, np.ldexp(np.round(frac * 2.0**26) / 2.0**26, e)
+
+
 def _symmetry(br):
     """See :meth:`Walker.symmetry`: from the sketch, the driven angle moved by k turns and a
-    Newton solve at the input plus k turns, for k = 1 .. PERIODS."""
+    Newton solve at the input plus k turns, for k = 1 .. PERIODS; else :func:`_linear_symmetry`."""
     m, p = br.m, br.p
-    if m.input_lengths.size != 1 or m.input_lengths[0] or p.drivers.size != 1:
+    if m.input_lengths.size != 1 or p.drivers.size != 1:
         return None
     q0, u0 = m.q0, m.u0
     s0 = br.signs(q0[None], u0[None])[0]
+    if m.input_lengths[0]:  # (a length input turns nothing by whole turns of itself)
+        return _linear_symmetry(br, s0)
     with np.errstate(all="ignore"):
         _, J = p.system.evaluate(q0[None], u0[None])
     row = J[0][p.rows[p.drivers[0]]]
@@ -322,17 +361,71 @@ def _symmetry(br):
         D = _turns(br, qn[0] - q0)
         if D is not None and np.all(br.signs(qn, (u0 + P)[None])[0] == s0):
             return P, D
+    return _linear_symmetry(br, s0)
+
+
+def _linear_symmetry(br, s0):
+    """(P, D) of :meth:`Walker.symmetry` where the constraints read some coordinates only
+    linearly: from the sketch along its tangent v (unit input rate) by P, Newton there, and the
+    change d = D kept where each coordinate is back by whole turns (an angle), back (a position)
+    or moved by P v (a coordinate read linearly), and the constraints unchanged by D away from
+    the sketch too. P: a turn of the input (2 pi scaled), else the input that turns a body by a
+    turn (a planetary train's carrier) or takes a point of uniform circular motion round (a
+    wheel's centre rolling inside a circle: 2 pi speed / acceleration)."""
+    m, p = br.m, br.p
+    q0, u0 = m.q0, m.u0
+    cols = p.cols
+    with np.errstate(all="ignore"):
+        v, a = (x[0] for x in br.state(q0[None], u0[None], np.ones((1, 1)))[:2])
+    if not np.all(np.isfinite(v[cols]) & np.isfinite(a[cols])):
+        return None
+    known = np.zeros(m.n, bool)
+    known[cols] = True
+    rate = np.abs(v[2::3][known[2::3]])
+    speed, acc = (np.hypot(x[0::3], x[1::3])[known[0::3] & known[1::3]] for x in (v, a))
+    turn = 2 * np.pi / float(input_scale(m)[0])
+    cands = np.r_[turn, 2 * np.pi / rate[rate > 1e-9 * turn], 2 * np.pi * speed[acc > 0] / acc[acc > 0]]
+    for P in dict.fromkeys(float(x) for x in cands if np.isfinite(x) and x > 0):
+        lin = np.zeros(m.n)
+        lin[cols] = P * v[cols]
+        qn, conv, _, _ = br.solve((q0 + lin)[None], (u0 + P)[None], max_iter=DISTANT)
+        if not conv[0] or not np.all(br.signs(qn, (u0 + P)[None])[0] == s0):
+            continue
+        d = qn[0] - q0
+        D = _turns(br, d)
+        if D is None:
+            near = np.abs(d - lin) / m.col_scale <= SAME * (1.0 + np.abs(lin) / m.col_scale)
+            back = _turns(br, np.where(near, 0.0, d))
+            D = None if back is None else np.where(near, d, back)
+        if D is not None and _invariant(br, P, D):
+            return P, D
     return None
 
 
-def _turns(br, d):
-    """The change d (n,) of a pose rounded to whole turns of its angles, None where it is not
-    whole turns (to SAME, scaled) or moves a position."""
+def _invariant(br, P, D):
+    """Whether the shift by D at the input plus P also solves the constraints at a second pose
+    of the branch, a fifth of a turn (scaled) from the sketch, to rounding of the shift: a
+    symmetry of the branch, not only a pose that happens to solve."""
+    m, p = br.m, br.p
+    u = m.u0 + 0.2 * np.pi / input_scale(m)
+    q_pred, _ = br.predict(m.q0[None], m.u0[None], (u - m.u0)[None])
+    q, conv, _, _ = br.solve(q_pred, u[None], max_iter=DISTANT)
+    if not conv[0]:
+        return False
+    with np.errstate(all="ignore"):
+        Phi, _ = p.system.evaluate(add_periods(q, 1.0, D), add_periods(u, 1.0, P)[None])
+    size = 1.0 + np.max(np.abs(D[p.cols]) / m.col_scale[p.cols])
+    return bool(np.max(np.abs(Phi[0, p.rows]) * m.row_scale[p.rows]) <= 1e3 * np.finfo(float).eps * size)
+
+
+def _turns(br, d, base=0.0):
+    """base + the change d - base (n,) of a pose rounded to whole turns of its angles, None
+    where it is not whole turns (to SAME, scaled) or moves a position."""
     m, cols = br.m, br.p.cols
-    dc = d[cols]
+    dc = (d - base)[cols]
     turns = np.where(cols % 3 == 2, np.round(dc / (2 * np.pi)), 0.0)
     if not np.max(np.abs(dc - 2 * np.pi * turns) / m.col_scale[cols]) <= SAME:
         return None
-    D = np.zeros(m.n)
-    D[cols] = 2 * np.pi * turns
+    D = np.zeros(m.n) + base
+    D[cols] += 2 * np.pi * turns
     return D
