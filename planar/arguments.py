@@ -114,8 +114,8 @@ def size(model, N, what="the sweep"):
 
 def values(model, U, step):
     """Refuse no values, more values (N, f) than fit in memory, and values whose walk from the
-    sketch, value after value (one input's values in the order of the input, as the sweep
-    solves them), takes more than :data:`MAX_STEPS` steps of ``step`` (radians, or lengths
+    sketch, value after value (one input's values turning back: in the order of the input, as
+    the sweep solves them), takes more than :data:`MAX_STEPS` steps of ``step`` (radians, or lengths
     over the mechanism's size)."""
     if len(U) == 0:
         raise InputError("the sweep has no values: give at least one input value")
@@ -124,9 +124,11 @@ def values(model, U, step):
     with np.errstate(over="ignore", invalid="ignore"):
         jumps = np.abs(np.diff(np.vstack([model.u0[None], U]), axis=0)) / scale
         steps = float(np.sum(np.max(jumps, axis=1))) / step
-        if U.shape[1] == 1:  # to the nearer end, then across
+        d = np.diff(U[:, 0])
+        if U.shape[1] == 1 and len(U) >= 3 and not (np.all(d >= 0) or np.all(d <= 0)):
+            # solved in the order of the input (planar.sweep.run._input_order): to the nearer end, then across
             u, u0 = U[:, 0] / scale[0], model.u0[0] / scale[0]
-            steps = min(steps, float(min(abs(u0 - u.min()), abs(u.max() - u0)) + u.max() - u.min()) / step)
+            steps = float(min(abs(u0 - u.min()), abs(u.max() - u0)) + u.max() - u.min()) / step
     if not steps <= MAX_STEPS:
         raise InputError(f"the walk through these sweep values is {steps:.3g} continuation steps of max_step = "
                          f"{step:g}, more than the limit of {MAX_STEPS:g}: sweep a shorter span of the input, "
