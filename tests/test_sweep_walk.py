@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, example, given, settings, strategies as st
 
-from planar.blocks import Plan
+from planar.blocks import Plan, plan as block_plan
 from planar.errors import PlanarError
-from planar.mechanisms import four_bar, gear_train, planetary_gear_train, rack_and_pinion, rolling_wheel, slider_crank, watt_six_bar
+from planar.mechanisms import four_bar, gear_train, geared_five_bar, planetary_gear_train, rack_and_pinion, rolling_wheel, slider_crank, watt_six_bar
 from planar.results import POSED, VALID, Status
+from planar.sweep.branch import Branch
 from tests import oracles
 
 # a sweep with far, repeated and out-of-order values costs ~0.1-0.5 s: 40 examples in CI, the
@@ -209,6 +210,22 @@ def test_a_far_input_of_a_rolling_contact_is_its_near_pose_moved_along(build, kw
         phi = far * k - 2 * np.pi * np.round(far * k / (2 * np.pi))
         psi = np.angle(np.exp(1j * (-np.pi / 2 - k * 0.2 - phi)))
         np.testing.assert_allclose(res.position("centre")[2], 1.6 * np.array([np.cos(psi), np.sin(psi)]), atol=1e-9)
+
+
+def test_a_far_input_of_a_geared_linkage_with_no_period_is_entered_directly_as_a_jump():
+    # gear ratio 30/37: no whole turn within PERIODS brings the sketch back, and a limit every
+    # few radians; a walk to 480 rad met 66 limits in 23,000 evaluations (9 s)
+    m = geared_five_bar(8.0, 3.0, 3.7, 6.0, start=0.3)
+    with Evaluations() as count:
+        res = m.sweep([0.3, 0.6, 480.2, -777.7, 0.5])
+    assert count.calls <= 1500, count.calls
+    assert list(res.status[[0, 1, 4]]) == [Status.SOLVED] * 3
+    # valid, in the sketch's assembly modes, and not shown continuous from the value before it
+    assert res.status[2] == Status.JUMPED and res.residual[2] <= 1e-12
+    model = m.compile()
+    br = Branch(model, block_plan(model, None), 1e-12)
+    assert np.array_equal(br.signs(res.q[2][None], res.inputs[2][None]), br.signs(model.q0[None], model.u0[None]))
+    assert res.status[3] in (Status.NOT_CONVERGED, Status.NOT_ASSEMBLABLE)
 
 
 @st.composite

@@ -14,7 +14,7 @@ from planar.sweep.anchors import MAX_WAVE, WAVE, Kin, from_anchors, solve_wave, 
 from planar.sweep.branch import Branch, input_scale, scaled_norm
 from planar.sweep.finish import Out, finish
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
-from planar.sweep.walk import MODE_PERIODS, Walker, _turns, less_periods
+from planar.sweep.walk import MODE_PERIODS, WALK_STEPS, Walker, _turns, less_periods
 
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
@@ -96,6 +96,16 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             limits.append((ev, np.sign(U[i] - start[1])))
         return got
 
+    def enter_far(start, i):
+        """Value i, too far from ``start`` to walk with no period to shorten the way, entered
+        directly in the sketch's modes: past every gap between, the walk would re-enter the
+        branch in them, and within a stretch it keeps them."""
+        qe = walker.enter([start[0], model.q0], chosen, U[i])
+        if qe is None:
+            return ("far",)
+        direct.append(i)  # (not reached continuously from the value before it: JUMPED)
+        return "ok", qe, chosen
+
     def past(u_from, u_to):
         """A limit the walk met lies between u_from and u_to, periods of the input apart (asked
         only of values more than half a turn apart: nearer ones the walk goes to directly)."""
@@ -135,6 +145,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     limits = []  # (limit event, direction of the input that hit it)
     entries = 0  # ranges entered at a gap's far end
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
+    direct = []  # values entered directly, too far to walk
     anchors = sweep_anchors(model, U, max_step)
     kin = Kin()  # the anchors' kinematic coefficients where known (one input)
     coef = None  # those of the state, where known
@@ -204,6 +215,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         i = anchors[k]
         qe = walker.near_turns(qe, U[i], se, state[0])
         q[i], solved[i], signs[i] = qe, True, se
+        if got[0] == "far":
+            direct.append(i)
         state, lo = (qe, U[i], se), i
         k += 1
 
@@ -250,6 +263,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         if _further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
             continue  # the walk from this pose failed nearer that way already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
+        if got[0] == "far":
+            got = enter_far(start, i)
         if got[0] != "ok":
             failed = (j, U[i])
             continue
@@ -268,6 +283,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         if _further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
             continue
         got = walk((q[j], U[j], signs[j]), i, -1, back=j)
+        if got[0] == "far":
+            got = enter_far((q[j], U[j], signs[j]), i)
         if got[0] != "ok":
             failed = (j, U[i])
             continue
@@ -292,17 +309,22 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
-    jumps = (stops, None)
+    jumps = (stops + direct, None)
     if order is not None:
         # values asked one after the other with a limit the walk met between them (the direct
-        # way): a jump
+        # way), or entered too far to walk: a jump
         inv = np.empty_like(order)
         inv[order] = np.arange(N)
         prev = np.where(order > 0, inv[np.maximum(order - 1, 0)], -1)  # the value asked before each
         cand = np.flatnonzero(prev >= 0)
         if limits and cand.size:
             cand = cand[past_limit(limits, U[prev[cand]], U[cand])]
-        jumps = (cand if limits else [], prev)
+        cand = cand if limits else np.zeros(0, int)
+        # (a value entered directly is a jump from the value asked before it where that one too
+        # is out of the walk's reach)
+        reach = WALK_STEPS * max_step
+        far = [j for j in direct if prev[j] >= 0 and scaled_norm(model, U[j] - U[prev[j]]) > reach]
+        jumps = (np.union1d(cand, far).astype(int), prev)
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
 

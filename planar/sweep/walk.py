@@ -16,7 +16,7 @@ ROUNDS = 5
 PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
 MODE_PERIODS = 4  # periods the walk from the sketch may go on in other modes before it comes back
 SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
-WALK_STEPS = 20000  # steps of one walk without a period to shorten it: farther targets are not reached
+WALK_STEPS = 2000  # steps of one walk without a period to shorten it: farther targets are entered directly
 
 
 class Walker:
@@ -98,9 +98,9 @@ class Walker:
         periodic in the input (:meth:`period`), the whole periods between them are one move
         and the walk goes on less than a period the same way, so a far target costs what a
         near one does; for a rocking input that meets a limit that way, the other way round
-        (a period less or more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)) or ("lost",)
-        (also for a target more than WALK_STEPS steps away with no period to shorten the way:
-        the work is bounded and the value left unreached)."""
+        (a period less or more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)),
+        ("lost",) or ("far",) for a target more than WALK_STEPS steps away with no period to
+        shorten the way (the work is bounded: the sweep enters it directly)."""
         if periodic and u.size == 1:
             d = float(target[0] - u[0])
             per = self.period() if abs(d) * float(input_scale(self.br.m)[0]) >= 2 * np.pi else None
@@ -133,7 +133,7 @@ class Walker:
         if total <= 1e-14:  # the target is this pose up to rounding (the final Newton polishes it)
             return "ok", q, signs
         if total > WALK_STEPS * self.max_step:
-            return ("lost",)
+            return ("far",)
         h = min(1.0, self.max_step / total)
         t = 0.0
         u0 = u
