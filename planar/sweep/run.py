@@ -77,6 +77,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         value from i on at or past them in the sweep's own direction)."""
         k = len(walker.events)
         got = walker.walk(*start, U[i], int(i), periodic=periodic)
+        if got[0] == "far" and start is not origin and scaled_norm(model, U[i] - origin[1]) <= WALK_STEPS * max_step:
+            # too far from that pose to walk, not from the sketch: walked from the sketch
+            start = origin
+            got = walker.walk(*start, U[i], int(i), periodic=periodic)
 
         def index(u_star):
             if back is None:
@@ -100,7 +104,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         """Value i, too far from ``start`` to walk with no period to shorten the way, entered
         directly in the sketch's modes: past every gap between, the walk would re-enter the
         branch in them, and within a stretch it keeps them."""
-        qe = walker.enter([start[0], model.q0], chosen, U[i])
+        qe = walker.enter([model.q0, start[0]], chosen, U[i])  # (its angles counted as the sketch's first)
         if qe is None:
             return ("far",)
         direct.append(i)  # (not reached continuously from the value before it: JUMPED)
@@ -202,8 +206,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
                 continue
         upto = anchors.size if found is None else k + found[0]
-        nearer, assembles = (walker.enter_any([state[0], model.q0], chosen, U[anchors[k:upto]]) if upto > k
-                             else (None, False))
+        guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
+        nearer, assembles = (walker.enter_any(guesses, chosen, U[anchors[k:upto]]) if upto > k else (None, False))
         if nearer is not None:
             found = (*nearer, chosen)
         if found is None and assembles and not _nested:
