@@ -15,6 +15,7 @@ import os
 import sys
 import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numba
 import numpy as np
@@ -135,17 +136,17 @@ _lu_det, _lu_solve = _inline(_factor_one), _inline(_solve_one)
 
 @_inline
 def _frames(q, qd, rates, fb, ref, near, L):
-    """The bodies' rows of ``fb`` (body, row, lane): x, y, angle, its cos and sin (and with
+    """The bodies' rows of ``fb`` (lane, body, row): x, y, angle, its cos and sin (and with
     ``rates`` the body's velocity). cos and sin by ``_cos_sin``; ``near`` (bulk values: within
     NEAR_ANGLE of their anchor's angles ``ref``): by the angle-addition formulas from the
     anchor's cos and sin, with the Taylor series of the difference d to d^9 (the first term
     left out, d^10 / 10!, is below 1e-19 there): half the time of a tan, and as accurate. The
     series runs on every lane (no branch in the loop); the rare lanes too far take the tan."""
-    for b in range(1, fb.shape[0]):
+    for b in range(1, fb.shape[1]):
         x = 3 * b - 3
         a = x + 2
         for l in range(L):
-            fb[b, 0, l], fb[b, 1, l], fb[b, 2, l] = q[x, l], q[x + 1, l], q[a, l]
+            fb[l, b, 0], fb[l, b, 1], fb[l, b, 2] = q[x, l], q[x + 1, l], q[a, l]
         far = not near
         if near:
             for l in range(L):
@@ -154,15 +155,15 @@ def _frames(q, qd, rates, fb, ref, near, L):
                 sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
                                                                                  * (1.0 - d2 * (1.0 / 72.0)))))
                 cd = 1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))))
-                fb[b, 3, l], fb[b, 4, l] = ref[b, 1, l] * cd - ref[b, 2, l] * sd, ref[b, 2, l] * cd + ref[b, 1, l] * sd
+                fb[l, b, 3], fb[l, b, 4] = ref[b, 1, l] * cd - ref[b, 2, l] * sd, ref[b, 2, l] * cd + ref[b, 1, l] * sd
                 far |= not abs(d) <= NEAR_ANGLE
         if far:
             for l in range(L):
                 if not (near and abs(q[a, l] - ref[b, 0, l]) <= NEAR_ANGLE):
-                    fb[b, 3, l], fb[b, 4, l] = _cos_sin(q[a, l])
+                    fb[l, b, 3], fb[l, b, 4] = _cos_sin(q[a, l])
         if rates:
             for l in range(L):
-                fb[b, 5, l], fb[b, 6, l], fb[b, 7, l] = qd[x, l], qd[x + 1, l], qd[a, l]
+                fb[l, b, 5], fb[l, b, 6], fb[l, b, 7] = qd[x, l], qd[x + 1, l], qd[a, l]
 
 
 @_inline
@@ -191,15 +192,15 @@ def _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, near, L):
         for l in range(L):
             if act[l]:
                 _row_constants(T, des[l], j, U[I[l]], c)
-                _rows(code, T.par[des[l], j], c, fb[:, :, l], s, phi[:, l], jac[:, :, l])
+                _rows(code, T.par[des[l], j], c, fb[l], s, phi[l], jac[l])
         for r in range(T.nr[j]):
             row = T.jrows[j, r]
             for l in range(L):
-                Phi[row, l] = phi[r, l]
+                Phi[row, l] = phi[l, r]
         for e in range(T.jac_at[j], T.jac_at[j + 1]):
             to, r, col = T.jac_to[e], T.jac_r[e], T.jac_c[e]
             for l in range(L):
-                Jv[to, l] = _pick(act[l], jac[r, col, l], Jv[to, l])
+                Jv[to, l] = _pick(act[l], jac[l, r, col], Jv[to, l])
 
 
 @_inline
@@ -212,11 +213,11 @@ def _gammas(T, q, qd, U, I, des, want, fb, Phi, c, g, ref, near, L):
         for l in range(L):
             if want[l]:
                 _row_constants(T, des[l], j, U[I[l]], c)
-                _gamma(code, T.par[des[l], j], c, fb[:, :, l], s, g[:, l])
+                _gamma(code, T.par[des[l], j], c, fb[l], s, g[l])
         for r in range(T.nr[j]):
             row = T.jrows[j, r]
             for l in range(L):
-                Phi[row, l] = g[r, l]
+                Phi[row, l] = g[l, r]
 
 
 @_inline
@@ -616,8 +617,8 @@ def _buffers(T, L):
     threads, even for a chunk or less."""
     D = T.dims
     nb, kmax, rmax, n = T.blk.shape[0], D[D_KMAX], D[D_RMAX], D[D_N]
-    fb = np.zeros((D[D_BODIES], 8, L))
-    fb[0, 3] = 1.0  # the ground: at the origin, unrotated
+    fb = np.zeros((L, D[D_BODIES], 8))  # (lane first: each lane's is a kernel's contiguous array)
+    fb[:, 0, 3] = 1.0  # the ground: at the origin, unrotated
     # (a row order in P from the start: the solves run on every lane, factored or not)
     A, P, E, V = np.empty((nb, L, rmax, rmax)), np.zeros((nb, L, rmax), np.int64), np.empty((T.form0.size + 1, L)), \
         np.empty((D[D_NV] + 1, L))
@@ -625,7 +626,7 @@ def _buffers(T, L):
     act = np.ones(L, np.bool_)
     _constants(T, A, P, E, V, lv[LV_FACTOR + 8], lv[LV_FACTOR], act)
     jr = D[D_JROWS]  # a joint's row constants, rows, Jacobian block and gamma
-    return (fb, np.empty(jr), np.empty((jr, L)), np.empty((jr, 3 * D[D_JBODIES], L)), np.empty((jr, L)),
+    return (fb, np.empty(jr), np.empty((L, jr)), np.empty((L, jr, 3 * D[D_JBODIES])), np.empty((L, jr)),
             np.zeros((D[D_M], L)), np.zeros((D[D_NNZ], L)), np.empty((T.prow.size, L)), np.zeros((n + 1, L)),
             np.empty((kmax, L)), np.empty(rmax), A, P, np.empty((n, L)), np.empty((n, L)), np.empty((nb, L), np.int8),
             np.empty((nb, L)), np.zeros((D[D_BODIES], 3, L)), np.zeros((D[D_BODIES], 3)), E, V, np.empty(rmax),
@@ -640,21 +641,28 @@ def chunk(N):
     return min(CHUNK, max(MIN_CHUNK, (N + threads - 1) // threads))
 
 
-@numba.njit(**dict(_JIT, parallel=True))
-def loop(size, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING,
-         BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T):
-    """The values in chunks of ``size`` (:func:`chunk`) on all cores, each chunk with its own
-    buffers; a chunk or less on the calling thread (no threads to start)."""
-    N = rows.shape[0]
-    if N <= size:
-        # lo as an int64 variable: the literal 0 would compile _values a second time, for Literal[int]
-        _values(np.int64(0), N, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
-                SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, _buffers(T, min(LANES, N)))
+def loop(size, rows, *args):
+    """The values (``args``: :func:`_values`' after rows, up to the tables) in chunks of
+    ``size`` (:func:`chunk`) on numba's number of threads, each chunk with its own buffers; a
+    chunk or less on the calling thread. Python's threads (the loop releases the GIL): numba's
+    parallel loop compiled the loop twice more, for twice the compile time."""
+    N, T, threads = rows.shape[0], args[-1], numba.get_num_threads()
+
+    def run(lo):
+        hi = min(N, lo + size)
+        _values(lo, hi, rows, *args, _buffers(T, min(LANES, hi - lo)))
+
+    if N <= size or threads == 1:
+        for lo in range(0, N, size):
+            run(lo)
         return
-    for chunk in numba.prange((N + size - 1) // size):
-        _values(chunk * size, min(N, (chunk + 1) * size), rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q,
-                U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE,
-                T, _buffers(T, min(LANES, size)))
+    if threads not in _POOLS:
+        _POOLS[threads] = ThreadPoolExecutor(threads, thread_name_prefix="planar")
+    for _ in _POOLS[threads].map(run, range(0, N, size)):
+        pass
+
+
+_POOLS: dict = {}  # number of threads -> their pool, kept for the process's later sweeps
 
 
 _ready = False
@@ -693,7 +701,7 @@ def _say(line):
 
 
 def _stamp_file():
-    return os.path.join(loop._cache._cache_path, "engine.planar-stamp")
+    return os.path.join(_values._cache._cache_path, "engine.planar-stamp")
 
 
 def _missing(stamp):
@@ -704,12 +712,12 @@ def _missing(stamp):
             same = f.read() == stamp
     except OSError:
         same = False
-    return not (same and all(fn._cache._cache_file._load_index() for fn in (_values, loop)))
+    return not (same and all(fn._cache._cache_file._load_index() for fn in (_values, _buffers)))
 
 
 def _compile(stamp):
     """Drop the cached code, compile afresh (numba caches it) and stamp it."""
-    for fn in (_values, loop):
+    for fn in (_values, _buffers):
         fn._cache.flush()
     _warm()
     try:
