@@ -1,5 +1,5 @@
-"""The compiled engine's machine code: one loop over values, reading a plan's tables
-(:class:`planar.compiled.Tables`), compiled once and cached on disk by numba.
+"""The compiled engine's machine code: one loop over values in groups (the lanes), reading a
+plan's tables (:class:`planar.compiled.Tables`), compiled once and cached on disk by numba.
 
 Imported on the first ``engine="numba"`` sweep (it imports numba). :func:`ready` compiles the
 loop, or loads it from numba's cache, saying so on stderr when it compiles.
@@ -34,7 +34,7 @@ from planar.results import Status
 NEAR_ANGLE = 0.05  # a bulk value's angles within this of its anchor's: cos and sin from the anchor's
 CLOSE = 1e-4  # a batch value takes more Newton steps while its last one (scaled) is below this
 ST_BRANCH_EVENT = int(Status.BRANCH_EVENT)  # the last status with rates
-LANES = 16  # values the loop takes together (fewer for a smaller call)
+LANES = 32  # values the loop takes together (fewer in a smaller chunk)
 
 # fast-math's "contract" only: LLVM may fuse a * b + c into one fused multiply-add (one rounding
 # instead of two); no other fast-math licence (the NaN and inf tests stay exact, nothing is
@@ -612,9 +612,9 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
 
 @numba.njit(**_JIT)
 def _buffers(T, L):
-    """The work arrays of one thread's values (:func:`_values`) in L lanes (the last axis).
-    Compiled apart: inlined into the parallel loop, its array expressions would each start the
-    threads, even for a chunk or less."""
+    """The work arrays of one chunk's values (:func:`_values`) in L lanes: the last axis, but
+    for the kernels' arrays (each lane's contiguous, as a kernel reads it). Compiled apart from
+    the loop, with numba's reference counting (it allocates)."""
     D = T.dims
     nb, kmax, rmax, n = T.blk.shape[0], D[D_KMAX], D[D_RMAX], D[D_N]
     fb = np.zeros((L, D[D_BODIES], 8))  # (lane first: each lane's is a kernel's contiguous array)
@@ -636,7 +636,7 @@ def _buffers(T, L):
 
 def chunk(N):
     """Values per task of :func:`loop` for a call of N values: CHUNK, fewer to give every thread
-    one, down to MIN_CHUNK (asked here: numba cannot cache a loop that asks the thread count)."""
+    one, down to MIN_CHUNK."""
     threads = numba.get_num_threads()
     return min(CHUNK, max(MIN_CHUNK, (N + threads - 1) // threads))
 
@@ -728,7 +728,7 @@ def _compile(stamp):
 
 
 def _warm():
-    """Compile the loop (its one signature) by a call on the sketch of a four-bar."""
+    """Compile the loop and its buffers (one signature each) by a call on the sketch of a four-bar."""
     from planar.blocks import plan
     from planar.compiled import final
     from planar.mechanisms import four_bar
