@@ -428,7 +428,8 @@ def _rate(T, base, inputs, I, want, out, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L
                 out[I[l], k] = x[k, l]
 
 
-# the rows of a lane buffer (each (L,)): what a value's last step left, then the factor's work rows
+# the rows of the lanes' numbers lv (each (L,)): what each value's last step left, this step's, then
+# the work rows of _factor (the last also the running sums of _forms and _solve)
 (LV_RES, LV_RED, LV_SING, LV_BRANCH, LV_STEP, LV_OFF, LV_MOVE, LV_NEW_RES, LV_NEW_RED, LV_NEW_SING, LV_NEW_STEP,
  LV_NEW_OFF, LV_FACTOR) = range(13)
 LV_ROWS = LV_FACTOR + 9
