@@ -112,7 +112,7 @@ def test_every_structure_runs_on_one_compiled_loop():
         for n in (100, 3000):
             model.sweep(np.linspace(0, 1, n) + model.u0[0], engine="numba")
             model.sweep(np.linspace(0, 1, n) + model.u0[0], engine="numba", rates=False)
-    assert len(engine.loop.signatures) == 1
+    assert len(engine._values.signatures) == 1 and len(engine._buffers.signatures) == 1
     assert not engine._missing(engine._stamp())  # on disk, for the kernels as they are
     assert engine._missing("kernels changed")  # a change to them: compiled afresh
 

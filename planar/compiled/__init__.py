@@ -4,19 +4,23 @@ loop of machine code, compiled once per installation.
 The numpy engine evaluates, factors and solves a whole batch of configurations per numpy call;
 its floor is the calls' passes over memory. Here the same plan (the block-triangular form of
 :mod:`planar.blocks`, with the same scaling, elimination programs and singularity measure)
-runs one configuration at a time. The loop is ordinary source, generic over the plan:
+runs on groups of up to 32 configurations, the lanes: every work array has a last axis over
+the group, so each table entry is read once per group and the innermost loops run over the
+lanes (a group takes a further Newton step while any of its values does; a value that has
+stopped keeps its numbers). The loop is ordinary source, generic over the plan:
 :func:`tables` flattens a plan into arrays (each joint's type code, parameters, bodies and
 where its Jacobian entries go; each block's size, couplings and elimination program), and the
 loop reads them. Each joint type's scalar kernel comes from its class (``scalar_kernels``, see
 :mod:`planar.joints.scalar`); the loop picks it by the joint's type code, its index in
-:func:`kinds`, so the solver still never asks a joint's type. The blocks'
-Schur complements are factored by one LU with the sizes that occur (1 and 2) written out.
+:func:`kinds`, so the solver still never asks a joint's type (a kernel runs lane by lane).
+The blocks' Schur complements are factored by :mod:`planar.lu`'s LU, lane by lane.
 
 Two entries: :func:`final` (one Newton step from given poses, with modes and rates: the
 anchors' Newton iterations and kinematic coefficients) and :func:`fill` (the bulk of a sweep:
 each value's Hermite guess, up to STEPS Newton steps, the acceptance test, status and rates,
-written in place into the sweep's arrays). Both call the one loop (chunks of values on all
-cores; a chunk or less on the calling thread).
+written in place into the sweep's arrays). Both call the one loop (chunks of values on
+numba's number of threads, Python's: the loop releases the GIL; a chunk or less on the calling
+thread).
 
 numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside
 :mod:`planar.compiled.engine`, or where ``NUMBA_CACHE_DIR`` says, or numba's user cache
@@ -42,7 +46,7 @@ import numpy as np
 from planar.errors import InputError
 
 _TABLES = weakref.WeakKeyDictionary()
-CHUNK = 1024  # values per task of the parallel loop, at most
+CHUNK = 1024  # values per task of the loop's threads, at most
 # values per task at least: a call of fewer than twice this many runs on the calling thread (a
 # task of these takes ~50 us, several times what starting the threads costs)
 MIN_CHUNK = 128

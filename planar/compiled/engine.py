@@ -1,5 +1,5 @@
-"""The compiled engine's machine code: one loop over values, reading a plan's tables
-(:class:`planar.compiled.Tables`), compiled once and cached on disk by numba.
+"""The compiled engine's machine code: one loop over values in groups (the lanes), reading a
+plan's tables (:class:`planar.compiled.Tables`), compiled once and cached on disk by numba.
 
 Imported on the first ``engine="numba"`` sweep (it imports numba). :func:`ready` compiles the
 loop, or loads it from numba's cache, saying so on stderr when it compiles.
@@ -15,6 +15,7 @@ import os
 import sys
 import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numba
 import numpy as np
@@ -33,6 +34,7 @@ from planar.results import Status
 NEAR_ANGLE = 0.05  # a bulk value's angles within this of its anchor's: cos and sin from the anchor's
 CLOSE = 1e-4  # a batch value takes more Newton steps while its last one (scaled) is below this
 ST_BRANCH_EVENT = int(Status.BRANCH_EVENT)  # the last status with rates
+LANES = 32  # values the loop takes together (fewer in a smaller chunk)
 
 # fast-math's "contract" only: LLVM may fuse a * b + c into one fused multiply-add (one rounding
 # instead of two); no other fast-math licence (the NaN and inf tests stay exact, nothing is
@@ -133,27 +135,35 @@ _lu_det, _lu_solve = _inline(_factor_one), _inline(_solve_one)
 
 
 @_inline
-def _frames(q, qd, rates, fb, ref, near):
-    """The bodies' rows of ``fb``: x, y, angle, its cos and sin (and with ``rates`` the body's
-    velocity). cos and sin by ``_cos_sin``; ``near`` (a bulk value: within NEAR_ANGLE of its
-    anchor's angles ``ref``): by the angle-addition formulas from the anchor's cos and sin, with
-    the Taylor series of the difference d to d^9 (the first term left out, d^10 / 10!, is below
-    1e-19 there): half the time of a tan, and as accurate."""
-    for b in range(1, fb.shape[0]):
+def _frames(q, qd, rates, fb, ref, near, L):
+    """The bodies' rows of ``fb`` (lane, body, row): x, y, angle, its cos and sin (and with
+    ``rates`` the body's velocity). cos and sin by ``_cos_sin``; ``near`` (bulk values: within
+    NEAR_ANGLE of their anchor's angles ``ref``): by the angle-addition formulas from the
+    anchor's cos and sin, with the Taylor series of the difference d to d^9 (the first term
+    left out, d^10 / 10!, is below 1e-19 there): half the time of a tan, and as accurate. The
+    series runs on every lane (no branch in the loop); the rare lanes too far take the tan."""
+    for b in range(1, fb.shape[1]):
         x = 3 * b - 3
         a = x + 2
-        d = q[a] - ref[b, 0]
-        if near and abs(d) <= NEAR_ANGLE:
-            d2 = d * d
-            sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
-                                                                             * (1.0 - d2 * (1.0 / 72.0)))))
-            cd = 1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))))
-            co, si = ref[b, 1] * cd - ref[b, 2] * sd, ref[b, 2] * cd + ref[b, 1] * sd
-        else:
-            co, si = _cos_sin(q[a])
-        fb[b, 0], fb[b, 1], fb[b, 2], fb[b, 3], fb[b, 4] = q[x], q[x + 1], q[a], co, si
+        for l in range(L):
+            fb[l, b, 0], fb[l, b, 1], fb[l, b, 2] = q[x, l], q[x + 1, l], q[a, l]
+        far = not near
+        if near:
+            for l in range(L):
+                d = q[a, l] - ref[b, 0, l]
+                d2 = d * d
+                sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
+                                                                                 * (1.0 - d2 * (1.0 / 72.0)))))
+                cd = 1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))))
+                fb[l, b, 3], fb[l, b, 4] = ref[b, 1, l] * cd - ref[b, 2, l] * sd, ref[b, 2, l] * cd + ref[b, 1, l] * sd
+                far |= not abs(d) <= NEAR_ANGLE
+        if far:
+            for l in range(L):
+                if not (near and abs(q[a, l] - ref[b, 0, l]) <= NEAR_ANGLE):
+                    fb[l, b, 3], fb[l, b, 4] = _cos_sin(q[a, l])
         if rates:
-            fb[b, 5], fb[b, 6], fb[b, 7] = qd[x], qd[x + 1], qd[a]
+            for l in range(L):
+                fb[l, b, 5], fb[l, b, 6], fb[l, b, 7] = qd[x, l], qd[x + 1, l], qd[a, l]
 
 
 @_inline
@@ -173,336 +183,487 @@ def _row_constants(T, d, j, u, c):
 
 
 @_inline
-def _evaluate(T, q, u, fb, Phi, Jv, c, phi, jac, ref, near):
-    """Phi at q, and the Jacobian entries factor and solve read into Jv: each joint's kernel."""
-    _frames(q, q, False, fb, ref, near)
-    d = _design(T, u)
+def _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, near, L):
+    """Phi at q, and the Jacobian entries factor and solve read into Jv (of the active lanes
+    only: the others keep their last step's): each joint's kernel, lane by lane."""
+    _frames(q, q, False, fb, ref, near, L)
     for j in range(T.code.size):
-        _row_constants(T, d, j, u, c)
-        _rows(T.code[j], T.par[d, j], c, fb, T.slots[j], phi, jac)
+        code, s = T.code[j], T.slots[j]
+        for l in range(L):
+            if act[l]:
+                _row_constants(T, des[l], j, U[I[l]], c)
+                _rows(code, T.par[des[l], j], c, fb[l], s, phi[l], jac[l])
         for r in range(T.nr[j]):
-            Phi[T.jrows[j, r]] = phi[r]
+            row = T.jrows[j, r]
+            for l in range(L):
+                Phi[row, l] = phi[l, r]
         for e in range(T.jac_at[j], T.jac_at[j + 1]):
-            Jv[T.jac_to[e]] = jac[T.jac_r[e], T.jac_c[e]]
+            to, r, col = T.jac_to[e], T.jac_r[e], T.jac_c[e]
+            for l in range(L):
+                Jv[to, l] = _pick(act[l], jac[l, r, col], Jv[to, l])
 
 
 @_inline
-def _gammas(T, q, qd, u, fb, Phi, c, g, ref, near):
-    """gamma at q and the velocities qd into Phi: each joint's gamma kernel."""
-    _frames(q, qd, True, fb, ref, near)
-    d = _design(T, u)
+def _gammas(T, q, qd, U, I, des, want, fb, Phi, c, g, ref, near, L):
+    """gamma at q and the velocities qd into Phi (of the lanes ``want``): each joint's gamma
+    kernel."""
+    _frames(q, qd, True, fb, ref, near, L)
     for j in range(T.code.size):
-        _row_constants(T, d, j, u, c)
-        _gamma(T.code[j], T.par[d, j], c, fb, T.slots[j], g)
+        code, s = T.code[j], T.slots[j]
+        for l in range(L):
+            if want[l]:
+                _row_constants(T, des[l], j, U[I[l]], c)
+                _gamma(code, T.par[des[l], j], c, fb[l], s, g[l])
         for r in range(T.nr[j]):
-            Phi[T.jrows[j, r]] = g[r]
+            row = T.jrows[j, r]
+            for l in range(L):
+                Phi[row, l] = g[l, r]
 
 
 @_inline
-def _forms(T, b, Jv, A, P, E, V):
+def _forms(T, b, Jv, act, A, P, E, V, w, det, L):
     """Block b's variables' scaled values into V, its forms' values into E (the Schur
-    complement's into A too) and the LU of the Schur complement: its det."""
+    complement's into A too) and the LU of the Schur complement, its det into ``det``: of
+    the active lanes (the others keep their last step's)."""
     B = T.blk[b]
     vo, fo, r = B[B_VO], B[B_FO], B[B_R]
     for i in range(B[B_NV]):
-        V[i] = Jv[T.var[vo + i]] * T.vscale[vo + i]
+        v, sc = T.var[vo + i], T.vscale[vo + i]
+        for l in range(L):
+            V[i, l] = Jv[v, l] * sc
     for f in range(fo, fo + B[B_NF]):
-        e = T.form0[f]
+        e0 = T.form0[f]
+        for l in range(L):
+            w[l] = e0
         for t in range(T.form_at[f], T.form_at[f + 1]):
-            e += V[T.term_v[t]] * T.term_c[t]
-        E[f] = e
-    for i in range(r):
-        for j in range(r):
-            A[b, i, j] = E[fo + i * r + j]
-    return _lu_det(A[b], P[b], r) if r else 1.0
+            v, tc = T.term_v[t], T.term_c[t]
+            for l in range(L):
+                w[l] += V[v, l] * tc
+        for l in range(L):
+            E[f, l] = _pick(act[l], w[l], E[f, l])
+    for l in range(L):
+        det[l] = 1.0
+        if act[l] and r:
+            for i in range(r):
+                for j in range(r):
+                    A[b, l, i, j] = E[fo + i * r + j, l]
+            det[l] = _lu_det(A[b, l], P[b, l], r)
 
 
 @_inline
-def _constants(T, A, P, E, V):
-    """The factors of the blocks of constants (no variables), once per buffer."""
+def _constants(T, A, P, E, V, w, det, act):
+    """The factors of the blocks of constants (no variables), once per buffer (all lanes
+    active)."""
     for b in range(T.blk.shape[0]):
         if T.blk[b, B_NV] == 0:
-            _forms(T, b, E, A, P, E, V)  # (no variable reads Jv)
+            _forms(T, b, E, act, A, P, E, V, w, det, act.size)  # (no variable reads Jv)
 
 
 @_inline
-def _factor(T, Jv, A, P, dets, E, V):
+def _factor(T, Jv, act, A, P, dets, E, V, fw, sing, L):
     """Each block by its elimination program (planar.elimination.Program._factor): the
     variables' scaled values, the forms' values, the LU of the Schur complement and the det's
-    normalisation; the blocks of constants were factored once (:func:`_constants`). Returns the
-    singularity measure: the smallest normalised |det|, kept as sn / sd (the blocks' squared
-    normalised dets dd / nm; NaN stays NaN), so one square root and one division per value."""
-    sn, sd = 1.0, 1.0
+    normalisation; the blocks of constants were factored once (:func:`_constants`). The
+    singularity measure into ``sing``: the smallest normalised |det|, kept as sn / sd (the
+    blocks' squared normalised dets dd / nm; NaN stays NaN), so one square root and one
+    division per value. ``fw``: the lanes' work rows."""
+    sn, sd, dd, nm, lam, det, s0, s1, w = fw[0], fw[1], fw[2], fw[3], fw[4], fw[5], fw[6], fw[7], fw[8]
+    for l in range(L):
+        sn[l], sd[l] = 1.0, 1.0
     for b in range(T.blk.shape[0]):
         B = T.blk[b]
         if B[B_NV] == 0:  # a block of constants: its det was normalised once
-            dets[b] = T.det_c[b]
-            dd, nm = dets[b] * dets[b], 1.0
+            dc = T.det_c[b]
+            for l in range(L):
+                dets[b, l] = dc
+                dd[l], nm[l] = dc * dc, 1.0
         else:
-            det = T.det0[b] * _forms(T, b, Jv, A, P, E, V)
-            lam = 1.0
+            _forms(T, b, Jv, act, A, P, E, V, w, det, L)
+            d0 = T.det0[b]
+            for l in range(L):
+                det[l] = d0 * det[l]
+                lam[l] = 1.0
             if B[B_ANGLE]:  # the largest angle-column entry, at least lam's constant part, at most 1
-                lam = T.lam_c[b]
+                lc = T.lam_c[b]
+                for l in range(L):
+                    lam[l] = lc
                 for t in range(B[B_LO], B[B_LO] + B[B_NL]):
-                    lam = _mx(lam, abs(V[T.lam_v[t]]))
-                lam = -_mx(-lam, -1.0)
-            nm = 1.0
+                    v = T.lam_v[t]
+                    for l in range(L):
+                        lam[l] = _mx(lam[l], abs(V[v, l]))
+                for l in range(L):
+                    lam[l] = -_mx(-lam[l], -1.0)
+            for l in range(L):
+                nm[l] = 1.0
             for i in range(B[B_O], B[B_O] + B[B_K]):
-                s0 = T.nc0[i]
+                c0 = T.nc0[i]
+                for l in range(L):
+                    s0[l] = c0
                 for t in range(T.n0_at[i], T.n0_at[i + 1]):
-                    s0 += V[T.n0_v[t]] * V[T.n0_v[t]]
+                    v = T.n0_v[t]
+                    for l in range(L):
+                        s0[l] += V[v, l] * V[v, l]
                 if B[B_WEIGHTED]:
-                    s1 = T.nc1[i]
+                    c1 = T.nc1[i]
+                    for l in range(L):
+                        s1[l] = c1
                     for t in range(T.n1_at[i], T.n1_at[i + 1]):
-                        s1 += V[T.n1_v[t]] * V[T.n1_v[t]]
-                    s0 += s1 * lam * lam
-                nm *= s0
+                        v = T.n1_v[t]
+                        for l in range(L):
+                            s1[l] += V[v, l] * V[v, l]
+                    for l in range(L):
+                        s0[l] += s1[l] * lam[l] * lam[l]
+                for l in range(L):
+                    nm[l] *= s0[l]
             # the normalised det nd = det / sqrt(nm) * lam**lengths, capped by lam, as its square
             # dd / nm (the sign in dets; nm <= 0 reads 0 as in planar.elimination)
-            dd = det * det if nm > 0 else 0.0
+            for l in range(L):
+                dd[l] = det[l] * det[l] if nm[l] > 0 else 0.0
             for _ in range(B[B_LENGTHS]):
-                dd *= lam * lam
-            if dd > lam * lam * nm:
-                dd, nm = lam * lam, 1.0
-            dets[b] = det if dd > 0 else 0.0
-        if dd * sd < sn * nm or dd != dd:
-            sn, sd = dd, nm
-    return np.sqrt(sn / sd)
+                for l in range(L):
+                    dd[l] *= lam[l] * lam[l]
+            for l in range(L):
+                capped = dd[l] > lam[l] * lam[l] * nm[l]
+                dd[l], nm[l] = _pick(capped, lam[l] * lam[l], dd[l]), _pick(capped, 1.0, nm[l])
+                dets[b, l] = det[l] if dd[l] > 0 else 0.0
+        for l in range(L):
+            less = dd[l] * sd[l] < sn[l] * nm[l] or dd[l] != dd[l]
+            sn[l], sd[l] = _pick(less, dd[l], sn[l]), _pick(less, nm[l], sd[l])
+    for l in range(L):
+        sing[l] = np.sqrt(sn[l] / sd[l])
 
 
 @_inline
-def _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl):
-    """x = J^-1 rhs forward through the blocks (planar.elimination.Program.solve each)."""
+def _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L):
+    """x = J^-1 rhs forward through the blocks (planar.elimination.Program.solve each), every
+    lane; the Schur complements' LU solves lane by lane."""
     zero = T.dims[D_NNZ] - 1  # the structural zero's slot
     for b in range(T.blk.shape[0]):
         B = T.blk[b]
         k, o, nw, uo, co, fo, r, ro, so, ns = B[B_K], B[B_O], B[B_NW], B[B_UO], B[B_CO], B[B_FO], B[B_R], B[B_RO], \
             B[B_SO], B[B_NS]
         if k == 1:  # most blocks (pivots, driven coordinates): one row, by its pivot or its 1x1 LU
-            s = rhs[T.eqs[o]]
-            for w in range(nw):
-                e = T.coup[co + w]
+            eq, col, rs, cs = T.eqs[o], T.cols[o], T.brs[o], T.bcs[o]
+            for l in range(L):
+                w[l] = rhs[eq, l]
+            for v in range(nw):
+                e = T.coup[co + v]
                 if e != zero:
-                    s -= Jv[e] * x[T.up[uo + w]]
-            x[T.cols[o]] = s * T.brs[o] * (T.st_inv[so] if ns else A[b, 0, 0]) * T.bcs[o]
+                    u = T.up[uo + v]
+                    for l in range(L):
+                        w[l] -= Jv[e, l] * x[u, l]
+            if ns:
+                piv = T.st_inv[so]
+                for l in range(L):
+                    x[col, l] = w[l] * rs * piv * cs
+            else:
+                for l in range(L):
+                    x[col, l] = w[l] * rs * A[b, l, 0, 0] * cs
             continue
         for i in range(k):
-            s = rhs[T.eqs[o + i]]
-            for w in range(nw):
-                e = T.coup[co + i * nw + w]
+            eq = T.eqs[o + i]
+            for l in range(L):
+                z[i, l] = rhs[eq, l]
+            for v in range(nw):
+                e = T.coup[co + i * nw + v]
                 if e != zero:
-                    s -= Jv[e] * x[T.up[uo + w]]
-            z[i] = s * T.brs[o + i]
+                    u = T.up[uo + v]
+                    for l in range(L):
+                        z[i, l] -= Jv[e, l] * x[u, l]
+            rs = T.brs[o + i]
+            for l in range(L):
+                z[i, l] *= rs
         for st in range(so, so + ns):  # the constant columns' steps
             p = T.st_p[st]
             for t in range(T.mul_at[st], T.mul_at[st + 1]):
-                z[T.mul_i[t]] -= T.mul_m[t] * z[p]
+                mi, mm = T.mul_i[t], T.mul_m[t]
+                for l in range(L):
+                    z[mi, l] -= mm * z[p, l]
         if r:  # the Schur complement
-            for j in range(r):
-                zs[j] = z[T.srows[ro + j]]
-            _lu_solve(A[b], P[b], zs, y, r)
-            for j in range(r):
-                xl[T.scols[ro + j]] = y[j]
+            for l in range(L):
+                for j in range(r):
+                    zs[j] = z[T.srows[ro + j], l]
+                _lu_solve(A[b, l], P[b, l], zs, y, r)
+                for j in range(r):
+                    xl[T.scols[ro + j], l] = y[j]
         for st in range(so + ns - 1, so - 1, -1):
-            s = z[T.st_p[st]]
+            p = T.st_p[st]
+            for l in range(L):
+                w[l] = z[p, l]
             for t in range(T.us_at[st], T.us_at[st + 1]):
-                s -= E[fo + T.us_f[t]] * xl[T.us_j[t]]
-            xl[T.st_c[st]] = s * T.st_inv[st]
+                f, j = fo + T.us_f[t], T.us_j[t]
+                for l in range(L):
+                    w[l] -= E[f, l] * xl[j, l]
+            c, inv = T.st_c[st], T.st_inv[st]
+            for l in range(L):
+                xl[c, l] = w[l] * inv
         for i in range(k):
-            x[T.cols[o + i]] = xl[i] * T.bcs[o + i]
+            col, cs = T.cols[o + i], T.bcs[o + i]
+            for l in range(L):
+                x[col, l] = xl[i, l] * cs
 
 
 @_inline
-def _rate(T, base, inputs, i, out, Jv, A, P, E, rhs, x, z, y, zs, xl):
-    """Solve for a rate into out[i]: right-hand side ``base`` on the plan's rows (Phi holding
-    gamma; None: zeros), the input's rate of that order added on the driver rows."""
+def _rate(T, base, inputs, I, want, out, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L):
+    """Solve for a rate into out's rows of the lanes ``want``: right-hand side ``base`` on the
+    plan's rows (Phi holding gamma; None: zeros), the input's rate of that order added on the
+    driver rows."""
     for r in range(T.prow.size):
-        rhs[r] = 0.0 if base is None else base[T.prow[r]]
-    at = i if inputs.shape[0] > 1 else 0  # (one row of rates: the same for every value)
+        if base is None:
+            for l in range(L):
+                rhs[r, l] = 0.0
+        else:
+            pr = T.prow[r]
+            for l in range(L):
+                rhs[r, l] = base[pr, l]
+    every = inputs.shape[0] > 1  # (else one row of rates: the same for every value)
     for d in range(T.drv.size):
-        rhs[T.drv[d]] += inputs[at, T.drv_inp[d]]
-    _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl)
-    for k in range(out.shape[1]):
-        out[i, k] = x[k]
+        dr, di = T.drv[d], T.drv_inp[d]
+        for l in range(L):
+            rhs[dr, l] += inputs[I[l] if every else 0, di]
+    _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L)
+    for l in range(L):
+        if want[l]:
+            for k in range(out.shape[1]):
+                out[I[l], k] = x[k, l]
+
+
+# the rows of the lanes' numbers lv (each (L,)): what each value's last step left, this step's, then
+# the work rows of _factor (the last also the running sums of _forms and _solve)
+(LV_RES, LV_RED, LV_SING, LV_BRANCH, LV_STEP, LV_OFF, LV_MOVE, LV_NEW_RES, LV_NEW_RED, LV_NEW_SING, LV_NEW_STEP,
+ LV_NEW_OFF, LV_FACTOR) = range(13)
+LV_ROWS = LV_FACTOR + 9
 
 
 @numba.njit(**dict(_JIT, _nrt=False))
 def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
             SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, W):
     """Values rows[lo:hi] (value m of this call is row i of the arrays it writes; STEP, OFF,
-    RED, OK: value m), with the buffers W of :func:`_buffers`. Allocates nothing, so it is
-    compiled without numba's reference counting (``_nrt``): with it, each array passed to a
-    helper and each view took an atomic increment and decrement per value, on counters the
-    threads share."""
-    fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, qg, qo, so, dets, ref, E, V, zs, xl, ics = W
+    RED, OK: value m), with the buffers W of :func:`_buffers`, in groups of L (the lanes):
+    every table entry is read once per group, and the innermost loops run over the lanes. A
+    group steps while any of its values does; a value that has stopped keeps its last step's
+    numbers. Allocates nothing, so it is compiled without numba's reference counting
+    (``_nrt``): with it, each array passed to a helper and each view took an atomic increment
+    and decrement per value, on counters the threads share."""
+    fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, q, qg, sg, dets, ref, aref, E, V, zs, xl, ics, lv, I, des, anc, \
+        its, sts, live, act = W
+    L = q.shape[1]
     n = T.dims[D_N]
-    a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of ref, u0 and iu
+    res, red, sing, branch, step, off, move = lv[LV_RES], lv[LV_RED], lv[LV_SING], lv[LV_BRANCH], lv[LV_STEP], \
+        lv[LV_OFF], lv[LV_MOVE]
+    new_res, new_red, new_sing, new_step, new_off = lv[LV_NEW_RES], lv[LV_NEW_RED], lv[LV_NEW_SING], \
+        lv[LV_NEW_STEP], lv[LV_NEW_OFF]
+    fw = lv[LV_FACTOR:]
+    w = fw[8]
+    a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of aref, u0 and iu
     u0, iu = 0.0, 0.0
-    for m in range(lo, hi):
-        i = rows[m]
-        q = Q[i]
-        a, move, st = 0, 0.0, 0
-        if interp:
-            # the anchors around the value: G[a] < i <= G[a + 1], by binary search; the rows come
-            # sorted, so first whether the value lies in the previous value's interval
-            lo_, hi_ = 0, G.size
-            if a_prev >= 0 and G[a_prev] < i:
-                lo_ = a_prev + 1
-                if lo_ < hi_ and G[lo_] >= i:
-                    hi_ = lo_
-            while lo_ < hi_:
-                mid = (lo_ + hi_) // 2
-                if G[mid] < i:
-                    lo_ = mid + 1
-                else:
-                    hi_ = mid
-            a = lo_ - 1
-            if a < 0 and G.size > 1 and G[0] == i:  # the first anchor: its interval's start (t = 0)
-                a = 0
-            a_prev = a
-            if a < 0 or a + 1 >= G.size or not ADJ[a]:  # no interval to interpolate in: the general path
-                OK[m] = False
-                if not SOLVED[i]:
-                    q[:] = np.nan
+    for m0 in range(lo, hi, L):
+        for l in range(L):  # the group's values into the lanes: guesses (bulk) or poses
+            m = m0 + l
+            live[l] = act[l] = False
+            if m >= hi:
                 continue
-            if SOLVED[i]:  # a solved anchor keeps its pose and modes if this fails
-                for j in range(qo.size):
-                    qo[j] = q[j]
-                for j in range(so.size):
-                    so[j] = SIGNS[i, j]
-            # the quintic Hermite guess between anchors a and a + 1 (HQ: planar.sweep.anchors.quintic and
-            # _horner), and the predicted move from a
-            if a != a_ref:  # the interval's start and 1 / length; the anchor's angles, their cos and
-                # sin: the reference of _frames
-                u0 = U[G[a], 0]
-                iu = 1.0 / (U[G[a + 1], 0] - u0)
-                for b in range(1, ref.shape[0]):
-                    ref[b, 0] = HQ[a, 0, 3 * b - 1]
-                    ref[b, 1], ref[b, 2] = _cos_sin(ref[b, 0])
-                a_ref = a
-            t = (U[i, 0] - u0) * iu
-            for j in range(HQ.shape[2]):  # Horner's rule, highest power first
-                v = HQ[a, 5, j]
-                for k in range(4, -1, -1):
-                    v = HQ[a, k, j] + t * v
-                q[j] = v
-            move = 0.0
-            for k in range(T.pcols.size):
-                col = T.pcols[k]
-                move = _mx(move, abs((q[col] - HQ[a, 0, col]) * ics[k]))
-            for j in range(n):
-                qg[j] = q[j]
-        for it in range(1, steps + 1):
-            _evaluate(T, q, U[i], fb, Phi, Jv, c, phi, jac, ref, interp)
-            res = 0.0
-            for r in range(T.prow.size):
-                rhs[r] = Phi[T.prow[r]]
-                res = _mx(res, abs(rhs[r] * T.rs[r]))
-            red = 0.0
-            for r in range(T.red.size):
-                red = _mx(red, abs(Phi[T.red[r]] * T.red_scale[r]))
-            # the singularity measure and the branch (the product of the signs)
-            sing = _factor(T, Jv, A, P, dets, E, V)
-            branch = 1.0
-            for b in range(dets.size):
-                SIGNS[i, b] = 1 if dets[b] > 0 else (-1 if dets[b] < 0 else 0)  # NaN: 0, as planar.blocks
-                branch *= SIGNS[i, b]
-            _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl)
-            # the step's size, and the distance the pose moves (its finite components)
-            step, off = 0.0, 0.0
-            for k in range(T.pcols.size):
-                s = abs(x[T.pcols[k]] * ics[k])
-                step = _mx(step, s)
-                if np.isfinite(s):
-                    off = _mx(off, s)
-            for k in range(n):
-                if np.isfinite(x[k]):
-                    q[k] -= x[k]
-            # a batch value whose guess is off by more than rounding (but little) takes more steps;
-            # otherwise, Newton (planar.solver.newton) to its tolerances, while the pose is finite
+            i = rows[m]
+            I[l], des[l] = i, _design(T, U[i])
             if interp:
-                if not (ROUND < step <= CLOSE):
-                    break
-            elif (res <= tol and step <= step_tol) or not (step < np.inf and res < np.inf):
-                break
-        RES[i], SING[i], BRANCH[i] = res, sing, branch
-        if interp:
-            off = 0.0  # how far the steps moved the guess
+                # the anchors around the value: G[a] < i <= G[a + 1], by binary search; the rows
+                # come sorted, so first whether the value lies in the previous value's interval
+                lo_, hi_ = 0, G.size
+                if a_prev >= 0 and G[a_prev] < i:
+                    lo_ = a_prev + 1
+                    if lo_ < hi_ and G[lo_] >= i:
+                        hi_ = lo_
+                while lo_ < hi_:
+                    mid = (lo_ + hi_) // 2
+                    if G[mid] < i:
+                        lo_ = mid + 1
+                    else:
+                        hi_ = mid
+                a = lo_ - 1
+                if a < 0 and G.size > 1 and G[0] == i:  # the first anchor: its interval's start (t = 0)
+                    a = 0
+                a_prev = a
+                if a < 0 or a + 1 >= G.size or not ADJ[a]:  # no interval to interpolate in: the general path
+                    OK[m] = False
+                    if not SOLVED[i]:
+                        Q[i, :] = np.nan
+                    continue
+                anc[l] = a
+                # the quintic Hermite guess between anchors a and a + 1 (HQ: planar.sweep.anchors.quintic
+                # and _horner), and the predicted move from a
+                if a != a_ref:  # the interval's start and 1 / length; the anchor's angles, their cos
+                    # and sin: the reference of _frames
+                    u0 = U[G[a], 0]
+                    iu = 1.0 / (U[G[a + 1], 0] - u0)
+                    for b in range(1, aref.shape[0]):
+                        aref[b, 0] = HQ[a, 0, 3 * b - 1]
+                        aref[b, 1], aref[b, 2] = _cos_sin(aref[b, 0])
+                    a_ref = a
+                for b in range(1, aref.shape[0]):
+                    ref[b, 0, l], ref[b, 1, l], ref[b, 2, l] = aref[b, 0], aref[b, 1], aref[b, 2]
+                t = (U[i, 0] - u0) * iu
+                for j in range(HQ.shape[2]):  # Horner's rule, highest power first
+                    v = HQ[a, 5, j]
+                    for k in range(4, -1, -1):
+                        v = HQ[a, k, j] + t * v
+                    q[j, l] = qg[j, l] = v
+                mv = 0.0
+                for k in range(T.pcols.size):
+                    col = T.pcols[k]
+                    mv = _mx(mv, abs((q[col, l] - HQ[a, 0, col]) * ics[k]))
+                move[l] = mv
+            else:
+                for j in range(n):
+                    q[j, l] = Q[i, j]
+            live[l] = act[l] = True
+        for it in range(1, steps + 1):
+            _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, interp, L)
+            for l in range(L):
+                new_res[l], new_red[l] = 0.0, 0.0
+            for r in range(T.prow.size):
+                pr, rs = T.prow[r], T.rs[r]
+                for l in range(L):
+                    rhs[r, l] = Phi[pr, l]
+                    new_res[l] = _mx(new_res[l], abs(rhs[r, l] * rs))
+            for r in range(T.red.size):
+                pr, rs = T.red[r], T.red_scale[r]
+                for l in range(L):
+                    new_red[l] = _mx(new_red[l], abs(Phi[pr, l] * rs))
+            # the singularity measure and the modes
+            _factor(T, Jv, act, A, P, dets, E, V, fw, new_sing, L)
+            _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L)
+            for l in range(L):
+                new_step[l], new_off[l] = 0.0, 0.0
+            # the step's size, and the distance the pose moves (its finite components)
             for k in range(T.pcols.size):
-                col = T.pcols[k]
-                off = _mx(off, abs((q[col] - qg[col]) * ics[k]))
-            # planar.sweep's acceptance of a batch value: converged, the source anchor's modes, no
-            # further from the guess than JUMP times the predicted move, certified on its branch
-            ok = res <= tol and step <= ROUND and on_course(off, move) and certified(off, sing)
-            for b in range(dets.size):
-                ok = ok and SIGNS[i, b] == SA[a, b]
-            OK[m] = ok
-            if not ok:  # left for the general path: no pose here yet (or the anchor's own)
-                if SOLVED[i]:
-                    for j in range(n):
-                        q[j] = qo[j]
-                    for j in range(so.size):
-                        SIGNS[i, j] = so[j]
+                col, ic = T.pcols[k], ics[k]
+                for l in range(L):
+                    s = abs(x[col, l] * ic)
+                    new_step[l] = _mx(new_step[l], s)
+                    new_off[l] = _pick(np.isfinite(s), _mx(new_off[l], s), new_off[l])
+            for k in range(n):
+                for l in range(L):
+                    q[k, l] -= _pick(act[l] and np.isfinite(x[k, l]), x[k, l], 0.0)
+            more = False
+            for l in range(L):  # the active values keep this step's numbers
+                if not act[l]:
+                    continue
+                res[l], red[l], sing[l], step[l], off[l], its[l] = new_res[l], new_red[l], new_sing[l], new_step[l], \
+                    new_off[l], it
+                br = 1.0
+                for b in range(dets.shape[0]):
+                    sg[b, l] = 1 if dets[b, l] > 0 else (-1 if dets[b, l] < 0 else 0)  # NaN: 0, as planar.blocks
+                    br *= sg[b, l]
+                branch[l] = br
+                # a batch value whose guess is off by more than rounding (but little) takes more
+                # steps; otherwise, Newton (planar.solver.newton) to its tolerances, while the
+                # pose is finite
+                if interp:
+                    act[l] = ROUND < step[l] <= CLOSE
                 else:
-                    q[:] = np.nan
+                    act[l] = not ((res[l] <= tol and step[l] <= step_tol) or not (step[l] < np.inf and res[l] < np.inf))
+                more |= act[l]
+            if not more:
+                break
+        for l in range(L):  # the values out of the lanes
+            if not live[l]:
                 continue
-            st = status_of(sing, red, tol)
-            STATUS[i], SOLVED[i], DONE[i] = st, True, True
-        else:
-            STEP[m], OFF[m], RED[m] = step, off, red
-        ITERS[i] = it
+            m, i = m0 + l, I[l]
+            RES[i], SING[i], BRANCH[i] = res[l], sing[l], branch[l]
+            sts[l] = 0
+            if interp:
+                o = 0.0  # how far the steps moved the guess
+                for k in range(T.pcols.size):
+                    col = T.pcols[k]
+                    o = _mx(o, abs((q[col, l] - qg[col, l]) * ics[k]))
+                # planar.sweep's acceptance of a batch value: converged, the source anchor's modes,
+                # no further from the guess than JUMP times the predicted move, certified on its branch
+                ok = res[l] <= tol and step[l] <= ROUND and on_course(o, move[l]) and certified(o, sing[l])
+                for b in range(sg.shape[0]):
+                    ok = ok and sg[b, l] == SA[anc[l], b]
+                OK[m] = ok
+                if not ok:  # left for the general path: no pose here yet (or the anchor's own, with its modes)
+                    live[l] = False
+                    if not SOLVED[i]:
+                        Q[i, :] = np.nan
+                        for b in range(sg.shape[0]):
+                            SIGNS[i, b] = sg[b, l]
+                    continue
+                sts[l] = status_of(sing[l], red[l], tol)
+                STATUS[i], SOLVED[i], DONE[i] = sts[l], True, True
+            else:
+                STEP[m], OFF[m], RED[m] = step[l], off[l], red[l]
+            for j in range(n):
+                Q[i, j] = q[j, l]
+            for b in range(sg.shape[0]):
+                SIGNS[i, b] = sg[b, l]
+            ITERS[i] = its[l]
         if not rates:
             continue
         # velocities: the input rates on the driver rows; accelerations: gamma at the corrected
-        # pose and the velocities, input accelerations added
-        _rate(T, None, Ud, i, QD, Jv, A, P, E, rhs, x, z, y, zs, xl)
-        _gammas(T, q, QD[i], U[i], fb, Phi, c, g, ref, interp)
-        _rate(T, Phi, Udd, i, QDD, Jv, A, P, E, rhs, x, z, y, zs, xl)
-        if st > ST_BRANCH_EVENT:  # no rates on a singular or inconsistent pose
-            QD[i, :] = np.nan
-            QDD[i, :] = np.nan
+        # pose and the velocities (x, as the first solve left them), input accelerations added
+        _rate(T, None, Ud, I, live, QD, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L)
+        _gammas(T, q, x, U, I, des, live, fb, Phi, c, g, ref, interp, L)
+        _rate(T, Phi, Udd, I, live, QDD, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L)
+        for l in range(L):
+            if live[l] and sts[l] > ST_BRANCH_EVENT:  # no rates on a singular or inconsistent pose
+                QD[I[l], :] = np.nan
+                QDD[I[l], :] = np.nan
 
 
 @numba.njit(**_JIT)
-def _buffers(T):
-    """The work arrays of one thread's values (:func:`_values`). Compiled apart: inlined into the
-    parallel loop, its array expressions would each start the threads, even for a chunk or less."""
+def _buffers(T, L):
+    """The work arrays of one chunk's values (:func:`_values`) in L lanes: the last axis, but
+    for the kernels' arrays (each lane's contiguous, as a kernel reads it). Compiled apart from
+    the loop, with numba's reference counting (it allocates)."""
     D = T.dims
-    nb, kmax, rmax = T.blk.shape[0], D[D_KMAX], D[D_RMAX]
-    fb = np.zeros((D[D_BODIES], 8))
-    fb[0, 3] = 1.0  # the ground: at the origin, unrotated
-    A, P, E, V = np.empty((nb, rmax, rmax)), np.empty((nb, rmax), np.int64), np.empty(T.form0.size + 1), \
-        np.empty(D[D_NV] + 1)
-    _constants(T, A, P, E, V)
+    nb, kmax, rmax, n = T.blk.shape[0], D[D_KMAX], D[D_RMAX], D[D_N]
+    fb = np.zeros((L, D[D_BODIES], 8))  # (lane first: each lane's is a kernel's contiguous array)
+    fb[:, 0, 3] = 1.0  # the ground: at the origin, unrotated
+    # (a row order in P from the start: the solves run on every lane, factored or not)
+    A, P, E, V = np.empty((nb, L, rmax, rmax)), np.zeros((nb, L, rmax), np.int64), np.empty((T.form0.size + 1, L)), \
+        np.empty((D[D_NV] + 1, L))
+    lv = np.empty((LV_ROWS, L))
+    act = np.ones(L, np.bool_)
+    _constants(T, A, P, E, V, lv[LV_FACTOR + 8], lv[LV_FACTOR], act)
     jr = D[D_JROWS]  # a joint's row constants, rows, Jacobian block and gamma
-    return (fb, np.empty(jr), np.empty(jr), np.empty((jr, 3 * D[D_JBODIES])), np.empty(jr), np.zeros(D[D_M]),
-            np.zeros(D[D_NNZ]), np.empty(T.prow.size), np.zeros(D[D_N] + 1), np.empty(kmax), np.empty(rmax), A, P,
-            np.empty(D[D_N]), np.empty(D[D_N]), np.empty(nb, np.int8), np.empty(nb), np.zeros((D[D_BODIES], 3)), E,
-            V, np.empty(rmax), np.empty(kmax), 1.0 / T.cs)
+    return (fb, np.empty(jr), np.empty((L, jr)), np.empty((L, jr, 3 * D[D_JBODIES])), np.empty((L, jr)),
+            np.zeros((D[D_M], L)), np.zeros((D[D_NNZ], L)), np.empty((T.prow.size, L)), np.zeros((n + 1, L)),
+            np.empty((kmax, L)), np.empty(rmax), A, P, np.empty((n, L)), np.empty((n, L)), np.empty((nb, L), np.int8),
+            np.empty((nb, L)), np.zeros((D[D_BODIES], 3, L)), np.zeros((D[D_BODIES], 3)), E, V, np.empty(rmax),
+            np.empty((kmax, L)), 1.0 / T.cs, lv, np.zeros(L, np.int64), np.zeros(L, np.int64), np.zeros(L, np.int64),
+            np.zeros(L, np.int64), np.zeros(L, np.int64), np.zeros(L, np.bool_), act)
 
 
 def chunk(N):
     """Values per task of :func:`loop` for a call of N values: CHUNK, fewer to give every thread
-    one, down to MIN_CHUNK (asked here: numba cannot cache a loop that asks the thread count)."""
+    one, down to MIN_CHUNK."""
     threads = numba.get_num_threads()
     return min(CHUNK, max(MIN_CHUNK, (N + threads - 1) // threads))
 
 
-@numba.njit(**dict(_JIT, parallel=True))
-def loop(size, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING,
-         BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T):
-    """The values in chunks of ``size`` (:func:`chunk`) on all cores, each chunk with its own
-    buffers; a chunk or less on the calling thread (no threads to start)."""
-    N = rows.shape[0]
-    if N <= size:
-        # lo as an int64 variable: the literal 0 would compile _values a second time, for Literal[int]
-        _values(np.int64(0), N, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
-                SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, _buffers(T))
+def loop(size, rows, *args):
+    """The values (``args``: :func:`_values`' after rows, up to the tables) in chunks of
+    ``size`` (:func:`chunk`) on numba's number of threads, each chunk with its own buffers; a
+    chunk or less on the calling thread. Python's threads (the loop releases the GIL): numba's
+    parallel loop compiled the loop twice more, for twice the compile time."""
+    N, T, threads = rows.shape[0], args[-1], numba.get_num_threads()
+
+    def run(lo):
+        hi = min(N, lo + size)
+        _values(lo, hi, rows, *args, _buffers(T, min(LANES, hi - lo)))
+
+    if N <= size or threads == 1:
+        for lo in range(0, N, size):
+            run(lo)
         return
-    for chunk in numba.prange((N + size - 1) // size):
-        _values(chunk * size, min(N, (chunk + 1) * size), rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q,
-                U, Ud, Udd, rates, QD, QDD, RES, SIGNS, SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE,
-                T, _buffers(T))
+    if threads not in _POOLS:
+        _POOLS[threads] = ThreadPoolExecutor(threads, thread_name_prefix="planar")
+    for _ in _POOLS[threads].map(run, range(0, N, size)):
+        pass
+
+
+_POOLS: dict = {}  # number of threads -> their pool, kept for the process's later sweeps
 
 
 _ready = False
@@ -541,7 +702,7 @@ def _say(line):
 
 
 def _stamp_file():
-    return os.path.join(loop._cache._cache_path, "engine.planar-stamp")
+    return os.path.join(_values._cache._cache_path, "engine.planar-stamp")
 
 
 def _missing(stamp):
@@ -552,12 +713,12 @@ def _missing(stamp):
             same = f.read() == stamp
     except OSError:
         same = False
-    return not (same and all(fn._cache._cache_file._load_index() for fn in (_values, loop)))
+    return not (same and all(fn._cache._cache_file._load_index() for fn in (_values, _buffers)))
 
 
 def _compile(stamp):
     """Drop the cached code, compile afresh (numba caches it) and stamp it."""
-    for fn in (_values, loop):
+    for fn in (_values, _buffers):
         fn._cache.flush()
     _warm()
     try:
@@ -568,7 +729,7 @@ def _compile(stamp):
 
 
 def _warm():
-    """Compile the loop (its one signature) by a call on the sketch of a four-bar."""
+    """Compile the loop and its buffers (one signature each) by a call on the sketch of a four-bar."""
     from planar.blocks import plan
     from planar.compiled import final
     from planar.mechanisms import four_bar
