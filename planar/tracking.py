@@ -33,6 +33,7 @@ import math
 
 import numpy as np
 
+from planar.events import NEAR_CURVE
 from planar.results import Status, Sweep
 
 CAP = 256  # poses kept per branch option: a turn of the crank at the default max_step is ~126
@@ -49,40 +50,47 @@ class Poses:
     kinematic coefficients ``qu``, ``quu`` (K, n), dq/du and d2q/du2 (NaN where not computed
     yet); the sketch's among them, always. A sweep's poses are merged in (sorted, at most CAP
     kept); the poses of moves are appended after them, up to CAP before the next merge.
+    ``rows`` (K, 3, n): each pose's q, qu, quu together (as the compiled engine reads them).
     ``signs``: the blocks' modes on the branch (the sketch's), once the direct path has
     asked; ``refused``: the value it could not certify last, while no pose has been learned
-    since (the sweep it goes to asks again)."""
+    since (the sweep it goes to asks again); ``complete``: whether every known pose has its
+    coefficients."""
 
     def __init__(self, model):
         self.u0 = self.newest = float(model.u0[0])
         nan = np.full_like(model.q0[None], np.nan)
-        self._keep(np.array([self.u0]), (model.q0[None], nan, nan))
+        self._keep(np.array([self.u0]), np.stack((model.q0[None], nan, nan), axis=1))
         self.signs = None
 
     def _keep(self, u, rows):
-        """Hold the known poses u (K,), rows (q, qu, quu), with room for CAP more after them."""
+        """Hold the known poses u (K,) and their rows (K, 3, n), with room for CAP more after them."""
         K = u.size
         self.size, self.refused = K, None
         self._u = np.empty(K + CAP)
         self._u[:K] = u
-        self._rows = np.empty((3, K + CAP, rows[0].shape[1]))
-        self._rows[:, :K] = rows
+        self._rows = np.empty((K + CAP,) + rows.shape[1:])
+        self._rows[:K] = rows
+        self.complete = bool(np.isfinite(rows[:, 1:, 0]).all())
 
     @property
     def u(self):
         return self._u[: self.size]
 
     @property
+    def rows(self):
+        return self._rows[: self.size]
+
+    @property
     def q(self):
-        return self._rows[0, : self.size]
+        return self._rows[: self.size, 0]
 
     @property
     def qu(self):
-        return self._rows[1, : self.size]
+        return self._rows[: self.size, 1]
 
     @property
     def quu(self):
-        return self._rows[2, : self.size]
+        return self._rows[: self.size, 2]
 
     def nearest(self, u):
         """(K,) the index of the known pose nearest each input value u (K,)."""
@@ -115,13 +123,13 @@ class Poses:
         with the known ones (at an input known already the known pose stays: the sketch's, at
         the sketch's input)."""
         uu, first = np.unique(np.r_[self.u, u], return_index=True)
-        rows = np.concatenate((self._rows[:, : self.size], np.stack(rows)), axis=1)[:, first]
+        rows = np.concatenate((self.rows, np.stack(rows, axis=1)))[first]
         if uu.size > CAP:
             # the sketch, the newest (where the next move starts) and evenly spaced others
             keep = np.zeros(uu.size, bool)
             keep[np.unique(np.linspace(0, uu.size - 1, CAP // 2).astype(int))] = True
             keep[np.searchsorted(uu, np.r_[u, self.newest, self.u0])] = True
-            uu, rows = uu[keep], rows[:, keep]
+            uu, rows = uu[keep], rows[keep]
         self._keep(uu, rows)
 
     def append(self, u, q, qu, quu):
@@ -129,9 +137,18 @@ class Poses:
         if self.size == self._u.size:
             self.merge(np.zeros(0), np.zeros((3, 0, q.size)))
         self._u[self.size] = self.newest = u
-        self._rows[:, self.size] = q, qu, quu
+        row = self._rows[self.size]
+        row[0], row[1], row[2] = q, qu, quu
         self.size += 1
         self.refused = None
+
+    def coefficients(self, br):
+        """Every known pose's coefficients, where not known yet (with the branch's solves ``br``)."""
+        new = np.flatnonzero(np.isnan(self.qu[:, 0]))
+        if new.size:
+            one = np.ones((new.size, 1))
+            self._rows[new, 1], self._rows[new, 2] = br.state(self.q[new], self.u[new, None], one)[:2]
+        self.complete = True
 
 
 def sweep(model, U, Ud, Udd, **options):
@@ -166,65 +183,119 @@ def sweep(model, U, Ud, Udd, **options):
 def direct(model, U, Ud, Udd, options):
     """The direct path: the poses at the input values U (M, 1) of a one-input model, each as
     one walk step of the sweep from the known pose nearest it, a :class:`planar.Sweep` equal to
-    the sweep's (None where the path does not apply; the caller sweeps). It applies where each
-    value lies within the sweep's direct reach of a known pose (SPARSE walk steps of
-    ``max_step``, where the sweep too solves a value from the Taylor predictor rather than
-    walking to it), M is at most DIRECT, whole results are asked for (no ``outputs``), and the
-    inputs are within the sweep's FAR of the sketch's. Then, all values in one batch: the
-    predictor from the known pose and its kinematic coefficients, then the sweep's final step
-    with Newton first (:func:`planar.sweep.final_step`: Newton on the model's blocks to a
-    rounding-level guess, and the pose, its status and its rates from one factorisation) with
-    the sweep's acceptance test (:meth:`planar.sweep.Branch.accept`: converged, certified, the
-    branch's assembly modes, close to the predictor). Where a value is not certified, or its
-    status is not SOLVED or NEAR_SINGULAR, all are left to the sweep."""
-    from planar.blocks import plan as block_plan
-    from planar.sweep import FAR, SPARSE, Branch, check_sketch, final_step, near_stretches, input_scale
+    the sweep's (None where the path does not apply; the caller sweeps). See :class:`Direct`."""
+    return Direct(model, options)(U, Ud, Udd)
 
-    engine = options.get("engine", "numpy")
-    if (options.get("outputs") is not None or engine not in ("numpy", "numba") or model.u0.size != 1
-            or options.get("branch", "smooth") not in ("smooth", "other") or U.shape[0] > DIRECT):
-        return None  # (the sweep refuses the options it does not know)
-    max_step = options.get("max_step", 0.05)
-    scale = float(input_scale(model)[0])
-    u = U[:, 0]
-    if not model.input_lengths[0] and np.max(np.abs(u - model.u0[0])) > FAR:
-        return None  # (the sweep solves those whole periods back)
-    poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
-    k = poses.nearest(u)
-    du = (u - poses.u[k])[:, None]
-    if not np.max(np.abs(du)) * scale <= SPARSE * max_step or (u.size == 1 and u[0] == poses.refused):
-        return None  # (NaN inputs: the sweep's)
-    p = block_plan(model)
-    br = Branch(model, p, options.get("tol", 1e-12), engine=engine)
-    if poses.signs is None:
-        check_sketch(model, p)  # (a sketch on a singular position is refused, as the sweep does)
-        poses.signs = br.signs(model.q0[None], model.u0[None])
-    one, zero = np.ones((u.size, 1)), np.zeros((u.size, 1))
-    new = np.unique(k[np.isnan(poses.qu[k, 0])])
-    if new.size:
-        poses.qu[new], poses.quu[new] = br.state(poses.q[new], poses.u[new, None], one[: new.size])[:2]
-    qk = poses.q[k]
-    q_pred = qk + poses.qu[k] * du + 0.5 * poses.quu[k] * du**2
-    # Newton and the sweep's final step at a unit input rate: its rates are the kinematic
-    # coefficients of the new poses (the next moves' predictor); the asked rates follow from
-    # them linearly
-    r = final_step(br, q_pred, U, one, zero, steps=NEWTON)
-    ok = br.accept(r["q"], q_pred, lambda rows: qk[rows], r["conv"], r["signs"], poses.signs, r["sing"])
-    if not (ok.all() and np.isin(r["status"], CLEAN).all()):
-        poses.refused = u[0] if u.size == 1 else None
-        return None
-    q, qu, quu = r["q"], r["qd"], r["qdd"]
-    if u.size == 1:
-        poses.append(u[0], q[0], qu[0], quu[0])
-    else:
-        poses.merge(u, (q, qu, quu))
-    if options.get("rates", True):
-        qd, qdd = qu * Ud, quu * Ud**2 + qu * Udd
-    else:
-        qd = qdd = np.broadcast_to(np.nan, q.shape)
-    status = r["status"].astype(np.int8)
-    return Sweep(model, U, Ud, Udd, q, qd, qdd, status, r["res"], r["iters"], r["sing"], r["branch"],
-                 np.broadcast_to(np.nan, u.size), tuple(near_stretches(model, U, r["sing"], status, ())))
+
+class Direct:
+    """The direct path of ``model`` under the sweep ``options`` (what does not change from
+    call to call, worked out once: a :class:`Tracker` keeps it). Called with input values U
+    (M, 1) and their rates, it applies where each value lies within the sweep's direct reach
+    of a known pose (SPARSE walk steps of ``max_step``, where the sweep too solves a value from
+    the Taylor predictor rather than walking to it), M is at most DIRECT, whole results are
+    asked for (no ``outputs``), and the inputs are within the sweep's FAR of the sketch's.
+    Then, all values in one batch: the predictor from the known pose and its kinematic
+    coefficients, then the sweep's final step with Newton first (Newton on the model's blocks
+    to a rounding-level guess, and the pose, its status and its rates from one factorisation)
+    with the sweep's acceptance test (converged, certified, the branch's assembly modes, close
+    to the predictor): :func:`planar.sweep.final_step` and :meth:`planar.sweep.Branch.accept`
+    in the numpy engine, :func:`planar.compiled.direct` (one call) in the compiled one. Where a
+    value is not certified, or its status is not SOLVED or NEAR_SINGULAR, all are left to the
+    sweep (None)."""
+
+    def __init__(self, model, options):
+        from planar.sweep import FAR, SPARSE, input_scale
+
+        self.model, self.options = model, options
+        self.engine = options.get("engine", "numpy")
+        self.applies = (options.get("outputs") is None and self.engine in ("numpy", "numba") and model.u0.size == 1
+                        and options.get("branch", "smooth") in ("smooth", "other"))
+        # (the sweep refuses the options it does not know)
+        self.key = (options.get("branch", "smooth"), options.get("tol", 1e-12))
+        self.u0 = float(model.u0[0])
+        # the inputs the path takes: within FAR of the sketch's for an angle (the sweep solves
+        # those further whole periods back)
+        self.far = np.inf if model.input_lengths[0] else FAR
+        self.reach = SPARSE * options.get("max_step", 0.05) / float(input_scale(model)[0])
+        self.rates = options.get("rates", True)
+        self._br = None
+
+    def branch(self):
+        """The solves of the model's plan (:class:`planar.sweep.Branch`)."""
+        if self._br is None:
+            from planar.blocks import plan
+            from planar.sweep import Branch
+
+            self._br = Branch(self.model, plan(self.model), self.key[1], engine=self.engine)
+        return self._br
+
+    def __call__(self, U, Ud, Udd):
+        if not self.applies or U.shape[0] > DIRECT:
+            return None
+        M, u = U.shape[0], U[:, 0]
+        if not (abs(u[0] - self.u0) if M == 1 else np.max(np.abs(u - self.u0))) <= self.far:
+            return None  # (NaN inputs: the sweep's)
+        poses = _poses(self.model, *self.key)
+        if M == 1 and u[0] == poses.refused:
+            return None
+        br = self.branch()
+        if poses.signs is None:
+            from planar.sweep import check_sketch
+
+            check_sketch(self.model, br.p)  # (a sketch on a singular position is refused, as the sweep does)
+            poses.signs = br.signs(self.model.q0[None], self.model.u0[None])
+        r = self._compiled(br, poses, U) if self.engine == "numba" else self._numpy(br, poses, U)
+        if r is None:
+            poses.refused = u[0] if M == 1 else None
+            return None
+        q, qu, quu, status, res, iters, sing, branch = r
+        if M == 1:
+            poses.append(u[0], q[0], qu[0], quu[0])
+        else:
+            poses.merge(u, (q, qu, quu))
+        if not self.rates:
+            qd = qdd = np.broadcast_to(np.nan, q.shape)
+        elif Ud.size == 1 and Ud[0, 0] == 1.0 and Udd[0, 0] == 0.0:
+            qd, qdd = qu, quu  # (a unit rate: the coefficients are the rates)
+        else:
+            qd, qdd = qu * Ud, quu * Ud**2 + qu * Udd
+        events = ()
+        if (sing < NEAR_CURVE).any():
+            from planar.sweep import near_stretches
+
+            events = tuple(near_stretches(self.model, U, sing, status, ()))
+        return Sweep(self.model, U, Ud, Udd, q, qd, qdd, status, res, iters, sing, branch, np.full(M, np.nan), events)
+
+    def _numpy(self, br, poses, U):
+        """(q, qu, quu, status, res, iters, sing, branch) of the values U, or None (see the class)."""
+        from planar.sweep import final_step
+
+        k = poses.nearest(U[:, 0])
+        du = (U[:, 0] - poses.u[k])[:, None]
+        if not np.max(np.abs(du)) <= self.reach:
+            return None
+        new = np.unique(k[np.isnan(poses.qu[k, 0])])
+        if new.size:
+            one = np.ones((new.size, 1))
+            poses.qu[new], poses.quu[new] = br.state(poses.q[new], poses.u[new, None], one)[:2]
+        qk = poses.q[k]
+        q_pred = qk + poses.qu[k] * du + 0.5 * poses.quu[k] * du**2
+        # Newton and the sweep's final step at a unit input rate: its rates are the kinematic
+        # coefficients of the new poses (the next moves' predictor); the asked rates follow from
+        # them linearly
+        one, zero = np.ones((U.shape[0], 1)), np.zeros((U.shape[0], 1))
+        r = final_step(br, q_pred, U, one, zero, steps=NEWTON)
+        ok = br.accept(r["q"], q_pred, lambda rows: qk[rows], r["conv"], r["signs"], poses.signs, r["sing"])
+        if not (ok.all() and np.isin(r["status"], CLEAN).all()):
+            return None
+        return r["q"], r["qd"], r["qdd"], r["status"].astype(np.int8), r["res"], r["iters"], r["sing"], r["branch"]
+
+    def _compiled(self, br, poses, U):
+        """As :meth:`_numpy`, in one call of the compiled engine."""
+        if not poses.complete:
+            poses.coefficients(br)
+        return br.compiled.direct(self.model, br.p, poses.u, poses.rows, np.asarray(poses.signs, np.int8), U,
+                                  self.key[1], self.reach, NEWTON)
 
 
 def _clean_end(res):
@@ -265,6 +336,7 @@ class Tracker:
         self.options = arguments.sweep_options(options, run_sweep)
         self.pose = None
         self.direct = False
+        self._direct = Direct(model, self.options)
         # the largest input rate and acceleration taken without the sweep's checks (in the
         # units of the one input)
         scale = float(model.L) if model.input_lengths.size == 1 and model.input_lengths[0] else 1.0
@@ -281,8 +353,7 @@ class Tracker:
                                            for x in (value, velocity, acceleration)):
             v, a = float(velocity), float(acceleration)
             if math.isfinite(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
-                res = direct(self.model, np.array([[float(value)]]), np.array([[v]]), np.array([[a]]),
-                             self.options)
+                res = self._direct(np.array([[float(value)]]), np.array([[v]]), np.array([[a]]))
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             value = np.asarray(value, dtype=float)

@@ -101,20 +101,25 @@ def test_moves_equal_the_sweep_from_the_sketch(case):
         u = float(u + s[1]) if isinstance(s, tuple) else float(s)
         got = tracker.move(u)
         _same(got, _reference(name, u))
-        with mock.patch("planar.tracking.direct", return_value=None):
+        with mock.patch("planar.tracking.Direct.__call__", return_value=None):
             _same(got, twin_tracker.move(u))
 
 
+ENGINES = ["numpy", pytest.param("numba", marks=pytest.mark.numba)]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("name", sorted(MECHANISMS))
-def test_the_direct_path_is_taken_near_known_poses(name, monkeypatch):
+def test_the_direct_path_is_taken_near_known_poses(name, engine, monkeypatch):
     """A warm model solves values near its known poses without a sweep: with run_sweep made to
-    fail, tracker moves and one-value sweeps still give the sweep from the sketch."""
+    fail, tracker moves and one-value sweeps still give the sweep from the sketch (in either
+    engine: the compiled one takes the direct path in one call of its loop)."""
     model = MECHANISMS[name]().compile()
     u0, unit = float(model.u0[0]), _unit(model)
     values = u0 + unit * np.array([0.02, 0.05, 0.051, 0.1, 0.13, 0.2, 0.25])
     references = {float(u): _reference(name, float(u)) for u in values}
-    model.sweep([u0 + 0.15 * unit])
-    tracker = model.track()
+    model.sweep([u0 + 0.15 * unit], engine=engine)
+    tracker = model.track(engine=engine)
 
     @functools.wraps(planar.sweep.run_sweep)  # (its options are read from its signature)
     def no_sweep(*args, **kwargs):
@@ -128,11 +133,11 @@ def test_the_direct_path_is_taken_near_known_poses(name, monkeypatch):
         res = tracker.move(float(u))
         assert tracker.direct and tracker.pose is res
         _same(res, references[float(u)])
-    _same(model.sweep([values[3]]), references[float(values[3])])
-    _same(model.sweep(many), reference)
+    _same(model.sweep([values[3]], engine=engine), references[float(values[3])])
+    _same(model.sweep(many, engine=engine), reference)
 
 
-@pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
+@pytest.mark.parametrize("engine", ENGINES)
 def test_a_sweep_over_a_stretch_the_model_has_swept_takes_the_direct_path(engine, monkeypatch):
     """100 values over a turn of a model that has swept that turn: one batch, no sweep, the
     sweep's results; with one value out of reach (past the known turn) all go to the sweep."""
@@ -183,10 +188,11 @@ def test_values_it_cannot_certify_go_to_the_sweep():
     assert four.direct
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("options", [dict(velocity=2.5, acceleration=-4.0), dict(velocity=0.0, acceleration=3.0)])
-def test_input_rates(options):
+def test_input_rates(options, engine):
     model = MECHANISMS["watt_six_bar"]().compile()
-    tracker = model.track()
+    tracker = model.track(engine=engine)
     for u in (0.05, 0.1, 0.12):
         res = tracker.move(u, **options)
         assert tracker.direct

@@ -38,11 +38,13 @@ the two on every joint type and on random linkages).
 """
 
 import importlib.util
+import threading
 import weakref
 from collections import namedtuple
 
 import numpy as np
 
+from planar.acceptance import ROUND
 from planar.errors import InputError
 
 _TABLES = weakref.WeakKeyDictionary()
@@ -115,17 +117,17 @@ def final(model, plan, q, U, Ud, Udd, rates=True, steps=1, tol=0.0, step_tol=0.0
     many steps, each value until its residual is below ``tol`` and its step below ``step_tol``
     (or its pose is no longer finite), the dict's values those of its last step."""
     N = q.shape[0]
-    T, engine = _compiled(model, plan)
-    n, nb = T.dims[D_N], T.blk.shape[0]
+    C, engine = _compiled(model, plan)
+    n, nb = C.T.dims[D_N], C.T.blk.shape[0]
     q = np.array(q, dtype=float, order="C")
     qd, qdd = (np.empty((N, n)), np.empty((N, n))) if rates else (np.empty((0, n)), np.empty((0, n)))
     res, step, off, red, sing, branch = (np.empty(N) for _ in range(6))
     signs, iters = np.empty((N, nb), np.int8), np.empty(N, np.int64)
-    no_i, no_b = np.zeros(0, np.int64), np.zeros(0, bool)
-    engine.loop(engine.chunk(N), np.arange(N), False, int(steps), no_b, no_i, np.zeros((0, 6, n)),
-                np.zeros((0, nb), np.int8), float(tol), float(step_tol), q, np.require(U, float, ("C", "W")),
+    no_i, no_b, no_f = np.zeros(0, np.int64), np.zeros(0, bool), np.zeros(0)
+    engine.loop(C, engine.chunk(N), np.arange(N), engine.FINAL, int(steps), no_b, no_i, np.zeros((0, 6, n)), no_f,
+                np.zeros((0, nb), np.int8), float(tol), float(step_tol), 0.0, q, np.require(U, float, ("C", "W")),
                 _rates_in(Ud), _rates_in(Udd), bool(rates), qd, qdd, res, signs, sing, branch, step, off, red, no_b,
-                np.zeros(0, np.int8), iters, no_b, no_b, T)
+                np.zeros(0, np.int8), iters, no_b, no_b)
     if not rates:  # as the numpy engine: one read-only NaN
         qd = qdd = np.broadcast_to(np.nan, q.shape)
     return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, signs=signs, red=red, sing=sing, branch=branch,
@@ -142,16 +144,38 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     (``sweep``: a dict of q, U, Ud, Udd, qd, qdd, res, signs, sing, branch, status, iters,
     solved, done). Returns (M,) True where it passed; the others are left unposed (NaN) for
     the general path, but for solved anchors among them, which keep their poses and modes."""
-    T, engine = _compiled(model, plan)
+    C, engine = _compiled(model, plan)
     ok = np.empty(rows.size, bool)
     no = np.zeros(0)
     S = sweep
-    engine.loop(engine.chunk(rows.size), np.ascontiguousarray(rows, np.int64), True, STEPS,
-                np.ascontiguousarray(adj, bool), np.ascontiguousarray(G, np.int64), np.ascontiguousarray(P, float),
-                np.ascontiguousarray(SA, np.int8), float(tol), 0.0, S["q"], S["U"], _rates_in(S["Ud"]),
+    engine.loop(C, engine.chunk(rows.size), np.ascontiguousarray(rows, np.int64), engine.BULK, STEPS,
+                np.ascontiguousarray(adj, bool), np.ascontiguousarray(G, np.int64), np.ascontiguousarray(P, float), no,
+                np.ascontiguousarray(SA, np.int8), float(tol), 0.0, 0.0, S["q"], S["U"], _rates_in(S["Ud"]),
                 _rates_in(S["Udd"]), bool(rates), S["qd"], S["qdd"], S["res"], S["signs"], S["sing"], S["branch"], no,
-                no, no, ok, S["status"], S["iters"], S["solved"], S["done"], T)
+                no, no, ok, S["status"], S["iters"], S["solved"], S["done"])
     return ok
+
+
+def direct(model, plan, KU, HQ, signs, U, tol, reach, steps):
+    """Values U (M, 1) of a one-input model, each from the Taylor predictor of the pose known
+    at the input in KU (K,) nearest it (HQ (K, 3, n): each known pose q, dq/du, d2q/du2;
+    ``signs`` (1, blocks): the branch's modes), by Newton to ``tol`` (up to ``steps`` steps) and
+    the final step of :func:`final`, accepted by the sweep's test (:mod:`planar.acceptance`; the
+    branch's modes; status SOLVED or NEAR_SINGULAR), in one call of the loop. A tuple
+    (q, dq/du, d2q/du2, status, residual, iterations, singularity, branch), or None where a
+    value is further than ``reach`` from every known input or not accepted
+    (``planar.tracking.Direct`` then leaves them all to the sweep)."""
+    C, engine = _compiled(model, plan)
+    M, n, nb = U.shape[0], C.T.dims[D_N], C.T.blk.shape[0]
+    q, qu, quu = np.empty((M, n)), np.empty((M, n)), np.empty((M, n))
+    res, sing, branch, status, ok = np.empty(M), np.empty(M), np.empty(M), np.empty(M, np.int8), np.empty(M, bool)
+    iters, no_b, no_f = np.empty(M, np.int64), C.none[1], C.none[2]
+    engine.loop(C, engine.chunk(M), np.arange(M), engine.KNOWN, int(steps), no_b, C.none[0], HQ, KU, signs,
+                float(tol), ROUND, float(reach), q, np.require(U, float, ("C", "W")), C.one, C.zero, True, qu, quu, res,
+                np.empty((M, nb), np.int8), sing, branch, no_f, no_f, no_f, ok, status, iters, no_b, no_b)
+    if not ok.all():
+        return None
+    return q, qu, quu, status, res, iters, sing, branch
 
 
 def _rates_in(a):
@@ -163,12 +187,35 @@ def _rates_in(a):
     return np.require(a, float, ("C", "W"))
 
 
+class Compiled:
+    """A plan as the loop takes it: its :class:`Tables` ``T`` and the loop's work buffers,
+    made once per thread and number of lanes and kept (a call reuses them as a call's groups
+    of values do: each group writes what it reads)."""
+
+    def __init__(self, T):
+        self.T = T
+        self._work = {}
+        # a unit input rate, no input acceleration, and the loop's arrays a call does not use
+        self.one, self.zero = np.ones((1, 1)), np.zeros((1, 1))
+        self.none = (np.zeros(0, np.int64), np.zeros(0, bool), np.zeros(0))
+
+    def work(self, L):
+        from planar.compiled import engine
+
+        key = (threading.get_ident(), L)
+        if key not in self._work:
+            if len(self._work) > 256:  # (threads come and go)
+                self._work.clear()
+            self._work[key] = engine._buffers(self.T, L)
+        return self._work[key]
+
+
 def _compiled(model, plan):
-    """The tables and the engine's module, its loop ready."""
+    """The plan as the loop takes it (:class:`Compiled`) and the engine's module, its loop ready."""
     from planar.compiled import engine
 
     if plan not in _TABLES:
-        _TABLES[plan] = tables(model, plan)
+        _TABLES[plan] = Compiled(tables(model, plan))
     engine.ready()
     return _TABLES[plan], engine
 
@@ -289,4 +336,4 @@ def tables(model, plan):
                   jb, model.u0.size if any(g.per_design for g in sysm.groups) else -1]))
 
 
-__all__ = ["check", "final", "fill", "tables", "Tables"]
+__all__ = ["check", "direct", "final", "fill", "tables", "Tables"]

@@ -34,6 +34,11 @@ from planar.results import Status
 NEAR_ANGLE = 0.05  # a bulk value's angles within this of its anchor's: cos and sin from the anchor's
 CLOSE = 1e-4  # a batch value takes more Newton steps while its last one (scaled) is below this
 ST_BRANCH_EVENT = int(Status.BRANCH_EVENT)  # the last status with rates
+ST_NEAR_SINGULAR = int(Status.NEAR_SINGULAR)  # the last status of a value reached on its branch with no event
+# where the loop's values start from (its ``mode``): poses given (Newton to its tolerances:
+# planar.compiled.final), a sweep's quintic Hermite guesses between anchors (planar.compiled.fill),
+# or the Taylor predictor from the nearest pose known on the branch (planar.compiled.direct)
+FINAL, BULK, KNOWN = 0, 1, 2
 LANES = 32  # values the loop takes together (fewer in a smaller chunk)
 
 # fast-math's "contract" only: LLVM may fuse a * b + c into one fused multiply-add (one rounding
@@ -436,10 +441,16 @@ LV_ROWS = LV_FACTOR + 9
 
 
 @numba.njit(**dict(_JIT, _nrt=False))
-def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud, Udd, rates, QD, QDD, RES, SIGNS,
-            SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, W):
+def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach, Q, U, Ud, Udd, rates, QD, QDD, RES,
+            SIGNS, SING, BRANCH, STEP, OFF, RED, OK, STATUS, ITERS, SOLVED, DONE, T, W):
     """Values rows[lo:hi] (value m of this call is row i of the arrays it writes; STEP, OFF,
-    RED, OK: value m), with the buffers W of :func:`_buffers`, in groups of L (the lanes):
+    RED, OK: value m) of the plan's tables T, started as ``mode``
+    says: FINAL from the poses Q; BULK from the Hermite guesses between the anchors G (HQ their
+    coefficients, ADJ, SA: see :func:`planar.compiled.fill`); KNOWN from the Taylor predictor
+    of the pose known at the input in KU nearest each value (HQ: its q, dq/du, d2q/du2; SA:
+    the branch's modes; a value further than ``reach`` from every known input, or whose
+    nearest is as near as another with a lower input, the lower's), with the buffers W of
+    :func:`_buffers`, in groups of L (the lanes):
     every table entry is read once per group, and the innermost loops run over the lanes. A
     group steps while any of its values does; a value that has stopped keeps its last step's
     numbers. Allocates nothing, so it is compiled without numba's reference counting
@@ -448,6 +459,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
     fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, q, qg, sg, dets, ref, aref, E, V, zs, xl, ics, lv, I, des, anc, \
         its, sts, live, act = W
     L = q.shape[1]
+    near = mode == BULK  # (cos and sin from the anchor's: _frames)
     n = T.dims[D_N]
     res, red, sing, branch, step, off, move = lv[LV_RES], lv[LV_RED], lv[LV_SING], lv[LV_BRANCH], lv[LV_STEP], \
         lv[LV_OFF], lv[LV_MOVE]
@@ -465,7 +477,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
                 continue
             i = rows[m]
             I[l], des[l] = i, _design(T, U[i])
-            if interp:
+            if mode == BULK:
                 # the anchors around the value: G[a] < i <= G[a + 1], by binary search; the rows
                 # come sorted, so first whether the value lies in the previous value's interval
                 lo_, hi_ = 0, G.size
@@ -512,12 +524,28 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
                     col = T.pcols[k]
                     mv = _mx(mv, abs((q[col, l] - HQ[a, 0, col]) * ics[k]))
                 move[l] = mv
+            elif mode == KNOWN:
+                u, k, best = U[i, 0], -1, np.inf
+                for j in range(KU.size):  # the nearest known input (as planar.tracking.Poses.nearest)
+                    d = abs(u - KU[j])
+                    if d < best or (d == best and KU[j] < KU[k]):
+                        k, best = j, d
+                if not best <= reach:  # (NaN: no pose is near)
+                    OK[m] = False
+                    continue
+                du, anc[l], mv = u - KU[k], 0, 0.0
+                for j in range(n):
+                    q[j, l] = qg[j, l] = HQ[k, 0, j] + HQ[k, 1, j] * du + 0.5 * HQ[k, 2, j] * du**2
+                for k2 in range(T.pcols.size):
+                    col = T.pcols[k2]
+                    mv = _mx(mv, abs((q[col, l] - HQ[k, 0, col]) * ics[k2]))
+                move[l] = mv
             else:
                 for j in range(n):
                     q[j, l] = Q[i, j]
             live[l] = act[l] = True
         for it in range(1, steps + 1):
-            _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, interp, L)
+            _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, near, L)
             for l in range(L):
                 new_res[l], new_red[l] = 0.0, 0.0
             for r in range(T.prow.size):
@@ -558,7 +586,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
                 # a batch value whose guess is off by more than rounding (but little) takes more
                 # steps; otherwise, Newton (planar.solver.newton) to its tolerances, while the
                 # pose is finite
-                if interp:
+                if mode == BULK:
                     act[l] = ROUND < step[l] <= CLOSE
                 else:
                     act[l] = not ((res[l] <= tol and step[l] <= step_tol) or not (step[l] < np.inf and res[l] < np.inf))
@@ -571,26 +599,29 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
             m, i = m0 + l, I[l]
             RES[i], SING[i], BRANCH[i] = res[l], sing[l], branch[l]
             sts[l] = 0
-            if interp:
+            if mode != FINAL:
                 o = 0.0  # how far the steps moved the guess
                 for k in range(T.pcols.size):
                     col = T.pcols[k]
                     o = _mx(o, abs((q[col, l] - qg[col, l]) * ics[k]))
                 # planar.sweep's acceptance of a batch value: converged, the source anchor's modes,
-                # no further from the guess than JUMP times the predicted move, certified on its branch
+                # no further from the guess than JUMP times the predicted move, certified on its
+                # branch; from a known pose, with no event at it (status SOLVED or NEAR_SINGULAR)
+                sts[l] = status_of(sing[l], red[l], tol)
                 ok = res[l] <= tol and step[l] <= ROUND and on_course(o, move[l]) and certified(o, sing[l])
                 for b in range(sg.shape[0]):
                     ok = ok and sg[b, l] == SA[anc[l], b]
-                OK[m] = ok
+                OK[m] = ok = ok and (mode == BULK or sts[l] <= ST_NEAR_SINGULAR)
                 if not ok:  # left for the general path: no pose here yet (or the anchor's own, with its modes)
                     live[l] = False
-                    if not SOLVED[i]:
+                    if mode == BULK and not SOLVED[i]:
                         Q[i, :] = np.nan
                         for b in range(sg.shape[0]):
                             SIGNS[i, b] = sg[b, l]
                     continue
-                sts[l] = status_of(sing[l], red[l], tol)
-                STATUS[i], SOLVED[i], DONE[i] = sts[l], True, True
+                STATUS[i] = sts[l]
+                if mode == BULK:
+                    SOLVED[i], DONE[i] = True, True
             else:
                 STEP[m], OFF[m], RED[m] = step[l], off[l], red[l]
             for j in range(n):
@@ -603,7 +634,7 @@ def _values(lo, hi, rows, interp, steps, ADJ, G, HQ, SA, tol, step_tol, Q, U, Ud
         # velocities: the input rates on the driver rows; accelerations: gamma at the corrected
         # pose and the velocities (x, as the first solve left them), input accelerations added
         _rate(T, None, Ud, I, live, QD, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L)
-        _gammas(T, q, x, U, I, des, live, fb, Phi, c, g, ref, interp, L)
+        _gammas(T, q, x, U, I, des, live, fb, Phi, c, g, ref, near, L)
         _rate(T, Phi, Udd, I, live, QDD, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L)
         for l in range(L):
             if live[l] and sts[l] > ST_BRANCH_EVENT:  # no rates on a singular or inconsistent pose
@@ -642,16 +673,17 @@ def chunk(N):
     return min(CHUNK, max(MIN_CHUNK, (N + threads - 1) // threads))
 
 
-def loop(size, rows, *args):
-    """The values (``args``: :func:`_values`' after rows, up to the tables) in chunks of
-    ``size`` (:func:`chunk`) on numba's number of threads, each chunk with its own buffers; a
-    chunk or less on the calling thread. Python's threads (the loop releases the GIL): numba's
-    parallel loop compiled the loop twice more, for twice the compile time."""
-    N, T, threads = rows.shape[0], args[-1], numba.get_num_threads()
+def loop(C, size, rows, *args):
+    """The values (``args``: :func:`_values`' after rows, up to the tables) of the plan C
+    (:class:`planar.compiled.Compiled`) in chunks of ``size`` (:func:`chunk`) on numba's number
+    of threads, each chunk with its thread's buffers; a chunk or less on the calling thread.
+    Python's threads (the loop releases the GIL): numba's parallel loop compiled the loop twice
+    more, for twice the compile time."""
+    N, threads = rows.shape[0], numba.get_num_threads()
 
     def run(lo):
         hi = min(N, lo + size)
-        _values(lo, hi, rows, *args, _buffers(T, min(LANES, hi - lo)))
+        _values(lo, hi, rows, *args, C.T, C.work(min(LANES, hi - lo)))
 
     if N <= size or threads == 1:
         for lo in range(0, N, size):
@@ -713,12 +745,12 @@ def _missing(stamp):
             same = f.read() == stamp
     except OSError:
         same = False
-    return not (same and all(fn._cache._cache_file._load_index() for fn in (_values, _buffers)))
+    return not (same and all(fn._cache._cache_file._load_index() for fn in _ENTRIES))
 
 
 def _compile(stamp):
     """Drop the cached code, compile afresh (numba caches it) and stamp it."""
-    for fn in (_values, _buffers):
+    for fn in _ENTRIES:
         fn._cache.flush()
     _warm()
     try:
@@ -737,6 +769,9 @@ def _warm():
     model = four_bar().compile()
     q, U = model.q0[None].copy(), model.u0[None].copy()
     final(model, plan(model), q, U, np.ones_like(U), np.zeros_like(U))
+
+
+_ENTRIES = (_values, _buffers)  # the functions compiled and cached
 
 
 def _stamp():

@@ -10,12 +10,6 @@ from planar.results import Status
 from planar.solver import DISTANT, PREDICTED, acceleration, newton, velocity
 
 
-# a Newton step s below this (scaled) leaves a next correction of about K s^2 at rounding level
-# (ROUND) for Newton's quadratic constant K up to 1 (0.2-0.6 on the catalogue's linkages): the
-# final step's one factorisation then gives the pose, its certificate and its rates
-SETTLED = 3e-7
-
-
 def input_scale(model):
     """(f,) the factor that scales each input: 1 / L (the model's length scale) for a length, 1 for an angle."""
     return np.where(model.input_lengths, 1.0 / model.L, 1.0)
@@ -118,16 +112,46 @@ def _step(br, q, U, Ud, Udd, steps=1):
     rates), the scaled residual ``res`` at q, the scaled ``step`` and ``off`` (its size over
     the finite components: how far the pose moved), the largest scaled redundant row ``red``,
     the blocks' det ``signs``, the singularity measure ``sing``, the ``branch`` and the
-    Newton steps taken ``iters``. With ``steps`` > 1, Newton steps before it, each pose's until
-    its step is below SETTLED (at most steps - 1). The compiled engine computes the same in
-    :func:`planar.compiled.final` (its steps until one is at rounding level)."""
+    Newton steps taken ``iters``. With ``steps`` > 1, Newton: up to that many steps, each
+    pose's until its residual is below the tolerance and its step at rounding level (ROUND),
+    the dict's values those of its last step (so a guess at rounding level takes one step:
+    its correction, certificate and rates from one factorisation). The compiled engine
+    computes the same in :func:`planar.compiled.final`."""
     if br.compiled is not None:
         return br.compiled.final(br.m, br.p, q, U, Ud, Udd, br.rates, steps=steps, tol=br.tol, step_tol=ROUND)
+    N = q.shape[0]
+    nan = np.broadcast_to(np.nan, q.shape)  # (positions only: no velocity and acceleration solves)
+    out, idx = None, np.arange(N)
+    for it in range(1, steps + 1):
+        f, lu = _one_step(br, q if out is None else out["q"][idx], U[idx])
+        # a pose stops where it converged to rounding or is no longer finite, or at the last step
+        stop = ((f["res"] <= br.tol) & (f["step"] <= ROUND)) | ~(f["step"] < np.inf) | ~(f["res"] < np.inf)
+        if it == steps:
+            stop[:] = True
+        if out is None and stop.all():  # (most calls: one step)
+            f["qd"], f["qdd"] = _rates(br.p, lu, f["q"], U, Ud, Udd) if br.rates else (nan, nan)
+            f["iters"] = np.ones(N, int)
+            return f
+        if out is None:
+            out = {k: np.array(v) for k, v in f.items()}
+            out["qd"], out["qdd"] = (np.full(q.shape, np.nan), np.full(q.shape, np.nan)) if br.rates else (nan, nan)
+            out["iters"] = np.ones(N, int)
+        else:
+            for k, v in f.items():
+                out[k][idx] = v
+            out["iters"][idx] = it
+        if br.rates and stop.any():  # the rates of the poses that stop, with this step's factorisation
+            qd, qdd = _rates(br.p, lu, f["q"], U[idx], Ud[idx], Udd[idx])
+            out["qd"][idx[stop]], out["qdd"][idx[stop]] = qd[stop], qdd[stop]
+        idx = idx[~stop]
+        if idx.size == 0:
+            return out
+    return out
+
+
+def _one_step(br, q, U):
+    """The step of :func:`_step` but its rates and ``iters``, and the factorisation at q."""
     m, p = br.m, br.p
-    iters = np.ones(q.shape[0], int)
-    if steps > 1:
-        q, _, _, it = newton(m, q, U, tol=np.inf, step_tol=SETTLED, max_iter=steps - 1, plan=p)
-        iters += it
     with np.errstate(all="ignore"):
         Phi, full, Jv = p.evaluate(q, U)
         lu = p.factor(Jv)
@@ -143,12 +167,8 @@ def _step(br, q, U, Ud, Udd, steps=1):
             off[bad] = np.max(np.where(np.isfinite(dq_p[bad]), dq_p[bad], 0.0), axis=1)
             dq[bad] = np.where(np.isfinite(dq[bad]), dq[bad], 0.0)
         q = q - dq
-    if br.rates:
-        qd, qdd = _rates(p, lu, q, U, Ud, Udd)
-    else:  # positions only: no velocity and acceleration solves, no rate arrays (read-only NaN)
-        qd = qdd = np.broadcast_to(np.nan, q.shape)
-    return dict(q=q, qd=qd, qdd=qdd, res=res, step=step, off=off, red=_redundant(m, full), signs=lu.signs,
-                sing=lu.sing, branch=np.prod(lu.signs, axis=1), iters=iters)
+    return dict(q=q, res=res, step=step, off=off, red=_redundant(m, full), signs=lu.signs, sing=lu.sing,
+                branch=np.prod(lu.signs, axis=1)), lu
 
 
 def final_step(br, q, U, Ud, Udd, steps=1):
