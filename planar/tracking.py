@@ -156,7 +156,7 @@ def sweep(model, U, Ud, Udd, **options):
     the poses it reaches remembered. Values each near a known pose take the direct path
     (:func:`direct`). Sweeps that ask only for some ``outputs`` (the other coordinates are not
     solved) start from a known pose but teach none."""
-    from planar.sweep import FAR, run_sweep
+    from planar.sweep import FAR, input_scale, run_sweep
 
     if U.shape[1] != 1:
         return run_sweep(model, U, Ud, Udd, **options)
@@ -166,7 +166,7 @@ def sweep(model, U, Ud, Udd, **options):
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     k = poses.nearest(U[:1, 0])[0]
     start = poses.q[k], poses.u[k : k + 1]
-    if start[1][0] == poses.u0 or (not model.input_lengths[0] and np.max(np.abs(U[:, 0] - poses.u0)) > FAR):
+    if start[1][0] == poses.u0 or np.max(np.abs(U[:, 0] - poses.u0)) * input_scale(model)[0] > FAR:
         # the sketch itself (the sweep from it checks it), or values the sweep solves whole
         # periods back, from the sketch
         start = None
@@ -213,10 +213,10 @@ class Direct:
         # (the sweep refuses the options it does not know)
         self.key = (options.get("branch", "smooth"), options.get("tol", 1e-12))
         self.u0 = float(model.u0[0])
-        # the inputs the path takes: within FAR of the sketch's for an angle (the sweep solves
-        # those further whole periods back)
-        self.far = np.inf if model.input_lengths[0] else FAR
-        self.reach = SPARSE * options.get("max_step", 0.05) / float(input_scale(model)[0])
+        # the inputs the path takes: within FAR of the sketch's, scaled (the sweep solves those
+        # further whole periods back, where the input is periodic)
+        scale = float(input_scale(model)[0])
+        self.far, self.reach = FAR / scale, SPARSE * options.get("max_step", 0.05) / scale
         self.rates = options.get("rates", True)
         self._br = None
 
