@@ -86,16 +86,20 @@ def moves(draw):
     return name, steps
 
 
+ENGINES = ["numpy", pytest.param("numba", marks=pytest.mark.numba)]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
 @settings(max_examples=40, deadline=None)
-@given(moves())
-def test_moves_equal_the_sweep_from_the_sketch(case):
+@given(case=moves())
+def test_moves_equal_the_sweep_from_the_sketch(engine, case):
     """Every move (by the direct path or by a sweep) gives the sweep from the sketch, and
     what a twin model that knows the same poses gives without the direct path."""
     name, steps = case
     model, twin = MECHANISMS[name]().compile(), MECHANISMS[name]().compile()
     for m in (model, twin):
-        m.sweep(np.linspace(m.u0[0], m.u0[0] + 2 * np.pi * _unit(m), 40))
-    tracker, twin_tracker = model.track(), twin.track()
+        m.sweep(np.linspace(m.u0[0], m.u0[0] + 2 * np.pi * _unit(m), 40), engine=engine)
+    tracker, twin_tracker = model.track(engine=engine), twin.track(engine=engine)
     u = float(model.u0[0])
     for s in steps:
         u = float(u + s[1]) if isinstance(s, tuple) else float(s)
@@ -103,9 +107,6 @@ def test_moves_equal_the_sweep_from_the_sketch(case):
         _same(got, _reference(name, u))
         with mock.patch("planar.tracking.Direct.__call__", return_value=None):
             _same(got, twin_tracker.move(u))
-
-
-ENGINES = ["numpy", pytest.param("numba", marks=pytest.mark.numba)]
 
 
 @pytest.mark.parametrize("engine", ENGINES)
