@@ -117,6 +117,21 @@ def test_a_far_input_turns_the_coupler_of_a_drag_link_by_whole_turns():
     assert abs(res.angle("coupler")[1] - res.inputs[1, 0]) < 2 * np.pi + 4
 
 
+@pytest.mark.parametrize("turns", [3, 1000])
+def test_a_value_whole_periods_on_of_a_rocking_input_is_a_jump(turns):
+    """The crank of a four-bar whose rocker is the shortest link rocks: a value whole turns on
+    from the one before is reached by moving the pose by those turns, past two limits each
+    turn, so it is JUMPED (its line breaks there), where the crank of a crank-rocker turns fully
+    to it."""
+    rocking = four_bar(0.6258855, 3.0296554, 3.04322927, 0.5518215, start=2.54985073)
+    u0 = 2.54985073
+    res = rocking.sweep([u0, u0 + 0.01 + 2 * np.pi * turns, u0 + 0.02 + 2 * np.pi * turns])
+    assert res.status.tolist() == [Status.SOLVED, Status.JUMPED, Status.SOLVED]
+    np.testing.assert_allclose(res.position("B")[1], rocking.sweep([u0 + 0.01]).position("B")[0], atol=1e-9)
+    full = four_bar(4, 2, 3, 4)
+    assert full.sweep([0.0, 0.01 + 2 * np.pi * turns]).status.tolist() == [Status.SOLVED, Status.SOLVED]
+
+
 @st.composite
 def full_turn_four_bars(draw):
     r = draw(st.tuples(length, length, length, length))

@@ -81,6 +81,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             # too far from that pose to walk, not from the sketch: walked from the sketch
             start = origin
             got = walker.walk(*start, U[i], int(i), periodic=periodic)
+        if got[0] == "ok" and walker.jumped:
+            direct.append(i)  # (moved by whole periods of a rocking input, past their limits: JUMPED)
 
         def index(u_star):
             if back is None:

@@ -28,6 +28,9 @@ class Walker:
         self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
         self._symmetry = self._period = None  # (P, D) or False, found when first asked
         self.turns = False  # the walk went round a whole period (no limit): the input turns fully
+        # the last walk moved by whole periods of an input that does not turn fully: past the
+        # limits of those periods (its target not reached continuously: a jump)
+        self.jumped = False
 
     def symmetry(self):
         """(P, D): an input period P and the pose shift D over it where the sketch shifted by D
@@ -100,7 +103,9 @@ class Walker:
         near one does; for a rocking input that meets a limit that way, the other way round
         (a period less or more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)),
         ("lost",) or ("far",) for a target more than WALK_STEPS steps away with no period to
-        shorten the way (the work is bounded: the sweep enters it directly)."""
+        shorten the way (the work is bounded: the sweep enters it directly). ``jumped`` says
+        whether a target reached moved by whole periods of a rocking input."""
+        self.jumped = False
         if periodic and u.size == 1:
             d = float(target[0] - u[0])
             per = self.period() if abs(d) * float(input_scale(self.br.m)[0]) >= 2 * np.pi else None
@@ -118,6 +123,7 @@ class Walker:
                 rest = rest if k or abs(rest) > np.pi else 0.0
                 other = self._shorten(q, u, signs, k + np.sign(rest)) if rest else None
                 if other is None:
+                    self.jumped = bool(k) and not self.turns
                     return got
                 kept = self.events[n:]
                 del self.events[n:]
@@ -126,7 +132,9 @@ class Walker:
                 # back in other modes, where the walk the direct way would re-enter in these
                 if again[0] == "limit" or (again[0] == "ok" and not np.all(again[2] == signs)):
                     self.events[n:] = kept
+                    self.jumped = bool(k) and not self.turns
                     return got
+                self.jumped = True  # (a period more or less than the value is away: past a limit)
                 return again
         br, m = self.br, self.br.m
         total = float(scaled_norm(m, target - u))
