@@ -3,9 +3,10 @@ the :class:`Tracker` that follows an input moved by hand.
 
 A one-input model remembers, per branch option and tolerance, poses its sweeps solved on the
 branch drawn in the sketch (:class:`Poses`, at most ``CAP``). A pose is remembered only when
-the continuation reached it from the sketch with no limit, bifurcation or singular position and
-no invalid value on the way, so the remembered poses span one interval of the unwrapped input,
-around the sketch's, on which the branch is a smooth function of the input (for a crank that
+the continuation reached it from the sketch with no limit, bifurcation or singular position, no
+jump or move by whole periods of a rocking input, and no invalid value on the way, so the
+remembered poses span one interval of the unwrapped input, around the sketch's, on which the
+branch is a smooth function of the input (for a crank that
 turns fully, u and u + 2 pi are different inputs, and for a geared train different poses). A
 sweep walks from the remembered pose nearest its first value: inside that interval the pose at
 any input is the branch's, whichever way it is reached; outside, the walk from the interval's
@@ -100,13 +101,16 @@ class Poses:
         left = np.abs(u - known[j - 1]) <= np.abs(known[np.minimum(j, known.size - 1)] - u)
         return order[np.where(left, j - 1, np.minimum(j, known.size - 1))]
 
-    def learn(self, res):
+    def learn(self, res, reached):
         """Remember the poses of a sweep (one started from a known pose) up to its first
-        event that breaks the branch or its first value not reached on it."""
+        event that breaks the branch or its first value not reached on it, of those its walk
+        ``reached`` (N,) by continuation from its start (no jump, no move by whole periods of a
+        rocking input: values solved out of order may be asked before those)."""
         end = _clean_end(res)
-        if end == 0:
+        take = np.flatnonzero(reached[:end])
+        if take.size == 0:
             return
-        take = np.unique(np.linspace(0, end - 1, min(end, CAP // 2)).astype(int))
+        take = take[np.unique(np.linspace(0, take.size - 1, min(take.size, CAP // 2)).astype(int))]
         # the kinematic coefficients from the rates: qd = v q_u, qdd = v^2 q_uu + a q_u
         v, a = res.input_rates[take], res.input_accelerations[take]
         # (NaN where the rates are not known, or the input rate too small for v^2 to be a normal
@@ -170,13 +174,14 @@ def sweep(model, U, Ud, Udd, **options):
         # the sketch itself (the sweep from it checks it), or values the sweep solves whole
         # periods back, from the sketch
         start = None
-    res = run_sweep(model, U, Ud, Udd, start, **options)
+    reached = []
+    res = run_sweep(model, U, Ud, Udd, start, _reached=reached, **options)
     if start is not None and not _clean(res):
         # past a limit or a branch event the way on (re-entering the range, the branch taken)
         # depends on the whole walk: the walk from the sketch decides
-        res = run_sweep(model, U, Ud, Udd, **options)
+        res = run_sweep(model, U, Ud, Udd, _reached=reached, **options)
     if options.get("outputs") is None:
-        poses.learn(res)
+        poses.learn(res, reached[-1])
     return res
 
 

@@ -83,6 +83,18 @@ def test_a_pose_a_turn_on_is_another_pose():
     assert abs(tracker.move(1.0).angle("gear2")[0] - a.angle("gear2")[0]) < 1e-12
 
 
+def test_values_a_rocking_input_reaches_by_whole_periods_are_not_remembered():
+    """A crank that rocks (its rocker is the shortest link) reaches values whole turns on from
+    the sketch only by a jump: a model that has swept them, in any order, remembers none of
+    them, and its later sweeps stay those from the sketch."""
+    rocking = lambda: four_bar(0.6258855, 3.0296554, 3.04322927, 0.5518215, start=2.54985073)  # noqa: E731
+    model, u0 = rocking().compile(), 2.54985073
+    far = u0 + 0.01 + 6 * np.pi
+    for values in ([far, u0, u0 + 0.005], [u0, far, u0 + 0.005], [u0, far, far + 0.01], [far + 0.02]):
+        _same(model.sweep(values), rocking().compile().sweep(values))
+        assert np.all(np.abs(model.known_poses[("smooth", 1e-12)].u - u0) < 1)
+
+
 @pytest.mark.parametrize("branch", ["smooth", "other"])
 def test_each_branch_option_knows_its_own_poses(branch):
     model = MECHANISMS["parallelogram"]().compile()

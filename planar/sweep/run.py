@@ -52,12 +52,16 @@ def output_columns(model, outputs):
 
 
 def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
-              engine="numpy", _nested=False):
+              engine="numpy", _nested=False, _reached=None):
     """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
     from instead of the sketch, reached from the sketch by continuation with no event between
     (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``_nested``: a
     sweep made by another for what it asks of the branch (:func:`_enter_by_images`,
-    :func:`_period_by_sweep`), which makes no such sweeps itself."""
+    :func:`_period_by_sweep`), which makes no such sweeps itself. ``_reached``: a list, to
+    which the sweep appends (N,) True for the values its walk reached from the start by
+    continuation, before any limit, bifurcation or singular position, jump, direct entry or
+    move by whole periods of an input that does not turn fully (what :mod:`planar.tracking`
+    may remember)."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     cols = output_columns(model, outputs)
@@ -82,7 +86,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             start = origin
             got = walker.walk(*start, U[i], int(i), periodic=periodic)
         if got[0] == "ok" and walker.jumped:
-            direct.append(i)  # (moved by whole periods of a rocking input, past their limits: JUMPED)
+            periods.append(i)  # (moved by whole periods of a rocking input, past their limits: JUMPED)
 
         def index(u_star):
             if back is None:
@@ -152,6 +156,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     entries = 0  # ranges entered at a gap's far end
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
     direct = []  # values entered directly, too far to walk
+    periods = []  # values walked to moved by whole periods of a rocking input, past their limits
     anchors = sweep_anchors(model, U, max_step)
     kin = Kin()  # the anchors' kinematic coefficients where known (one input)
     coef = None  # those of the state, where known
@@ -315,7 +320,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
-    jumps = (stops + direct, None)
+    jumps = (stops + direct + periods, None)
     if order is not None:
         # values asked one after the other with a limit the walk met between them (the direct
         # way), or entered too far to walk: a jump
@@ -330,7 +335,15 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         # is out of the walk's reach)
         reach = WALK_STEPS * max_step
         far = [j for j in direct if prev[j] >= 0 and scaled_norm(model, U[j] - U[prev[j]]) > reach]
-        jumps = (np.union1d(cand, far).astype(int), prev)
+        # (and one on the other side of a move by whole periods of a rocking input)
+        stretch = np.cumsum(np.isin(np.arange(N), periods))
+        moved = np.flatnonzero((prev >= 0) & (stretch != stretch[np.maximum(prev, 0)]))
+        jumps = (np.union1d(np.union1d(cand, far), moved).astype(int), prev)
+    if _reached is not None:
+        # (values solved whole periods back are a move by whole periods from the start)
+        cut = stops + direct + periods + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
+        reached = np.arange(N) < (0 if shift is not None and not walker.turns else min(cut, default=N))
+        _reached.append(reached if order is None else reached[np.argsort(order)])
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
 
