@@ -84,9 +84,9 @@ class Sweep:
     events: tuple = ()
 
     def __post_init__(self):
-        for k, v in vars(self).items():
+        for v in vars(self).values():
             if isinstance(v, np.ndarray):
-                v.flags.writeable = False
+                v.setflags(write=False)
 
     def __len__(self) -> int:
         return self.status.shape[0]

@@ -44,6 +44,7 @@ BREAKS = ("limit", "bifurcation", "singular")  # events past which the branch is
 NEWTON = 8  # Newton steps of the direct path (the sweep's walk step allows as many)
 SLOWEST = np.sqrt(np.finfo(float).tiny)  # input rates below this teach no kinematic coefficients
 DIRECT = 4096  # values the direct path takes in one batch: more are the sweep's (its bulk is made for them)
+NUMBER = (int, float, np.float64)  # a move's value and rates as numbers (the others, and bools, go by the sweep's checks)
 
 
 class Poses:
@@ -265,7 +266,7 @@ class Direct:
         else:
             qd, qdd = qu * Ud, quu * Ud**2 + qu * Udd
         events = ()
-        if (sing < NEAR_CURVE).any():
+        if (sing[0] < NEAR_CURVE) if M == 1 else (sing < NEAR_CURVE).any():
             from planar.sweep import near_stretches
 
             events = tuple(near_stretches(self.model, U, sing, status, ()))
@@ -354,8 +355,8 @@ class Tracker:
         """The pose at input ``value`` (a number, or one per input): a :class:`planar.Sweep`
         of one value, as ``model.sweep([value], velocity, acceleration)`` gives it."""
         res = None
-        if self.model.u0.size == 1 and all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                                           for x in (value, velocity, acceleration)):
+        if self.model.u0.size == 1 and type(value) in NUMBER and type(velocity) in NUMBER and \
+                type(acceleration) in NUMBER:
             v, a = float(velocity), float(acceleration)
             if math.isfinite(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
                 res = self._direct(np.array([[float(value)]]), np.array([[v]]), np.array([[a]]))

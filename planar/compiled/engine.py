@@ -669,6 +669,8 @@ def _buffers(T, L):
 def chunk(N):
     """Values per task of :func:`loop` for a call of N values: CHUNK, fewer to give every thread
     one, down to MIN_CHUNK."""
+    if N <= MIN_CHUNK:
+        return MIN_CHUNK
     threads = numba.get_num_threads()
     return min(CHUNK, max(MIN_CHUNK, (N + threads - 1) // threads))
 
@@ -679,13 +681,17 @@ def loop(C, size, rows, *args):
     of threads, each chunk with its thread's buffers; a chunk or less on the calling thread.
     Python's threads (the loop releases the GIL): numba's parallel loop compiled the loop twice
     more, for twice the compile time."""
-    N, threads = rows.shape[0], numba.get_num_threads()
+    N = rows.shape[0]
+    if N <= size:  # (one chunk)
+        _values(0, N, rows, *args, C.T, C.work(min(LANES, N)))
+        return
+    threads = numba.get_num_threads()
 
     def run(lo):
         hi = min(N, lo + size)
         _values(lo, hi, rows, *args, C.T, C.work(min(LANES, hi - lo)))
 
-    if N <= size or threads == 1:
+    if threads == 1:
         for lo in range(0, N, size):
             run(lo)
         return
