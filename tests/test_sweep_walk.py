@@ -132,6 +132,19 @@ def test_a_value_whole_periods_on_of_a_rocking_input_is_a_jump(turns):
     assert full.sweep([0.0, 0.01 + 2 * np.pi * turns]).status.tolist() == [Status.SOLVED, Status.SOLVED]
 
 
+@pytest.mark.parametrize("at", [32 * np.pi, 1e5])
+def test_far_values_of_a_rocking_input_jump_where_a_limit_lies_between(at):
+    """Far values are solved whole periods back (16 turns at a time): a dense run across the
+    border of those blocks stays SOLVED (no limit between its values), a value a thousand turns
+    on from the one before is JUMPED, one 0.01 on is not."""
+    rocking = four_bar(0.6258855, 3.0296554, 3.04322927, 0.5518215, start=2.54985073)
+    u = 2.54985073 + at
+    res = rocking.sweep(np.linspace(u - 0.05, u + 0.05, 11))
+    assert (res.status == Status.SOLVED).all()
+    assert rocking.sweep([u, u + 0.01 + 2000 * np.pi]).status.tolist() == [Status.SOLVED, Status.JUMPED]
+    assert rocking.sweep([u, u + 0.01]).status.tolist() == [Status.SOLVED, Status.SOLVED]
+
+
 @st.composite
 def full_turn_four_bars(draw):
     r = draw(st.tuples(length, length, length, length))

@@ -339,6 +339,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         stretch = np.cumsum(np.isin(np.arange(N), periods))
         moved = np.flatnonzero((prev >= 0) & (stretch != stretch[np.maximum(prev, 0)]))
         jumps = (np.union1d(np.union1d(cand, far), moved).astype(int), prev)
+    if shift is not None and not walker.turns:
+        # values of a rocking input solved whole periods back: the walk between them is not
+        # theirs (two values a block apart are one there), so a jump is read from the values
+        # asked: a limit of the period lies between them (one a period or more apart has one)
+        before = prev if order is not None else np.arange(N) - 1
+        P, lims = shift[1][0], [float(np.ravel(e.input)[0]) for e in events if e.kind == "limit"]
+        cand = [j for j in range(N) if before[j] >= 0 and _limit_between(U_in[before[j], 0], U_in[j, 0], lims, P)]
+        jumps = (np.union1d(cand, direct).astype(int), before)
     if _reached is not None:
         # (values solved whole periods back are a move by whole periods from the start)
         cut = stops + direct + periods + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
@@ -346,6 +354,13 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         _reached.append(reached if order is None else reached[np.argsort(order)])
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
+
+
+def _limit_between(a, b, lims, P):
+    """Whether inputs a and b of a rocking input of period P lie a period or more apart or
+    have a limit of ``lims`` (inputs of limits, each repeated every period) between them."""
+    lo, hi = min(a, b), max(a, b)
+    return hi - lo >= P or any(L + np.ceil((lo - L) / P) * P < hi for L in lims)
 
 
 def _enter_by_images(model, walker, targets, u, signs, options):
