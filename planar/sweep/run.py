@@ -133,9 +133,16 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         per = walker.period() or (None if _nested else _period_by_sweep(model, walker, options))
         if per is not None:
             start = None  # the sketch, whole periods back, is nearer than any known pose
-            block = per[0] * np.ceil(FAR / (per[0] * input_scale(model)[0]))
-            k = np.trunc((U[:, 0] - model.u0[0]) / block) * (block / per[0])
-            U = less_periods(U[:, 0], k, per[0])[:, None]
+            P, u0 = per[0], model.u0[0]
+            if walker.turns:
+                block = P * np.ceil(FAR / (P * input_scale(model)[0]))
+                k = np.trunc((U[:, 0] - u0) / block) * (block / P)
+            else:
+                # a rocking input: into the period that starts at a limit below the sketch's
+                # input (so two values in different periods have a limit between them)
+                c = walker.limit - np.ceil((walker.limit - u0) / P) * P
+                k = np.floor((U[:, 0] - c) / P)
+            U = less_periods(U[:, 0], k, P)[:, None]
             shift = (k, per)
 
     # 1. the sequential walk over anchors, from the assembled sketch
@@ -340,13 +347,11 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         moved = np.flatnonzero((prev >= 0) & (stretch != stretch[np.maximum(prev, 0)]))
         jumps = (np.union1d(np.union1d(cand, far), moved).astype(int), prev)
     if shift is not None and not walker.turns:
-        # values of a rocking input solved whole periods back: the walk between them is not
-        # theirs (two values a block apart are one there), so a jump is read from the values
-        # asked: a limit of the period lies between them (one a period or more apart has one)
+        # values of a rocking input solved whole periods back: one in another period than the
+        # value asked before it has the limit that starts its period between them
         before = prev if order is not None else np.arange(N) - 1
-        P, lims = shift[1][0], [float(np.ravel(e.input)[0]) for e in events if e.kind == "limit"]
-        cand = [j for j in range(N) if before[j] >= 0 and _limit_between(U_in[before[j], 0], U_in[j, 0], lims, P)]
-        jumps = (np.union1d(cand, direct).astype(int), before)
+        moved = np.flatnonzero((before >= 0) & (shift[0] != shift[0][np.maximum(before, 0)]))
+        jumps = (np.union1d(jumps[0], moved).astype(int), jumps[1])
     if _reached is not None:
         # (values solved whole periods back are a move by whole periods from the start)
         cut = stops + direct + periods + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
@@ -354,13 +359,6 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         _reached.append(reached if order is None else reached[np.argsort(order)])
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
-
-
-def _limit_between(a, b, lims, P):
-    """Whether inputs a and b of a rocking input of period P lie a period or more apart or
-    have a limit of ``lims`` (inputs of limits, each repeated every period) between them."""
-    lo, hi = min(a, b), max(a, b)
-    return hi - lo >= P or any(L + np.ceil((lo - L) / P) * P < hi for L in lims)
 
 
 def _enter_by_images(model, walker, targets, u, signs, options):
@@ -421,7 +419,8 @@ def _period_by_sweep(model, walker, options):
         q = np.where(np.isnan(res.q[j]), model.q0, res.q[j])  # (columns the outputs leave unsolved)
         D = _turns(walker.br, q - model.q0, (j + 1) * sym[1])
         if D is not None and np.all(walker.br.signs(q[None], V[j][None])[0] == s0):
-            walker.keep_period((j + 1) * P, D, turns=not any(e.kind == "limit" for e in res.events))
+            lims = [float(np.ravel(e.input)[0]) for e in res.events if e.kind == "limit"]
+            walker.keep_period((j + 1) * P, D, lims[0] if lims else None)
             return walker.period()
     return None
 

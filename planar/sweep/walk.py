@@ -28,6 +28,7 @@ class Walker:
         self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
         self._symmetry = self._period = None  # (P, D) or False, found when first asked
         self.turns = False  # the walk went round a whole period (no limit): the input turns fully
+        self.limit = None  # else the input of a limit the walk over a period met (one input)
         # the last walk moved by whole periods of an input that does not turn fully: past the
         # limits of those periods (its target not reached continuously: a jump)
         self.jumped = False
@@ -68,7 +69,7 @@ class Walker:
                 for j in range(1, MODE_PERIODS + 1):
                     got = self.walk(q, u, s, u + P, 0)
                     if got[0] == "limit" and j == 1:
-                        self._period = sym
+                        self._period, self.limit = sym, float(np.ravel(got[1].input)[0])
                     if got[0] != "ok":
                         break
                     q, u, s = got[1], u + P, got[2]
@@ -81,10 +82,10 @@ class Walker:
                 self.rounds = rounds
         return self._period or None
 
-    def keep_period(self, P, D, turns):
+    def keep_period(self, P, D, limit):
         """Take (P, D) as the period (found by a sweep where :meth:`period`'s walk meets a limit;
-        ``turns``: the input turns fully)."""
-        self._period, self.turns = (P, D), turns
+        ``limit``: the input of a limit that sweep met, None where the input turns fully)."""
+        self._period, self.turns, self.limit = (P, D), limit is None, limit
 
     def _shorten(self, q, u, signs, k):
         """(q, u) moved by k whole periods of the input (:meth:`period`): the pose there is
