@@ -395,6 +395,45 @@ def test_a_slider_crank_whose_crank_reaches_two_intervals_loses_no_value(case, c
     assert count.calls <= WORK_TWO_INTERVALS, count.calls
 
 
+@st.composite
+def rocking_four_bars(draw):
+    """A crank-driven four-bar whose crank rocks (its range over a turn one or two intervals,
+    each wider than 0.1), and a start inside a range."""
+    r = draw(st.tuples(length, length, length, length))
+    ranges = oracles.four_bar_input_limits(*r)
+    assume(ranges and ranges != [(-np.pi, np.pi)] and min(b - a for a, b in ranges) > 0.1)
+    a, b = ranges[draw(st.integers(0, len(ranges) - 1))]
+    return r, draw(st.floats(a + 0.01, b - 0.01)), ranges
+
+
+# a fuzz campaign's crank (its range over a turn two intervals, 0.87..2.00 rad and its mirror):
+# before far values were solved whole periods back into one period, the first of these was
+# NOT_CONVERGED
+FUZZED = ((3.1591713721477857, 2.269132721550857, 1.078610675691412, 3.5081261684943073), 1.1565173518878389)
+FUZZED_FAR = [311219.09168472205, 478688.59497750655, 900613.7256889333, 936614.0334233554, 217299.80573303346,
+              861484.0610726231, 639821.5898704965, 327373.4686957388, 104623.5540350201, 426865.7579991881,
+              323881.0445057351, 834375.6860181676, 19020.35664780518, 214185.412229394, 466656.8668332406,
+              753871.3495419491, 481315.6655571167, 294966.28269556735, 691496.8297569149, 802035.9756568879]
+
+
+@PROPS
+@given(case=rocking_four_bars(), crossed=st.booleans(),
+       far=st.lists(st.floats(1e2, 1e6) | st.floats(-1e6, -1e2), min_size=1, max_size=12), near=st.integers(0, 3),
+       repeat=st.integers(0, 2), backwards=st.booleans())
+@example(case=(*FUZZED, oracles.four_bar_input_limits(*FUZZED[0])), crossed=False, far=FUZZED_FAR, near=0, repeat=0,
+         backwards=False)
+def test_far_values_of_a_rocking_four_bar_lose_no_value(case, crossed, far, near, repeat, backwards):
+    """Far values of a crank that rocks, some next to each other and some repeated, forwards
+    or backwards: every one in range posed on the closed form, the others NOT_ASSEMBLABLE,
+    none NOT_CONVERGED."""
+    r, start, ranges = case
+    m = four_bar(*r, crossed=crossed, start=start)
+    values = np.array(far + [x + 0.01 for x in far[:near]] + far[:repeat])
+    res = m.sweep(start + (values[::-1] if backwards else values))
+    o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1 if crossed else 1)
+    assert_no_lost_value(res, ranges, o["th3"])
+
+
 def test_a_watt_six_bar_on_a_parallelogram_keeps_its_branch_past_its_change_points():
     m = watt_six_bar(4, 1, 4, 1, start=0.3)
     res = m.sweep(np.arange(0.3, 0.3 + 4 * np.pi, 0.023))  # two turns, four change points
