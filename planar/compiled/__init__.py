@@ -15,12 +15,13 @@ loop reads them. Each joint type's scalar kernel comes from its class (``scalar_
 :func:`kinds`, so the solver still never asks a joint's type (a kernel runs lane by lane).
 The blocks' Schur complements are factored by :mod:`planar.lu`'s LU, lane by lane.
 
-Two entries: :func:`final` (one Newton step from given poses, with modes and rates: the
-anchors' Newton iterations and kinematic coefficients) and :func:`fill` (the bulk of a sweep:
+Three entries: :func:`final` (one Newton step from given poses, with modes and rates: the
+anchors' Newton iterations and kinematic coefficients), :func:`fill` (the bulk of a sweep:
 each value's Hermite guess, up to STEPS Newton steps, the acceptance test, status and rates,
-written in place into the sweep's arrays). Both call the one loop (chunks of values on
-numba's number of threads, Python's: the loop releases the GIL; a chunk or less on the calling
-thread).
+written in place into the sweep's arrays) and :func:`direct` (poses on demand: each value from
+the pose known nearest it, the whole direct path of :mod:`planar.tracking`). All call the one
+loop (chunks of values on numba's number of threads, Python's: the loop releases the GIL; a
+chunk or less on the calling thread), each thread with work buffers kept for the plan.
 
 numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside
 :mod:`planar.compiled.engine`, or where ``NUMBA_CACHE_DIR`` says, or numba's user cache
