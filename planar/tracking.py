@@ -300,8 +300,8 @@ class Direct:
         """As :meth:`_numpy`, in one call of the compiled engine."""
         if not poses.complete:
             poses.coefficients(br)
-        return br.compiled.direct(self.model, br.p, poses.u, poses.rows, np.asarray(poses.signs, np.int8), U,
-                                  self.key[1], self.reach, NEWTON)
+        signs = np.ascontiguousarray(poses.signs, np.int8)  # (as either engine gave them)
+        return br.compiled.direct(self.model, br.p, poses.u, poses.rows, signs, U, self.key[1], self.reach, NEWTON)
 
 
 def _clean_end(res):

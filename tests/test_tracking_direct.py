@@ -166,6 +166,23 @@ def test_a_sweep_over_a_stretch_the_model_has_swept_takes_the_direct_path(engine
     assert calls == [past.size]
 
 
+@pytest.mark.numba
+def test_the_engines_share_a_models_known_poses():
+    """A model tracked by one engine, then the other: each takes the direct path from the
+    poses the other learned, with the sweep's results (and the compiled loop keeps its one
+    signature)."""
+    from planar.compiled import engine
+
+    model = MECHANISMS["watt_six_bar"]().compile()
+    u0 = float(model.u0[0])
+    for eng, u in (("numpy", u0 + 0.1), ("numba", u0 + 0.12), ("numpy", u0 + 0.14)):
+        tracker = model.track(engine=eng)
+        res = tracker.move(u)
+        assert tracker.direct
+        _same(res, _reference("watt_six_bar", u, engine=eng))
+    assert len(engine._values.signatures) == 1
+
+
 def test_values_it_cannot_certify_go_to_the_sweep():
     """Past a limit, through a change point and far from every known pose the tracker sweeps
     (``direct`` False), with the sweep's statuses and events."""
