@@ -291,8 +291,8 @@ class Direct:
         # them linearly
         one, zero = np.ones((U.shape[0], 1)), np.zeros((U.shape[0], 1))
         r = final_step(br, q_pred, U, one, zero, steps=NEWTON)
-        ok = br.accept(r["q"], q_pred, lambda rows: qk[rows], r["conv"], r["signs"], poses.signs, r["sing"])
-        if not (ok.all() and np.isin(r["status"], CLEAN).all()):
+        ok = br.accept(r["q"], q_pred, lambda rows: qk[rows], r["conv"], r["signs"], poses.signs, r["sing"], r["off"])
+        if not (ok.all() and (r["status"] <= Status.NEAR_SINGULAR).all()):  # (CLEAN)
             return None
         return r["q"], r["qd"], r["qdd"], r["status"].astype(np.int8), r["res"], r["iters"], r["sing"], r["branch"]
 
