@@ -250,6 +250,8 @@ class Direct:
 
             check_sketch(self.model, br.p)  # (a sketch on a singular position is refused, as the sweep does)
             poses.signs = br.signs(self.model.q0[None], self.model.u0[None])
+        if not poses.complete:  # (the predictor reads every known pose's coefficients)
+            poses.coefficients(br)
         r = self._compiled(br, poses, U) if self.engine == "numba" else self._numpy(br, poses, U)
         if r is None:
             poses.refused = u[0] if M == 1 else None
@@ -280,10 +282,6 @@ class Direct:
         du = (U[:, 0] - poses.u[k])[:, None]
         if not np.max(np.abs(du)) <= self.reach:
             return None
-        new = np.unique(k[np.isnan(poses.qu[k, 0])])
-        if new.size:
-            one = np.ones((new.size, 1))
-            poses.qu[new], poses.quu[new] = br.state(poses.q[new], poses.u[new, None], one)[:2]
         qk = poses.q[k]
         q_pred = qk + poses.qu[k] * du + 0.5 * poses.quu[k] * du**2
         # Newton and the sweep's final step at a unit input rate: its rates are the kinematic
@@ -298,8 +296,6 @@ class Direct:
 
     def _compiled(self, br, poses, U):
         """As :meth:`_numpy`, in one call of the compiled engine."""
-        if not poses.complete:
-            poses.coefficients(br)
         signs = np.ascontiguousarray(poses.signs, np.int8)  # (as either engine gave them)
         return br.compiled.direct(self.model, br.p, poses.u, poses.rows, signs, U, self.key[1], self.reach, NEWTON)
 

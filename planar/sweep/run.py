@@ -343,15 +343,13 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         reach = WALK_STEPS * max_step
         far = [j for j in direct if prev[j] >= 0 and scaled_norm(model, U[j] - U[prev[j]]) > reach]
         # (and one on the other side of a move by whole periods of a rocking input)
-        stretch = np.cumsum(np.isin(np.arange(N), periods))
-        moved = np.flatnonzero((prev >= 0) & (stretch != stretch[np.maximum(prev, 0)]))
+        moved = _apart(np.cumsum(np.isin(np.arange(N), periods)), prev)
         jumps = (np.union1d(np.union1d(cand, far), moved).astype(int), prev)
     if shift is not None and not walker.turns:
         # values of a rocking input solved whole periods back: one in another period than the
         # value asked before it has the limit that starts its period between them
         before = prev if order is not None else np.arange(N) - 1
-        moved = np.flatnonzero((before >= 0) & (shift[0] != shift[0][np.maximum(before, 0)]))
-        jumps = (np.union1d(jumps[0], moved).astype(int), jumps[1])
+        jumps = (np.union1d(jumps[0], _apart(shift[0], before)).astype(int), jumps[1])
     if _reached is not None:
         # (values solved whole periods back are a move by whole periods from the start)
         cut = stops + direct + periods + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
@@ -359,6 +357,12 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         _reached.append(reached if order is None else reached[np.argsort(order)])
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
+
+
+def _apart(part, before):
+    """The values (walk order) in another part than the value asked before each (``before``:
+    its index, -1 for none): parts that a limit separates."""
+    return np.flatnonzero((before >= 0) & (part != part[np.maximum(before, 0)]))
 
 
 def _enter_by_images(model, walker, targets, u, signs, options):
