@@ -34,6 +34,7 @@ import math
 
 import numpy as np
 
+from planar.errors import InputError
 from planar.events import NEAR_CURVE
 from planar.results import Status, Sweep
 
@@ -358,7 +359,10 @@ class Tracker:
                 res = self._direct(np.array([[float(value)]]), np.array([[v]]), np.array([[a]]))
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
-            value = np.asarray(value, dtype=float)
+            try:
+                value = np.asarray(value, dtype=float)
+            except (TypeError, ValueError):
+                raise InputError(f"move takes a number (one per input), got {value!r}") from None
             res = self.model.sweep(value.reshape(1, -1) if value.ndim else [value], velocity, acceleration,
                                    **self.options)
         self.pose = res

@@ -38,6 +38,8 @@ SWEEP_CALLS = [
     ([0.1], {"branch": "left"}, InputError, "branch must be 'smooth' or 'other'"),
     ([0.1], {"engine": "fortran"}, InputError, "engine must be 'numpy' or 'numba'"),
     ([0.1], {"outputs": ["nope"]}, InputError, "unknown output 'nope'"),
+    ([0.1], {"outputs": 3}, InputError, "outputs must be a name or a list of names of bodies, points or joints, got 3"),
+    ([0.1], {"outputs": ["rocker", None]}, InputError, "outputs must be a name or a list of names"),
     ([[0.1, 0.2]], {}, InputError, "sweep values have shape (1, 2) but 1 input(s) ['crank'] need"),
     ([math.nan], {}, InputError, "sweep values must be finite"),
     (["a"], {}, InputError, "sweep values must be numbers"),
@@ -82,6 +84,17 @@ def test_bad_rates(kwargs, message):
 def test_bad_circuit_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):
         four_bar().circuit(**kwargs)
+
+
+@pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]]])
+def test_a_tracker_move_to_no_number_is_an_input_error(value):
+    with pytest.raises(InputError, match="move takes a number|sweep values"):
+        four_bar().compile().track().move(value)
+
+
+def test_a_design_parameter_the_builder_does_not_take_is_an_input_error():
+    with pytest.raises(InputError, match=r"design 0 \{'nope': 1\}: four_bar refused its parameters .* name only"):
+        planar.sweep_designs(four_bar, [{"nope": 1}], [0.1])
 
 
 def test_a_sweep_larger_than_memory_is_refused_with_the_limit(monkeypatch):
@@ -214,6 +227,7 @@ COMMAND_LINES = [
     (["--speed", "10mm/s"], "input 'crank' is an angle: give an angular rate"),
     (["--tables", "xml"], "--tables: unknown table format 'xml'"),
     (["--points", "Z"], "--points: no point or joint 'Z' in 'four_bar'"),
+    (["--points", ","], "argument --points: ',' names no point: give names such as A,C"),
     (["--rate-unit", "rps"], "argument --rate-unit: invalid choice: 'rps'"),
     (["--length-unit", "km"], "argument --length-unit: invalid choice: 'km'"),
     (["--angle-unit", "grad"], "argument --angle-unit: invalid choice"),

@@ -47,6 +47,14 @@ def _bounded(lo, hi):
     return read
 
 
+def _names(text):
+    """An argparse type: comma-separated names, at least one."""
+    names = [x.strip() for x in text.split(",") if x.strip()]
+    if not names:
+        raise argparse.ArgumentTypeError(f"{text!r} names no point: give names such as A,C")
+    return names
+
+
 def _finite(text):
     """An argparse type: a finite number."""
     try:
@@ -70,7 +78,7 @@ def _outputs(p, out_default=None):
     p.add_argument("--fps", type=_bounded(*FPS), default=15,
                    help=f"animation frames per second, {FPS[0]} to {FPS[1]} (default 15)")
     p.add_argument("--dpi", type=_bounded(*DPI), default=90, help=f"figure resolution, {DPI[0]} to {DPI[1]} (default 90)")
-    p.add_argument("--points", type=lambda s: [x for x in s.split(",") if x], default=None,
+    p.add_argument("--points", type=_names, default=None,
                    help="points to trace and draw arrows on, comma separated (default: the named points)")
 
 

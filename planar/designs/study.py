@@ -201,6 +201,9 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
                 raise  # the call is wrong for every design: say so once
             except PlanarError as e:
                 errors[d] = f"design {lo + d} {table[lo + d]}: {e}"
+            except TypeError as e:  # (a parameter the builder does not take: wrong for every design)
+                raise InputError(f"design {lo + d} {table[lo + d]}: {getattr(build, '__name__', 'the builder')} "
+                                 f"refused its parameters ({e}): name only parameters it takes") from e
         return mechs[d]
 
     def alone(d):  # design d compiled by itself (None, with its error, if it cannot be)

@@ -28,8 +28,13 @@ def output_columns(model, outputs):
     """Coordinates the named bodies, points, joints or inputs depend on."""
     if outputs is None:
         return None
-    if isinstance(outputs, str):
-        outputs = [outputs]
+    given = outputs
+    try:
+        outputs = [outputs] if isinstance(outputs, str) else list(outputs)
+    except TypeError:
+        outputs = [None]
+    if not all(isinstance(x, str) for x in outputs):
+        raise InputError(f"outputs must be a name or a list of names of bodies, points or joints, got {given!r}")
     cols = set()
     for name in outputs:
         bodies = []
