@@ -395,6 +395,35 @@ def test_a_slider_crank_whose_crank_reaches_two_intervals_loses_no_value(case, c
     assert count.calls <= WORK_TWO_INTERVALS, count.calls
 
 
+@pytest.mark.parametrize("backwards", [False, True])
+def test_a_slider_crank_comes_back_to_the_sketchs_interval_from_its_other_one(backwards):
+    # (found by a fuzz campaign) values from the other interval down across the gap into the
+    # sketch's own: the search past the gap picked no value of that narrow interval, so it was
+    # left NOT_CONVERGED, the sketch's own input among them
+    r2, r3, e, start = 4.9470880707511995, 1.0173291197906345, -0.6811898278962669, 3.3444367840460476
+    m = slider_crank(r2, r3, offset=e, coupler_point=(2.788314414496618, 0.2567907640082132), start=start)
+    U = np.linspace(start - 3, start + 3, 181)
+    res = m.sweep(U if backwards else U[::-1])
+    ranges = oracles.slider_crank_limits(r2, r3, e, "crank")
+    o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e)
+    assert_no_lost_value(res, ranges, o["th3"])
+    assert_limits_named(res, ranges)
+
+
+def test_a_watt_six_bar_comes_back_to_the_sketchs_interval_from_its_other_one():
+    m = watt_six_bar(1.6202934626207093, 3.067590914397823, 4.785201881160209, 2.1956945791555653,
+                     coupler_point=(-0.5890885839370759, 2.737501047719217),
+                     rocker_point=(-2.296254044992292, 2.400721229076879), link_5=3.55380934205724,
+                     link_6=1.046282412472003, start=1.4227268321356805)
+    U = np.linspace(1.4227268321356805 - 3, 1.4227268321356805 + 3, 181)
+    up, down = m.sweep(U), m.sweep(U[::-1])
+    assert not np.any(up.status == Status.NOT_CONVERGED)
+    assert np.array_equal(up.status, down.status[::-1])
+    posed = POSED[up.status]
+    assert posed[np.abs(U - 1.5) < 0.2].all() and posed[U < -1.3].all()  # both intervals
+    assert np.allclose(up.q[posed], down.q[::-1][posed], atol=1e-9)
+
+
 @st.composite
 def rocking_four_bars(draw):
     """A crank-driven four-bar whose crank rocks (its range over a turn one or two intervals,

@@ -121,6 +121,22 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         direct.append(i)  # (not reached continuously from the value before it: JUMPED)
         return "ok", qe, chosen
 
+    def home(k, tries=3):
+        """(index from k, pose, modes) of the first anchor from k that the walk reaches from
+        the origin with no limit it met between, or None (a walk that meets a new limit on the
+        way tries the next such anchor)."""
+        for _ in range(tries):
+            # (not a value on an event: a limit's pose is no pose to go on from)
+            c = np.flatnonzero(~past(origin[1][None], U[anchors[k:]]) & ~on_event(model, U[anchors[k:]], events))
+            if not c.size:
+                return None
+            got = walk(origin, anchors[k + c[0]], -1)
+            if got[0] == "ok":
+                return int(c[0]), got[1], got[2]
+            if got[0] != "limit":
+                return None
+        return None
+
     def past(u_from, u_to):
         """A limit the walk met lies between u_from and u_to, periods of the input apart (asked
         only of values more than half a turn apart: nearer ones the walk goes to directly)."""
@@ -224,11 +240,16 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 u_e = grid[nearer[0]]
                 state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
                 continue
+        homed = found is None and got[0] != "far" and start is None
+        if homed:
+            # the origin's own stretch come back to from elsewhere (past a gap, from another
+            # interval of the range): walked to from the origin, no limit the walk met between
+            found = home(k)
         upto = anchors.size if found is None else k + found[0]
         guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
         nearer, assembles = (walker.enter_any(guesses, chosen, U[anchors[k:upto]]) if upto > k else (None, False))
         if nearer is not None:
-            found = (*nearer, chosen)
+            found, homed = (*nearer, chosen), False
         if found is None and assembles and not _nested:
             found = _enter_by_images(model, walker, U[anchors[k:]], state[1], chosen, options)
         if found is None:
@@ -236,7 +257,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         c, qe, se = found
         k += c
         i = anchors[k]
-        qe = walker.near_turns(qe, U[i], se, state[0])
+        qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
         q[i], solved[i], signs[i] = qe, True, se
         if got[0] == "far":
             direct.append(i)
