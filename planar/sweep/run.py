@@ -62,7 +62,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     from instead of the sketch, reached from the sketch by continuation with no event between
     (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``_nested``: a
     sweep made by another for what it asks of the branch (:func:`_enter_by_images`,
-    :func:`_period_by_sweep`), which makes no such sweeps itself. ``_reached``: a list, to
+    :func:`_period_by_sweep`), which makes no such sweeps itself (a Walker: the one of the sweep
+    that made it, whose tracings round a circuit it shares). ``_reached``: a list, to
     which the sweep appends (N,) True for the values its walk reached from the start by
     continuation, before any limit, bifurcation or singular position, jump, direct entry or
     move by whole periods of an input that does not turn fully (what :mod:`planar.tracking`
@@ -73,6 +74,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     p = block_plan(model, cols)
     br = Branch(model, p, tol, bool(rates), engine)
     walker = Walker(br, max_step, branch == "other")
+    if isinstance(_nested, Walker):
+        walker.rounds, walker._round = _nested.rounds, _nested._round
     _keep_freed_memory()
     N, n = U.shape[0], model.n
     q = np.empty((N, n))  # rows not posed at the end are set NaN then
@@ -126,11 +129,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         the origin with no limit it met between, or None (a walk that meets a new limit on the
         way tries the next such anchor)."""
         for _ in range(tries):
-            # (not a value on an event: a limit's pose is no pose to go on from)
-            c = np.flatnonzero(~past(origin[1][None], U[anchors[k:]]) & ~on_event(model, U[anchors[k:]], events))
+            # (within a turn, not a value on an event: a limit's pose is no pose to go on from)
+            V = U[anchors[k:]]
+            c = np.flatnonzero(~past(origin[1][None], V) & ~on_event(model, V, events)
+                               & (scaled_norm(model, V - origin[1]) <= TURN))
             if not c.size:
                 return None
-            got = walk(origin, anchors[k + c[0]], -1)
+            # (the direct way: a limit it meets is then one between the origin and the values)
+            got = walk(origin, anchors[k + c[0]], -1, periodic=False)
             if got[0] == "ok":
                 return int(c[0]), got[1], got[2]
             if got[0] != "limit":
@@ -240,7 +246,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 u_e = grid[nearer[0]]
                 state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
                 continue
-        homed = found is None and got[0] != "far" and start is None
+        homed = found is None and got[0] != "far" and not _nested
         if homed:
             # the origin's own stretch come back to from elsewhere (past a gap, from another
             # interval of the range): walked to from the origin, no limit the walk met between
@@ -381,6 +387,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         cut = stops + direct + periods + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
         reached = np.arange(N) < (0 if shift is not None and not walker.turns else min(cut, default=N))
         _reached.append(reached if order is None else reached[np.argsort(order)])
+    if isinstance(_nested, Walker):
+        _nested.rounds = walker.rounds
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
 
@@ -406,7 +414,7 @@ def _enter_by_images(model, walker, targets, u, signs, options):
     n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
     V = targets[::-1] - n * P  # (from the sketch outwards, the way the walk there goes)
     zero = np.zeros_like(V)
-    res = run_sweep(model, V, zero, zero, rates=False, _nested=True, **options)
+    res = run_sweep(model, V, zero, zero, rates=False, _nested=walker, **options)
     for c in V.shape[0] - 1 - np.flatnonzero(res.ok[::-1])[:4]:
         # (columns the outputs leave unsolved are not the plan's: any value does)
         q = np.where(np.isnan(res.q[c]), model.q0, res.q[c])

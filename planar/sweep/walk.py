@@ -32,6 +32,8 @@ class Walker:
         # the last walk moved by whole periods of an input that does not turn fully: past the
         # limits of those periods (its target not reached continuously: a jump)
         self.jumped = False
+        self._round = []  # (modes, inputs covered) of the tracings round a circuit that did not come back to ours
+        self._met = {}  # (input, modes, pose) a walk started from -> (direction, the limit it met there)
 
     def symmetry(self):
         """(P, D): an input period P and the pose shift D over it where the sketch shifted by D
@@ -137,12 +139,25 @@ class Walker:
                     return got
                 self.jumped = True  # (a period more or less than the value is away: past a limit)
                 return again
-        br, m = self.br, self.br.m
-        total = float(scaled_norm(m, target - u))
+        total = float(scaled_norm(self.br.m, target - u))
         if total <= 1e-14:  # the target is this pose up to rounding (the final Newton polishes it)
             return "ok", q, signs
         if total > WALK_STEPS * self.max_step:
             return ("far",)
+        # a walk from this pose that met a limit short of the target meets it again: values
+        # tried one by one from one pose would each trace to it
+        key = (u.tobytes(), signs.tobytes(), np.round(q, 9).tobytes()) if u.size == 1 else None
+        met = self._met.get(key)
+        if met is not None and (target[0] - np.ravel(met[1][1].input)[0]) * met[0] > 0:
+            return met[1]
+        got = self._walk(q, u, signs, target, index, total)
+        if key is not None and got[0] == "limit":
+            self._met[key] = (np.sign(target[0] - u[0]), got)
+        return got
+
+    def _walk(self, q, u, signs, target, index, total):
+        """The walk the direct way (see :meth:`walk`), ``total`` its scaled length."""
+        br = self.br
         h = min(1.0, self.max_step / total)
         t = 0.0
         u0 = u
@@ -280,14 +295,19 @@ class Walker:
                 qn, conv, _, _ = newton(br.m, ql, target[None], tol=br.tol, max_iter=REENTRY, plan=br.p)
                 if not conv[0]:
                     continue
-            if np.all(br.signs(qn, target[None])[0] == signs):
+            found = br.signs(qn, target[None])[0]
+            if np.all(found == signs):
                 return qn[0]
-            if target.size == 1 and self.rounds > 0:
-                # another mode of the same circuit: go round through a limit to ours
+            # another mode of the same circuit: go round through a limit to ours; not again in
+            # modes and inputs a tracing that did not come back to ours has covered (the same
+            # circuit, most likely: the tracings are few, each costs ~100s of solves)
+            covered = any(np.array_equal(found, f) and lo <= target[0] <= hi for f, (lo, hi) in self._round)
+            if target.size == 1 and self.rounds > 0 and not covered:
                 self.rounds -= 1
-                got = around(br.m, br.p, qn[0], target, signs, self.max_step, np.pi)
+                got, span = around(br.m, br.p, qn[0], target, signs, self.max_step, np.pi)
                 if got is not None:
                     return got
+                self._round.append((found, span))
         return None
 
 
