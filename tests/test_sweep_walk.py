@@ -12,7 +12,8 @@ from hypothesis import HealthCheck, assume, example, given, settings, strategies
 
 from planar.blocks import Plan, plan as block_plan
 from planar.errors import PlanarError
-from planar.mechanisms import four_bar, gear_train, geared_five_bar, planetary_gear_train, rack_and_pinion, rolling_wheel, slider_crank, watt_six_bar
+from planar.mechanisms import (four_bar, gear_train, geared_five_bar, planetary_gear_train, rack_and_pinion, rolling_wheel,
+                               slider_crank, stephenson_six_bar, watt_six_bar)
 from planar.results import POSED, VALID, Status
 from planar.sweep.branch import Branch
 from tests import oracles
@@ -422,6 +423,26 @@ def test_a_watt_six_bar_comes_back_to_the_sketchs_interval_from_its_other_one():
     posed = POSED[up.status]
     assert posed[np.abs(U - 1.5) < 0.2].all() and posed[U < -1.3].all()  # both intervals
     assert np.allclose(up.q[posed], down.q[::-1][posed], atol=1e-9)
+
+
+def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
+    # (found by a fuzz campaign) a Stephenson six-bar sketched 2e-9 from a limit: 166 of 181
+    # shuffled values are out of the branch's reach, and the values tried one by one past the
+    # gap each walked to the same limit the other way round a period on (28,400 evaluations,
+    # 26 s); a walk from a pose that met a limit short of its target now meets it at once
+    m = stephenson_six_bar(2.8772837780756246, 2.3865422744999227, 1.1265248967324824, 0.6334291111934824,
+                           coupler_point=(-0.2223794637545553, 2.122919119776787),
+                           pivot_6=(-0.4427388104452721, -0.7062167892541522), link_5=1.8605345855873636,
+                           link_6=2.377963686030224, start=-0.018366276194705815)
+    U = np.random.default_rng(19502).permutation(np.linspace(-4.018366276194706, 3.9816337238052943, 181))
+    with Evaluations() as count:
+        res = m.sweep(U)
+    assert count.calls <= 5000, count.calls
+    dense = m.sweep(np.sort(U))
+    order = np.argsort(U)
+    assert np.array_equal(POSED[res.status[order]], POSED[dense.status])  # (a jump is between values asked in turn)
+    assert np.allclose(res.q[order][POSED[dense.status]], dense.q[POSED[dense.status]], atol=1e-9)
+    assert np.sum(res.status == Status.NOT_ASSEMBLABLE) == 166 and not np.any(res.status == Status.NOT_CONVERGED)
 
 
 @st.composite
