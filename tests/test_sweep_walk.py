@@ -445,6 +445,43 @@ def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
     assert np.sum(res.status == Status.NOT_ASSEMBLABLE) == 166 and not np.any(res.status == Status.NOT_CONVERGED)
 
 
+def test_far_values_out_of_a_rocking_range_are_out_of_reach_both_ways_round():
+    # (found by a fuzz campaign) a Stephenson six-bar whose crank rocks over [-0.840, 1.353]
+    # (the dyad C-D-O6 folds at both ends): far values outside that range a whole number of
+    # turns on were NOT_CONVERGED (other modes assemble there) where the walk had met a limit
+    # both ways round; the limit the other way round was dropped, so neither bounded the value
+    m = stephenson_six_bar(2.8877078897674915, 1.9842262046234023, 3.60106001136451, 4.144924322506714,
+                           coupler_point=(-2.3472251480830706, 1.032386230002066),
+                           pivot_6=(6.741993849876746, 4.060706571707723), link_5=5.597441136024417,
+                           link_6=3.6200181986201714, start=-0.1778297293504698)
+    far = np.array([128.568388, -1543.9995, -248.69148, -395429.793])  # 2.90, 1.66, 2.64, 2.47 + whole turns
+    near = np.array([-0.5, 0.0, 1.0])
+    res = m.sweep(np.r_[near, far])
+    assert POSED[res.status[:3]].all()
+    assert np.all(res.status[3:] == Status.NOT_ASSEMBLABLE), res.status
+    ends = np.array([-0.8401, 1.3526])
+    off = np.abs(np.angle(np.exp(1j * (res.nearest_limit[3:, None] - ends[None, :])))).min(axis=1)
+    assert off.max() < 1e-4
+
+
+def test_a_value_a_period_round_is_tried_though_a_nearer_one_failed_the_direct_way():
+    # (found by a fuzz campaign) a Watt six-bar over a turn, then 30 values jumping over +-20 rad:
+    # 13.987 (its range [6.416, 7.830] a turn on) was not tried from 7.767 because 9.360 had
+    # failed from there; the walk goes the other way round a period on, where 13.987 is near
+    m = watt_six_bar(3.6182642633974726, 3.7294370195860065, 3.7378675208787753, 3.4823231274091184,
+                     coupler_point=(0.9876207684286848, -1.9458399328867182),
+                     rocker_point=(-1.774756350067655, 0.03170470319413621), link_5=5.662619764471767,
+                     link_6=2.076777296991942, crossed=True, crossed_2=True, start=1.5017117722622761)
+    u0 = 1.5017117722622761
+    U = np.r_[np.arange(u0, u0 + 2 * np.pi, 0.035), u0 + np.random.default_rng(10405).uniform(-20, 20, 30)]
+    res = m.sweep(U)
+    assert not np.any(res.status == Status.NOT_CONVERGED)
+    i = int(np.argmin(np.abs(U - 13.98687699)))
+    dense = m.sweep(np.r_[np.arange(u0, 14.0, 0.02), U[i]])
+    assert POSED[res.status[i]] and POSED[dense.status[-1]]
+    assert np.allclose(res.position("E")[i], dense.position("E")[-1], atol=1e-9)
+
+
 @st.composite
 def rocking_four_bars(draw):
     """A crank-driven four-bar whose crank rocks (its range over a turn one or two intervals,

@@ -112,6 +112,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             if back is None:  # (a limit met before too: value i, if re-entered, is past it all the same)
                 stops.append(ev.index)
             limits.append((ev, np.sign(U[i] - start[1])))
+            if walker.also is not None:  # (the other way round a limit too: both bound the value)
+                limits.append(walker.also)
         return got
 
     def enter_far(start, i):
@@ -142,6 +144,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             if got[0] != "limit":
                 return None
         return None
+
+    def further(failed, j, u_j, u):
+        """:func:`_further`, where the walk to ``u`` goes the way the failed one did: not
+        for a value more than half a turn away of an input with a period (the walk may go the
+        other way round, a period on, nearer to one value than to another)."""
+        if not _further(failed, j, u_j, u):
+            return False
+        return not (U.shape[1] == 1 and abs(float(u[0] - u_j[0])) > np.pi and walker.period() is not None)
 
     def past(u_from, u_to):
         """A limit the walk met lies between u_from and u_to, periods of the input apart (asked
@@ -310,7 +320,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         j = max(int(last[i - 1]) if i else -1, newest)
         j = None if j < 0 else j
         start = origin if j is None else (q[j], U[j], signs[j])
-        if _further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
+        if further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
             continue  # the walk from this pose failed nearer that way already, or a limit lies between
         got = walk(start, i, -1 if j is None else j)
         if got[0] == "far":
@@ -330,7 +340,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
         if j >= N or at_events(model, U[i : i + 1], events):
             continue
-        if _further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
+        if further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
             continue
         got = walk((q[j], U[j], signs[j]), i, -1, back=j)
         if got[0] == "far":

@@ -31,7 +31,7 @@ class Walker:
         self.limit = None  # else the input of a limit the walk over a period met (one input)
         # the last walk moved by whole periods of an input that does not turn fully: past the
         # limits of those periods (its target not reached continuously: a jump)
-        self.jumped = False
+        self.jumped, self.also = False, None
         self._round = []  # (modes, inputs covered) of the tracings round a circuit that did not come back to ours
         self._met = {}  # (input, modes, pose) a walk started from -> (direction, the limit it met there)
 
@@ -107,8 +107,9 @@ class Walker:
         (a period less or more). Returns ("ok", q, signs), ("limit", event, (q_before, u_before)),
         ("lost",) or ("far",) for a target more than WALK_STEPS steps away with no period to
         shorten the way (the work is bounded: the sweep enters it directly). ``jumped`` says
-        whether a target reached moved by whole periods of a rocking input."""
-        self.jumped = False
+        whether a target reached moved by whole periods of a rocking input; ``also``, for a
+        limit met both ways, (the limit the other way round met, its direction)."""
+        self.jumped, self.also = False, None
         if periodic and u.size == 1:
             d = float(target[0] - u[0])
             per = self.period() if abs(d) * float(input_scale(self.br.m)[0]) >= 2 * np.pi else None
@@ -136,6 +137,8 @@ class Walker:
                 if again[0] == "limit" or (again[0] == "ok" and not np.all(again[2] == signs)):
                     self.events[n:] = kept
                     self.jumped = bool(k) and not self.turns
+                    if again[0] == "limit":
+                        self.also = (again[1], np.sign(target[0] - other[1][0]))
                     return got
                 self.jumped = True  # (a period more or less than the value is away: past a limit)
                 return again
