@@ -113,7 +113,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 stops.append(ev.index)
             limits.append((ev, np.sign(U[i] - start[1])))
             if walker.also is not None:  # (the other way round a limit too: both bound the value)
-                limits.append(walker.also)
+                round_limits.append(walker.also)
         return got
 
     def enter_far(start, i):
@@ -153,11 +153,13 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             return False
         return not (U.shape[1] == 1 and abs(float(u[0] - u_j[0])) > np.pi and walker.period() is not None)
 
-    def past(u_from, u_to):
-        """A limit the walk met lies between u_from and u_to, periods of the input apart (asked
-        only of values more than half a turn apart: nearer ones the walk goes to directly)."""
-        far = limits and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
-        return past_limit(limits, u_from, u_to, walker.period() if far else None)
+    def past(u_from, u_to, met=None):
+        """A limit the walk met (``met``: those limits, else ``limits``) lies between u_from and
+        u_to, periods of the input apart (asked only of values more than half a turn apart:
+        nearer ones the walk goes to directly)."""
+        met = limits if met is None else met
+        far = met and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
+        return past_limit(met, u_from, u_to, walker.period() if far else None)
 
     # far values of an input whose pose is periodic (the same up to whole turns of its angles,
     # or moved along the tangent where the rows read a coordinate linearly: an input that turns
@@ -197,6 +199,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         shift = None if shift is None else (shift[0][order], shift[1])
     state = origin
     limits = []  # (limit event, direction of the input that hit it)
+    round_limits = []  # the same, met only by the walk the other way round a period on
     entries = 0  # ranges entered at a gap's far end
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
     direct = []  # values entered directly, too far to walk
@@ -363,12 +366,13 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         q[i], solved[i], done[i] = ev.q, True, True
     events.sort(key=lambda e: e.index)
     # values left unsolved past a limit the walk met (from the solved value before them) are
-    # out of the branch's reach, however small their least-squares gap
+    # out of the branch's reach, however small their least-squares gap (the limits met the
+    # other way round a period on count here only: they are not the branch's events there)
     beyond = np.zeros(N, bool)
     miss = np.flatnonzero(~solved)
     if miss.size and limits:
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss])
+        beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss], limits + round_limits)
     jumps = (stops + direct + periods, None)
     if order is not None:
         # values asked one after the other with a limit the walk met between them (the direct
