@@ -411,6 +411,21 @@ def test_a_slider_crank_comes_back_to_the_sketchs_interval_from_its_other_one(ba
     assert_limits_named(res, ranges)
 
 
+@pytest.mark.parametrize("backwards", [False, True])
+def test_a_narrow_interval_far_past_a_gap_is_found(backwards):
+    # (found by a fuzz campaign) a dense sweep up from the sketch's interval: the search past
+    # the gap tried the first values and eight spread over the 3 rad to the end, none in the
+    # other interval (0.33 rad wide), which was left NOT_ASSEMBLABLE; sweeping down solved it
+    r2, r3, e, start = 4.988096272542229, 0.8129413388567117, -1.0566510046610795, -3.0152769234591035
+    m = slider_crank(r2, r3, offset=e, start=start)
+    U = np.arange(start - 3, start + 3, 0.02)
+    res = m.sweep(U[::-1] if backwards else U)
+    ranges = oracles.slider_crank_limits(r2, r3, e, "crank")
+    o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e)
+    assert_no_lost_value(res, ranges, o["th3"])
+    assert_limits_named(res, ranges)
+
+
 def test_a_watt_six_bar_comes_back_to_the_sketchs_interval_from_its_other_one():
     m = watt_six_bar(1.6202934626207093, 3.067590914397823, 4.785201881160209, 2.1956945791555653,
                      coupler_point=(-0.5890885839370759, 2.737501047719217),

@@ -13,6 +13,8 @@ HALVINGS = 5  # natural-parameter step halvings before the arclength tracer take
 # tracings round a circuit one sweep may make to re-enter its branch: next to a limit's far
 # side the first tries may fail where a value further on enters
 ROUNDS = 5
+SPREAD = 4  # walk steps between the values a search past a gap tries, at most (0.2 rad by default)
+MAX_SPREAD = 256  # values it tries spread over the rest, at most
 PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
 MODE_PERIODS = 4  # periods the walk from the sketch may go on in other modes before it comes back
 SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
@@ -221,9 +223,12 @@ class Walker:
         the way round through a limit."""
         br = self.br
         best, assembles = None, False
-        # the first few targets and a few spread over the rest: a least-squares search of each
-        # of hundreds of values would cost more than the walk
-        pick = np.unique(np.r_[np.arange(min(len(targets), 4 * tries)),
+        # the first few targets and some spread over the rest, at most SPREAD walk steps apart
+        # along the input (an interval of the range narrower than that may be missed): a
+        # least-squares search of each of hundreds of values would cost more than the walk
+        along = np.r_[0.0, np.cumsum(scaled_norm(br.m, np.diff(targets, axis=0)))]
+        marks = np.searchsorted(along, np.arange(0.0, along[-1], SPREAD * self.max_step)[:MAX_SPREAD])
+        pick = np.unique(np.r_[np.arange(min(len(targets), 4 * tries)), marks,
                                np.linspace(0, len(targets) - 1, 2 * tries).astype(int)])
         for g in guesses:
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick])
