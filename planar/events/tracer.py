@@ -92,11 +92,11 @@ class Tracer:
                 return None
             y = y - dy
             step = np.max(np.abs(dy))
-            # converged: the step at rounding, or converging quadratically with the next step
-            # (~ step^3 / prev^2) below it; A taken where it was evaluated, a step of at most
-            # 1e-9 away (the tangent and gap it gives differ by as little)
+            # converged: the step at rounding, or converging quadratically (a step before to
+            # compare with) with the next step (~ step^3 / prev^2) below it; A taken where it
+            # was evaluated, a step of at most 1e-9 away (the tangent and gap differ as little)
             res = np.max(np.abs(r))
-            if (step <= 1e-13 and res <= 1e-11) or (step <= 1e-9 and step**3 <= 1e-16 * prev**2 and res <= 1e-8):
+            if (step <= 1e-13 and res <= 1e-11) or (step <= 1e-9 and prev < np.inf and step**3 <= 1e-16 * prev**2 and res <= 1e-8):
                 return y, A
             # stop a correction that no longer converges (on degenerate sketches it would
             # spend its whole budget): the residual test below decides, the caller halves h

@@ -75,7 +75,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     br = Branch(model, p, tol, bool(rates), engine)
     walker = Walker(br, max_step, branch == "other")
     if isinstance(_nested, Walker):
-        walker.rounds, walker._round = _nested.rounds, _nested._round
+        walker.share(_nested)
     _keep_freed_memory()
     N, n = U.shape[0], model.n
     q = np.empty((N, n))  # rows not posed at the end are set NaN then

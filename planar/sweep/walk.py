@@ -37,6 +37,11 @@ class Walker:
         self._round = []  # (modes, inputs covered) of the tracings round a circuit that did not come back to ours
         self._met = {}  # (input, modes, pose) a walk started from -> (direction, the limit it met there)
 
+    def share(self, other):
+        """Take ``other``'s tracings round a circuit (a nested sweep of its images): the
+        budget it has left and the modes and inputs its failed tracings covered."""
+        self.rounds, self._round = other.rounds, other._round
+
     def symmetry(self):
         """(P, D): an input period P and the pose shift D over it where the sketch shifted by D
         solves the constraints at its input plus P in the same assembly modes, the constraints
