@@ -162,7 +162,7 @@ def sweep(model, U, Ud, Udd, **options):
     the poses it reaches remembered. Values each near a known pose take the direct path
     (:func:`direct`). Sweeps that ask only for some ``outputs`` (the other coordinates are not
     solved) start from a known pose but teach none."""
-    from planar.sweep import FAR, input_scale, run_sweep
+    from planar.sweep import ROCKING, input_scale, run_sweep
 
     if U.shape[1] != 1:
         return run_sweep(model, U, Ud, Udd, **options)
@@ -172,8 +172,8 @@ def sweep(model, U, Ud, Udd, **options):
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     k = poses.nearest(U[:1, 0])[0]
     start = poses.q[k], poses.u[k : k + 1]
-    if start[1][0] == poses.u0 or np.max(np.abs(U[:, 0] - poses.u0)) * input_scale(model)[0] > FAR:
-        # the sketch itself (the sweep from it checks it), or values the sweep solves whole
+    if start[1][0] == poses.u0 or np.max(np.abs(U[:, 0] - poses.u0)) * input_scale(model)[0] > ROCKING:
+        # the sketch itself (the sweep from it checks it), or values the sweep may solve whole
         # periods back, from the sketch
         start = None
     reached = []

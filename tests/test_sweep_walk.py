@@ -707,3 +707,46 @@ def test_a_watt_six_bar_crossing_its_change_point_at_a_shallow_angle_keeps_the_s
     assert res.status[14] == Status.JUMPED
     assert not jumps(res, ["B", "C", "D", "E"])
     assert not np.any(res.status == Status.NOT_CONVERGED)
+
+
+def test_a_rocking_six_bar_over_several_periods_costs_one_period():
+    # (found by a fuzz campaign) a turn and 30 jumps over +-20 rad of a Stephenson six-bar whose
+    # crank rocks (two limit pairs a turn): the walk met the limits of each period and searched
+    # past each gap again (6,200 evaluations, 3-4 s), and the sketch's own value came back three
+    # turns of every body on; its values are now solved in one period (1,300 evaluations)
+    m = stephenson_six_bar(1.0706470371661212, 1.8276881570318233, 2.911790209889607, 2.8554262882616586,
+                           coupler_point=(-1.6708518597383861, -1.3900550776271732),
+                           pivot_6=(-2.612741013749879, 1.3571472917248126), link_5=3.713325616698212,
+                           link_6=2.6300548941211455, crossed=True, crossed_2=False, start=-0.3469061313233843)
+    u0 = -0.3469061313233843
+    U = np.r_[np.arange(u0, u0 + 2 * np.pi, 0.035), u0 + np.random.default_rng(9305).uniform(-20, 20, 30)]
+    with Evaluations() as count:
+        res = m.sweep(U)
+    assert count.calls <= 3000, count.calls
+    assert not np.any(res.status == Status.NOT_CONVERGED)
+    assert np.allclose(res.q[0], m.compile().q0, atol=1e-9)  # the sketch, not some turns on
+    # the far values are posed where their images in the sketch's turn are, at the same positions
+    far = np.arange(U.size) >= 180
+    images = u0 + np.mod(U[far] - u0, 2 * np.pi)
+    ref = m.sweep(images)
+    assert np.array_equal(POSED[res.status[far]], POSED[ref.status])
+    both = POSED[ref.status]
+    assert both.sum() >= 10
+    assert np.allclose(res.position("D")[far][both], ref.position("D")[both], atol=1e-9)
+
+
+def test_the_searches_past_gaps_sweep_the_images_once():
+    # (found by a fuzz campaign) a Watt six-bar with 117 of 181 values out of reach: each of
+    # three searches past a gap swept the images a period back of the values left, each a
+    # subset of the first's (5,000 evaluations); they are now read from the first sweep (2,900)
+    m = watt_six_bar(2.340830168957152, 0.6338739205904216, 2.1676098480453465, 3.9122378382489895,
+                     coupler_point=(-1.602047746951434, 0.32636519278880627),
+                     rocker_point=(-0.6630373700577037, 2.4014068198318235), link_5=3.95034571997458,
+                     link_6=5.975560547440098, crossed=False, crossed_2=True, start=3.8647853931518235)
+    U = np.linspace(3.8647853931518235 - 3, 3.8647853931518235 + 3, 181)
+    with Evaluations() as count:
+        res = m.sweep(U)
+    assert count.calls <= 4000, count.calls
+    assert np.sum(res.status == Status.SOLVED) == 64 and np.sum(res.status == Status.NOT_ASSEMBLABLE) == 117
+    assert [round(float(e.input), 4) for e in res.events if e.kind == "limit"] == [
+        2.1082, 4.175, 5.9518, 5.9861, 6.5803, 6.6146]

@@ -34,8 +34,8 @@ the bulk from them), :mod:`~planar.sweep.located` (values against located events
 from planar.sweep.anchors import CHUNK, sweep_anchors
 from planar.sweep.branch import Branch, final_step, input_scale
 from planar.sweep.finish import near_stretches
-from planar.sweep.run import FAR, SPARSE, check_sketch, output_columns, run_sweep
+from planar.sweep.run import FAR, ROCKING, SPARSE, check_sketch, output_columns, run_sweep
 from planar.sweep.walk import Walker
 
-__all__ = ["CHUNK", "FAR", "SPARSE", "Branch", "Walker", "check_sketch", "final_step", "input_scale",
+__all__ = ["CHUNK", "FAR", "ROCKING", "SPARSE", "Branch", "Walker", "check_sketch", "final_step", "input_scale",
            "near_stretches", "output_columns", "run_sweep", "sweep_anchors"]

@@ -22,6 +22,7 @@ TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
 MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
 FAR = 100.0  # scaled input from the sketch beyond which a periodic input is solved periods back
+ROCKING = 4 * np.pi  # the same for an input that rocks (its walk would meet two limits a period)
 
 
 def output_columns(model, outputs):
@@ -166,11 +167,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # fully, a rocking input's range a period on, a gear train) are solved whole periods back,
     # nearer the sketch, and shifted back at the end: angles of 1e6 rad would carry rounding of
     # 1e-10 rad into the constraints
+    # (a rocking input's from two turns on: the walk through each period would meet its limits
+    # and search past its gaps again, several seconds for a six-bar swept over +-20 rad)
     U_in, shift = U, None
     options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
-    if U.shape[1] == 1 and np.max(np.abs(U[:, 0] - model.u0[0])) * input_scale(model)[0] > FAR:
+    reach = np.max(np.abs(U[:, 0] - model.u0[0])) * input_scale(model)[0] if U.shape[1] == 1 else 0.0
+    if reach > ROCKING:
         per = walker.period() or (None if _nested else _period_by_sweep(model, walker, options))
-        if per is not None:
+        if per is not None and (reach > FAR or not walker.turns):
             start = None  # the sketch, whole periods back, is nearer than any known pose
             P, u0 = per[0], model.u0[0]
             if walker.turns:
@@ -427,11 +431,21 @@ def _enter_by_images(model, walker, targets, u, signs, options):
     k = np.sign(targets[0, 0] - u[0])
     n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
     V = targets[::-1] - n * P  # (from the sketch outwards, the way the walk there goes)
-    zero = np.zeros_like(V)
-    res = run_sweep(model, V, zero, zero, rates=False, _nested=walker, **options)
-    for c in V.shape[0] - 1 - np.flatnonzero(res.ok[::-1])[:4]:
+    for W, res in walker.images:
+        # (a later search past a gap asks for some of an earlier one's images: its sweep holds them)
+        at = {float(w): i for i, w in enumerate(W[:, 0])}
+        rows = [at.get(float(v)) for v in V[:, 0]]
+        if None not in rows:
+            ok, Q = res.ok[rows], res.q[rows]
+            break
+    else:
+        zero = np.zeros_like(V)
+        res = run_sweep(model, V, zero, zero, rates=False, _nested=walker, **options)
+        walker.images.append((V, res))
+        ok, Q = res.ok, res.q
+    for c in V.shape[0] - 1 - np.flatnonzero(ok[::-1])[:4]:
         # (columns the outputs leave unsolved are not the plan's: any value does)
-        q = np.where(np.isnan(res.q[c]), model.q0, res.q[c])
+        q = np.where(np.isnan(Q[c]), model.q0, Q[c])
         got = walker._shorten(q, V[c], signs, n)
         if got is not None:
             return V.shape[0] - 1 - int(c), got[0], signs

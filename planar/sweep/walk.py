@@ -36,6 +36,7 @@ class Walker:
         self.jumped, self.also = False, None
         self._round = []  # (modes, inputs covered) of the tracings round a circuit that did not come back to ours
         self._met = {}  # (input, modes, pose) a walk started from -> (direction, the limit it met there)
+        self.images = []  # (values, sweep) of the sweeps of values' images a period back past a gap
 
     def share(self, other):
         """Take ``other``'s tracings round a circuit (a nested sweep of its images): the
