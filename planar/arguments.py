@@ -31,8 +31,16 @@ MAX_RATE, MAX_ACCELERATION = 1e100, 1e200
 BYTES_PER_COORDINATE = 40  # per value and coordinate: positions, rates, accelerations and the work arrays
 
 
+def finite_number(value):
+    """Whether ``value`` is a finite real number (an integer beyond any float is not)."""
+    try:
+        return not isinstance(value, bool) and isinstance(value, Real) and math.isfinite(value)
+    except OverflowError:
+        return False
+
+
 def _number(value, name, fix):
-    if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(value):
+    if not finite_number(value):
         raise InputError(f"{name} must be a finite number, got {value!r}: {fix}")
     return float(value)
 
@@ -51,7 +59,7 @@ def max_step(step):
     """``max_step``: a positive number."""
     fix = "the default is 0.05"
     what = "max_step must be a positive number of radians (or of the mechanism's size for a length input)"
-    if isinstance(step, bool) or not isinstance(step, Real) or not math.isfinite(step) or step <= 0:
+    if not finite_number(step) or step <= 0:
         raise InputError(f"{what}, got {step!r}: {fix}")
     return float(step)
 
@@ -78,6 +86,9 @@ def sweep_options(options, run):
     out["max_step"] = max_step(out.get("max_step", known["max_step"]))
     if "rates" in out and not isinstance(out["rates"], (bool, np.bool_)):
         raise InputError(f"rates must be True or False, got {out['rates']!r}")
+    if "branch" in out and not (isinstance(out["branch"], str) and out["branch"] in ("smooth", "other")):
+        # (here, not only where the sweep runs: the known poses are kept by branch)
+        raise InputError(f"branch must be 'smooth' or 'other', got {out['branch']!r}")
     return out
 
 

@@ -34,6 +34,7 @@ complete coupler curve:
 
 import numpy as np
 
+from planar import arguments
 from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
 from planar.events import HELD, Event, status_of
@@ -44,6 +45,7 @@ from planar.sweep import Branch, input_scale
 
 TURN = 2 * np.pi
 MAX_TURNS = 12  # input travel, in turns, after which a circuit that has not closed is given up
+MAX_STEPS = 1e5  # tracer steps the circuit may take at most (one pose at a time: ~1 ms each)
 CLOSED = 1e-6  # scaled distance from the sketch's pose that counts as back at the start
 CHUNK = 8192
 
@@ -55,6 +57,11 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
         raise InputError(f"a circuit needs exactly one input; {model.name!r} has {list(model.input_names)}: "
                          f"sweep it with Model.sweep")
     v, a = _rate(velocity, "velocity"), _rate(acceleration, "acceleration")
+    arguments.rates(model, np.array([[v]]), np.array([[a]]))
+    if MAX_TURNS * TURN / max_step > MAX_STEPS:
+        raise InputError(f"circuit max_step = {max_step:g} would trace up to {MAX_TURNS} turns in "
+                         f"{MAX_TURNS * TURN / max_step:.3g} steps, one pose at a time, more than the limit of "
+                         f"{MAX_STEPS:g}: give max_step of at least {MAX_TURNS * TURN / MAX_STEPS:.2g}")
     whole = not isinstance(samples, bool) and isinstance(samples, (int, np.integer))
     if not whole or samples < 2:
         raise InputError(f"circuit samples must be a whole number of at least 2, got {samples!r}")
@@ -105,7 +112,7 @@ def _rate(x, what):
     """One finite number: the input's rate (or acceleration) along its motion."""
     try:
         ok = np.ndim(x) == 0 and not isinstance(x, (str, bool)) and np.isfinite(float(x))
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         ok = False
     if not ok:
         raise InputError(f"circuit {what} must be one finite number (the input's {what} along its motion: its "

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from planar.errors import ModelError
+from planar.errors import InputError, ModelError
 from planar.geometry import perp, rotate
 
 if TYPE_CHECKING:
@@ -54,6 +54,14 @@ class Status(IntEnum):
 
 VALID = np.array([s.valid for s in Status])
 POSED = np.array([s.posed for s in Status])
+
+
+def as_sweep(res, who):
+    """``res`` where it is a :class:`Sweep`, else an InputError saying ``who`` needs one."""
+    if not isinstance(res, Sweep):
+        raise InputError(f"{who} needs a sweep result (the Sweep of Model.sweep or Mechanism.sweep), got "
+                         f"{type(res).__name__}: sweep the mechanism first")
+    return res
 
 
 @dataclass(frozen=True, eq=False)
@@ -168,8 +176,10 @@ class Sweep:
         """(N,) a joint's own coordinate (a revolute's relative angle, a slider's or slot's
         travel from its origin), or its first or second time derivative."""
         coords = self.model.coordinates
-        if joint not in coords:
+        if not isinstance(joint, str) or joint not in coords:
             raise ModelError(f"joint {joint!r} has no coordinate: the joints with one are {sorted(coords)}")
+        if derivative not in (0, 1, 2) or isinstance(derivative, bool):
+            raise ModelError(f"derivative must be 0, 1 or 2, got {derivative!r}")
         sys_, row = coords[joint]
         q = np.nan_to_num(self.q)
         Phi, J = sys_.evaluate(q, jacobian=derivative > 0)

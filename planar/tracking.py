@@ -30,8 +30,6 @@ Models with more inputs sweep from the sketch.
 ([True], True)
 """
 
-import math
-
 import numpy as np
 
 from planar.errors import InputError
@@ -355,13 +353,13 @@ class Tracker:
         if self.model.u0.size == 1 and type(value) in NUMBER and type(velocity) in NUMBER and \
                 type(acceleration) in NUMBER:
             v, a = float(velocity), float(acceleration)
-            if math.isfinite(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
+            if abs(value) <= 1e300 and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
                 res = self._direct(np.array([[float(value)]]), np.array([[v]]), np.array([[a]]))
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             try:
                 value = np.asarray(value, dtype=float)
-            except (TypeError, ValueError):
+            except (TypeError, ValueError, OverflowError):
                 raise InputError(f"move takes a number (one per input), got {value!r}") from None
             res = self.model.sweep(value.reshape(1, -1) if value.ndim else [value], velocity, acceleration,
                                    **self.options)

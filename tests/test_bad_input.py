@@ -4,14 +4,16 @@ file; sizes that cannot fit in memory or time are refused with the limit named."
 
 import json
 import math
+import os
 
 import numpy as np
 import pytest
 
 import planar
-from planar import arguments, io
+from planar import arguments, io, synthesis
 from planar.errors import FileFormatError, InputError, ModelError
-from planar.mechanisms import four_bar, slider_crank
+from planar.analysis import motion_range
+from planar.mechanisms import four_bar, open_chain, slider_crank, watt_six_bar
 from tests.test_cli import run_or_exit
 
 SWEEP_CALLS = [
@@ -47,6 +49,10 @@ SWEEP_CALLS = [
     ([0.0, 1e300], {}, InputError, "continuation steps of max_step = 0.05, more than the limit of 1e+08"),
     ([1e308, -1e308], {}, InputError, "more than the limit of 1e+08"),
     ([0.0, 1e7], {}, InputError, "more than the limit of 1e+08: sweep a shorter span"),
+    ([10**400], {}, InputError, "sweep values must be finite; found an integer beyond any float"),
+    ([0.1], {"tol": 10**400}, InputError, "tol must be a finite number"),
+    ([0.1], {"max_step": 10**400}, InputError, "max_step must be a positive number"),
+    ([0.1], {"branch": ["smooth"]}, InputError, "branch must be 'smooth' or 'other', got ['smooth']"),
 ]
 
 
@@ -80,13 +86,16 @@ def test_bad_rates(kwargs, message):
     ({"samples": 1}, "samples must be a whole number of at least 2"),
     ({"samples": 10.5}, "samples must be a whole number"),
     ({"velocity": math.nan}, "velocity must be one finite number"),
+    ({"velocity": 10**400}, "velocity must be one finite number"),
+    ({"velocity": 1e200}, "velocity reaches 1e\\+200"),  # (the accelerations would be NaN, the values SOLVED)
+    ({"max_step": 1e-9}, "more than the limit of 100000: give max_step of at least"),  # (it hung)
 ])
 def test_bad_circuit_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):
         four_bar().circuit(**kwargs)
 
 
-@pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]]])
+@pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]], 10**400])
 def test_a_tracker_move_to_no_number_is_an_input_error(value):
     with pytest.raises(InputError, match="move takes a number|sweep values"):
         four_bar().compile().track().move(value)
@@ -117,10 +126,80 @@ def test_a_sweep_larger_than_memory_is_refused_with_the_limit(monkeypatch):
     (lambda m: m.add_slot("S", m.ground, m.ground, at=(0, 0), direction=(1, 0)), "to itself"),
     (lambda m: m.drive(), "drive needs exactly one of joint=, body= or point="),
     (lambda m: m.drive("nope"), "unknown joint 'nope'"),
+    (lambda m: m.add_revolute("J", ["ground"], "b", at=(0, 0)), r"unknown body \['ground'\]"),
 ])
 def test_bad_builder_arguments(call, message):
     with pytest.raises(ModelError, match=message):
         call(planar.Mechanism())
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: four_bar(ground=10**400), "ground must be a positive length"),
+    (lambda: four_bar(start=10**400), "start must be finite"),
+    (lambda: four_bar(crossed="no"), "crossed must be True or False, got 'no'"),  # (it built the crossed one)
+    (lambda: four_bar(crossed=2), "crossed must be True or False"),
+    (lambda: slider_crank(crossed="False"), "crossed must be True or False"),
+    (lambda: watt_six_bar(crossed_2="yes"), "crossed_2 must be True or False"),
+    # (an OverflowError from the sketch's geometry)
+    (lambda: slider_crank(crank=1e300), "crank = 1e\\+300 is beyond the lengths a sketch holds"),
+    (lambda: slider_crank(offset=-1e300), "offset = -1e\\+300 is beyond the numbers a sketch holds"),
+    (lambda: four_bar(ground=1e-300), "ground = 1e-300 is beyond the lengths a sketch holds"),
+    (lambda: open_chain([1.0, 1.0], start="abc"), "start must hold 2 finite angles, one per link; got 'abc'"),
+])
+def test_bad_catalogue_arguments(call, message):
+    with pytest.raises(ModelError, match=message):
+        call()
+
+
+def test_a_six_bar_takes_its_numbers_as_four_bar_does():
+    # (its sketch read the raw arguments: a string length was a numpy UFuncTypeError)
+    a, b = watt_six_bar(ground="4.5", start="1"), watt_six_bar(ground=4.5, start=1.0)
+    assert np.allclose(a.compile().q0, b.compile().q0)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda r: r.coordinate(["A"]), r"joint \['A'\] has no coordinate"),
+    (lambda r: r.coordinate("A", "1"), "derivative must be 0, 1 or 2, got '1'"),
+    (lambda r: r.coordinate("A", None), "derivative must be 0, 1 or 2"),
+])
+def test_bad_result_arguments(call, message):
+    with pytest.raises(ModelError, match=message):
+        call(four_bar().sweep([0.1, 0.2]))
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda a: a.instant_centres(four_bar()), "instant_centres needs a sweep result .* got Mechanism"),
+    (lambda a: a.instant_centre(four_bar(), "ground", "coupler"), "instant_centre needs a sweep result"),
+    (lambda a: a.transmission_angle(four_bar(), "coupler", "rocker"), "transmission_angle needs a sweep result"),
+    (lambda a: a.swept_ranges(four_bar()), "swept_ranges needs a sweep result"),
+    (lambda a: a.motion_range(four_bar().sweep([0.1])), "motion_range needs a Mechanism or a Model, got Sweep"),
+])
+def test_an_analysis_of_the_wrong_object_is_an_input_error(call, message):
+    # (each was an AttributeError)
+    with pytest.raises(InputError, match=message):
+        call(planar.analysis)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"samples": 1}, "samples must be a whole number from 2"),  # (a triple rocker came back a full turn)
+    ({"samples": 10**9}, "samples must be a whole number from 2 to 1e\\+06"),
+    ({"samples": 7.5}, "samples must be a whole number"),
+])
+def test_bad_motion_range_arguments(kwargs, message):
+    with pytest.raises(InputError, match=message):
+        motion_range(four_bar(4, 3, 3, 3), **kwargs)
+
+
+@pytest.mark.parametrize("travel", [-1.0, 0.0, math.inf, "far", [1.0]])
+def test_a_bad_travel_is_an_input_error(travel):
+    with pytest.raises(InputError, match="travel must be a positive length"):
+        motion_range(slider_crank(driver="slider"), travel=travel)
+
+
+def test_a_stretch_that_runs_past_the_travel_ends_there():
+    # (it was a TypeError comparing None ends)
+    u0 = slider_crank(driver="slider").compile().u0[0]
+    assert np.allclose(motion_range(slider_crank(driver="slider"), travel=1.0), [(u0 - 1.0, u0 + 1.0)])
 
 
 # ---- files ------------------------------------------------------------------------------------
@@ -167,6 +246,8 @@ FILES = [
     ('{"name": ' + "[" * 20 + "]" * 20 + "}", "nested more than 16 levels deep"),
     ('{"bodies": [', "not valid JSON at line 1"),
     (b"\x89PNG\r\n\x1a\n\x00\xff", "not a text file"),
+    (_set(["sweep", "start"], 10**400), "sweep.start: must be a number or a list of numbers"),
+    ('{"name": 1' + "0" * 5000 + "}", "not a readable JSON number"),
 ]
 
 
@@ -196,6 +277,103 @@ def test_bad_file_fields_raise_file_format_errors(tmp_path, edit, message):
     with pytest.raises(FileFormatError) as e:
         io.load(_write(tmp_path, edit))
     assert message in str(e.value)
+
+
+def test_a_path_that_is_no_regular_file_is_a_file_error(tmp_path, capsys):
+    # (/dev/zero was read to a MemoryError, a pipe with no writer hung)
+    fifo = tmp_path / "pipe.json"
+    os.mkfifo(fifo)
+    for path in (tmp_path, fifo, "/dev/zero"):
+        with pytest.raises(FileFormatError, match="not a regular file"):
+            io.load(path)
+        code, out, err = run_or_exit(capsys, "info", path)
+        assert (code, err.count("\n")) == (1, 1) and "not a regular file" in err, err
+    with pytest.raises(FileFormatError, match="a mechanism file is named by a path, got None"):
+        io.load(None)
+
+
+def test_a_name_that_is_no_text_is_a_file_error(tmp_path, capsys):
+    # (a lone surrogate loaded, then the command line failed printing it: a traceback)
+    doc = _doc()
+    doc["name"] = "\ud800"
+    path = tmp_path / "m.json"
+    path.write_text(json.dumps(doc))
+    code, out, err = run_or_exit(capsys, "info", path)
+    assert (code, err.count("\n")) == (1, 1) and "name: must be a string of text" in err, err
+
+
+def test_running_out_of_memory_is_one_line(tmp_path, capsys, monkeypatch):
+    # (what fits is checked against the machine's memory; a process limited to less ran out)
+    def fail(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(io, "load", fail)
+    code, out, err = run_or_exit(capsys, "info", tmp_path / "m.json")
+    assert (code, err.count("\n")) == (1, 1) and err.startswith("planar: error: out of memory"), err
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: planar.sweep_designs(four_bar, None, [0.1]), "designs must be a dict of parameter columns"),
+    (lambda: planar.sweep_designs(four_bar, 3, [0.1]), "designs must be a dict of parameter columns"),
+    (lambda: planar.sweep_designs(lambda **k: 3, [{"crank": 1.0}], [0.1]),
+     "design 0: <lambda> returned int: a builder of designs returns a planar.Mechanism"),
+    # (an IndexError, and an OverflowError, from the designs' tables)
+    (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{"O2-A": 1.0}, {"O2-A": math.nan}], [0.1]),
+     "design 1: O2-A must be a finite number, got nan"),
+    (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{"O2-A": 10**400}], [0.1]), "O2-A must be a finite"),
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, [0.1], branch="x"), "branch must be 'smooth'"),
+])
+def test_bad_design_arguments(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+def test_a_builder_that_refuses_a_design_fails_that_design_only():
+    def build(crank):
+        if crank > 1.2:
+            raise ValueError("too long a crank")
+        return four_bar(crank=crank)
+
+    study = planar.sweep_designs(build, {"crank": [1.0, 1.5]}, [0.1, 0.2])
+    assert study.errors == (None, "design 1 {'crank': 1.5}: build raised ValueError: too long a crank")
+    assert study[0].ok.all() and study[1] is None
+
+
+PATH = [(0.0, 0.0), (1.0, 0.6), (2.0, 0.4), (2.6, -0.5), (2.0, -1.2)]
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: synthesis.precision_points((1, 2), 10**9), "precision points must be a whole number from 1 to 10000"),
+    # (a LinAlgError)
+    (lambda: synthesis.freudenstein([math.nan, 1, 2], [1, 2, 3]), "th2 must be a list of finite numbers"),
+    (lambda: synthesis.freudenstein("abc", [1, 2, 3]), "th2 must be a list of numbers"),
+    (lambda: synthesis.freudenstein([1, 2], [1, 2, 3]), "th4 must be a list of finite numbers, one per"),
+    (lambda: synthesis.slider_crank_dimensions([0.1, 0.5, 0.9], [1, math.inf, 2]), "s must be a list of finite"),
+    (lambda: synthesis.four_bar_lengths(None), "K must be Freudenstein's three constants"),
+    (lambda: synthesis.four_bar_lengths((math.nan, 1, 1)), "Freudenstein's constants must be finite"),
+    (lambda: synthesis.path_four_bar(PATH, seed=-1), "seed must be a whole number of at least 0"),
+    (lambda: synthesis.path_four_bar(PATH, tol="x"), "tol must be a positive number"),
+    (lambda: synthesis.path_four_bar(PATH, tol=math.inf), "tol must be a positive number"),  # (any design passed)
+    (lambda: synthesis.path_four_bar(PATH, min_transmission=500), "min_transmission must be an angle from 0 to"),
+    (lambda: synthesis.path_four_bar(PATH, designs=10**9), "designs must be a whole number from 1 to 1e\\+07"),
+    (lambda: synthesis.path_four_bar(PATH, progress=3), "progress must be a function"),
+    (lambda: synthesis.path_four_bar(PATH, timing="abcdef"), "timing must hold one finite crank angle per target"),
+    (lambda: synthesis.path_four_bar(np.zeros((5000, 2))), "5000 target points, more than the limit of 100"),
+    (lambda: synthesis.path_four_bar([[1, 2], [3]]), "targets must be an \\(N, 2\\) array of finite points"),
+])
+def test_bad_synthesis_arguments(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+@pytest.mark.parametrize("d", [True, 2, -3, "0", slice(0, 1), 1.0])
+def test_a_design_is_picked_by_a_whole_index(d):
+    study = planar.sweep_designs(four_bar, {"crank": [1.0, 1.5]}, [0.1, 0.2])
+    with pytest.raises(InputError, match="a design is picked by its index, a whole number from 0 to 1"):
+        study[d]
+    with pytest.raises(InputError, match="a design is picked by its index"):
+        study.models[d]
+    assert study[-1].ok.all() and study[1].ok.all()
 
 
 def test_a_file_sweep_too_large_for_memory_is_refused_before_it_is_made(monkeypatch):

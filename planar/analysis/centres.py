@@ -14,6 +14,7 @@ of body k moves at V_k + w_k perp(P), so (w_i - w_j) perp(P) = V_j - V_i.
 import numpy as np
 
 from planar.geometry import perp
+from planar.results import as_sweep
 
 TRANSLATION = 1e-12  # relative angular velocity, against the bodies' rates, below which the centre is at infinity
 
@@ -35,6 +36,7 @@ def instant_centre(res, body_a, body_b):
     same rate: their relative motion is then a translation (the centre is at infinity, for
     example across a prismatic joint) or, at that instant, none at all. With ``body_a`` the ground, the locus is the fixed centrode of ``body_b``.
     """
+    as_sweep(res, "instant_centre")
     Va, wa = _motion(res, body_a)
     Vb, wb = _motion(res, body_b)
     dw = wa - wb
@@ -55,5 +57,5 @@ def instant_centres(res):
     >>> len(ic), bool(np.allclose(ic["ground", "crank"], 0.0))   # I12 is the pivot O2
     (6, True)
     """
-    names = res.model.body_names
+    names = as_sweep(res, "instant_centres").model.body_names
     return {(a, b): instant_centre(res, a, b) for i, a in enumerate(names) for b in names[i + 1 :]}

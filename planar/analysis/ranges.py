@@ -16,12 +16,14 @@ sweep already made, as far as it went.
 
 import numpy as np
 
+from planar import arguments
 from planar.blocks import plan as block_plan
 from planar.errors import InputError
-from planar.results import POSED
+from planar.results import POSED, as_sweep
 from planar.sweep import Branch, Walker
 
 TURN = 2 * np.pi
+MAX_SAMPLES = 10**6  # sweep values per turn or per travel: far more than any range needs
 
 
 def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.05):
@@ -44,16 +46,23 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
         turn is ``((-pi, pi),)``. Ends are limit positions, to about 1e-12.
     """
     model = mechanism.compile() if hasattr(mechanism, "compile") else mechanism
+    if not hasattr(model, "drivers"):
+        raise InputError(f"motion_range needs a Mechanism or a Model, got {type(mechanism).__name__}")
     if len(model.drivers) != 1:
         raise InputError(f"motion_range needs exactly one input; {model.name!r} has {list(model.input_names)}")
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 2 <= samples <= MAX_SAMPLES:
+        raise InputError(f"motion_range samples must be a whole number from 2 to {MAX_SAMPLES:g} (values per turn "
+                         f"or per travel; the default is 720), got {samples!r}")
     u0 = float(model.u0[0])
     if model.input_lengths[0]:
-        R = travel if travel is not None else 2.0 * model.L * len(model.body_names)
+        R = _travel(travel) if travel is not None else 2.0 * model.L * len(model.body_names)
         up = _stretches(model, u0 + np.linspace(0, R, samples + 1), tol, max_step)
         down = _stretches(model, u0 - np.linspace(0, R, samples + 1), tol, max_step)
-        # the stretch through the sketch is the first of each sweep
-        first = (down[0][1], up[0][1])
-        out = [first] + [(lo, hi) for lo, hi in up[1:]] + [(hi, lo) for lo, hi in down[1:]]
+        # the stretch through the sketch is the first of each sweep; one that runs to the end
+        # of the travel ends there
+        end = lambda v, e: e if v is None else v  # noqa: E731
+        first = (end(down[0][1], u0 - R), end(up[0][1], u0 + R))
+        out = [first] + [(lo, end(hi, u0 + R)) for lo, hi in up[1:]] + [(end(hi, u0 - R), lo) for lo, hi in down[1:]]
         return tuple(sorted((min(a, b), max(a, b)) for a, b in out))
     runs = _stretches(model, u0 + np.linspace(0, TURN, samples + 1), tol, max_step)
     if len(runs) == 1 and runs[0][1] is None:
@@ -66,6 +75,14 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
         # the sketch's stretch started at u0 but did not come back around: find its lower end
         first = (_lower_end(model, u0, tol, max_step), first[1])
     return tuple(sorted(_turn(lo, hi) for lo, hi in [first] + rest))
+
+
+def _travel(travel):
+    """``travel``: a positive finite length."""
+    if not (arguments.finite_number(travel) and travel > 0):
+        raise InputError(f"motion_range travel must be a positive length (how far to look each way from the "
+                         f"sketch), got {travel!r}")
+    return float(travel)
 
 
 def runs(mask):
@@ -89,7 +106,7 @@ def swept_ranges(res):
     >>> [np.round(np.degrees(r), 4).tolist() for r in swept_ranges(res)]
     [[0.0, 117.2796], [242.7204, 360.0]]
     """
-    u = np.asarray(res.inputs[:, 0], float)
+    u = np.asarray(as_sweep(res, "swept_ranges").inputs[:, 0], float)
     limits = [float(np.ravel(e.input)[0]) for e in res.events if e.kind == "limit"]
     out = []
     for a, b in runs(POSED[np.asarray(res.status)]):

@@ -10,6 +10,7 @@
 import numpy as np
 
 from planar.errors import ModelError
+from planar.results import as_sweep
 
 
 def _direction(res, d):
@@ -34,5 +35,6 @@ def transmission_angle(res, first, second):
     (or the bodies "coupler" and "rocker", the same angle); it is best near 90 deg and the
     mechanism locks where it reaches 0 or 180 deg.
     """
+    as_sweep(res, "transmission_angle")
     a, b = _direction(res, first), _direction(res, second)
     return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]))

@@ -160,6 +160,10 @@ def main(argv=None):
     except OutputError as e:
         print(f"planar: error: {_one_line(e)}", file=sys.stderr)
         return EXIT_OUTPUT
+    except MemoryError:  # (what fits was checked against the machine's memory: a tighter limit of the process)
+        print("planar: error: out of memory: this process may use less memory than the machine has; ask for "
+              "fewer values", file=sys.stderr)
+        return EXIT_INPUT
 
 
 def _one_line(e):

@@ -6,8 +6,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.designs.tables import compile_unplanned
+from planar.errors import InputError
 from planar.geometry import perp, rotate
 from planar.results import POSED, VALID, Sweep
+
+
+def design_index(d, D):
+    """Design ``d`` of ``D`` as an index from 0 (a negative one counts from the end)."""
+    if isinstance(d, (bool, np.bool_)) or not isinstance(d, (int, np.integer)) or not -D <= d < D:
+        raise InputError(f"a design is picked by its index, a whole number from 0 to {D - 1} (or from -{D}), "
+                         f"got {d!r}")
+    return int(d) % D
 
 
 class Models:
@@ -21,6 +30,7 @@ class Models:
         return len(self.designs)
 
     def __getitem__(self, d):
+        d = design_index(d, len(self))
         if self.errors[d] is not None:
             return None
         if d not in self.known:
@@ -78,6 +88,7 @@ class DesignSweep:
 
     def __getitem__(self, d):
         """Design d's :class:`planar.Sweep` (None for a design that could not be built)."""
+        d = design_index(d, len(self))
         if self.errors[d] is not None:
             return None
         return Sweep(self.models[d], self.inputs[d], self.input_rates, self.input_accelerations, self.q[d],

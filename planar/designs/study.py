@@ -35,7 +35,10 @@ def design_table(designs):
                              f"with at least one column: got lengths {sizes}")
         D = next(iter(sizes.values()))
         return tuple({k: (designs[k] if c is None else _plain(c[d])) for k, c in cols.items()} for d in range(D))
-    table = tuple(designs)
+    try:
+        table = tuple(designs)
+    except TypeError:
+        table = ()
     if not table or not all(isinstance(d, dict) for d in table):
         raise InputError("designs must be a dict of parameter columns or a non-empty sequence of dicts")
     return table
@@ -86,6 +89,9 @@ class Vary:
         if unknown:
             raise InputError(f"{unknown} are no numbers of mechanism {self.mechanism.name!r}: it has "
                              f"{sorted(self.numbers)} (stated distances 'a-b' and drivers' starts)")
+        for name, value in numbers.items():
+            if not arguments.finite_number(value):
+                raise InputError(f"{name} must be a finite number, got {value!r}: give every design's numbers")
 
     def __call__(self, **numbers):
         self.check(numbers)
@@ -195,6 +201,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
 
     def mechanism(d):  # design d's Mechanism, built when first needed (None, with its error, if it cannot be)
         if mechs[d] is None and errors[d] is None:
+            who = getattr(build, '__name__', 'the builder')
             try:
                 mechs[d] = build(**fixed, **table[lo + d])
             except InputError:
@@ -202,8 +209,13 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             except PlanarError as e:
                 errors[d] = f"design {lo + d} {table[lo + d]}: {e}"
             except TypeError as e:  # (a parameter the builder does not take: wrong for every design)
-                raise InputError(f"design {lo + d} {table[lo + d]}: {getattr(build, '__name__', 'the builder')} "
-                                 f"refused its parameters ({e}): name only parameters it takes") from e
+                raise InputError(f"design {lo + d} {table[lo + d]}: {who} refused its parameters ({e}): name only "
+                                 f"parameters it takes") from e
+            except (ValueError, ArithmeticError) as e:  # (a builder of the user's refusing this design's numbers)
+                errors[d] = f"design {lo + d} {table[lo + d]}: {who} raised {type(e).__name__}: {e}"
+            if mechs[d] is not None and not isinstance(mechs[d], Mechanism):
+                raise InputError(f"design {lo + d}: {who} returned {type(mechs[d]).__name__}: a builder of designs "
+                                 f"returns a planar.Mechanism")
         return mechs[d]
 
     def alone(d):  # design d compiled by itself (None, with its error, if it cannot be)
@@ -219,8 +231,11 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     groups, left = [], []
     if vary:  # no Mechanism per design: the tables from the numbers
         numbers = [dict(fixed, **table[lo + d]) for d in range(D)]
-        for x in numbers:
-            build.check(x)
+        for d, x in enumerate(numbers):
+            try:
+                build.check(x)
+            except InputError as e:
+                raise InputError(f"design {lo + d}: {e}") from None
         t, rest = design_tables.varied(build.mechanism, build.model, numbers)
         left = [d for d in rest if alone(d) is not None]
         if t is not None:

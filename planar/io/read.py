@@ -3,6 +3,7 @@ field checked and named when wrong; lengths restated in another unit."""
 
 import json
 import math
+import os
 from pathlib import Path
 
 from planar.errors import FileFormatError, InputError, ModelError, PlanarError
@@ -27,8 +28,8 @@ def from_dict(data, source="<mechanism file>", length_unit=None):
     if data.get("version", VERSION) != VERSION:
         c.fail("version", f"this planar reads version {VERSION} files, got {json.dumps(data['version'])}")
     name = data.get("name", "mechanism")
-    if not isinstance(name, str):
-        c.fail("name", f"must be a string, got {json.dumps(name)}")
+    if not (isinstance(name, str) and (name == "" or valid("name", name))):
+        c.fail("name", f"must be a string of text, got {json.dumps(name)}")
     udata = data.get("units", {})
     c.mapping(udata, "units", ("length", "angle", "rate"))
     try:
@@ -235,6 +236,8 @@ def loads(text, source="<string>", length_unit=None):
     except RecursionError:
         raise FileFormatError(f"{source}: lists or objects nested too deeply for a mechanism file "
                               f"(at most {MAX_DEPTH} levels)") from None
+    except ValueError as e:  # (an integer of more digits than Python converts)
+        raise FileFormatError(f"{source}: not a readable JSON number: {e}".split(";")[0]) from None
     depth = _depth(data)
     if depth > MAX_DEPTH:
         raise FileFormatError(f"{source}: lists or objects nested more than {MAX_DEPTH} levels deep: "
@@ -242,6 +245,7 @@ def loads(text, source="<string>", length_unit=None):
     return from_dict(data, source, length_unit)
 
 
+MAX_BYTES = 64 * 2**20  # a mechanism file's size: thousands of bodies take a few MiB
 MAX_DEPTH = 16  # the format nests 4 levels (file, "joints", a joint, "at"): room to grow, far from recursion
 
 
@@ -262,8 +266,16 @@ def _depth(data):
 def load(path, length_unit=None):
     """Read a mechanism file: a :class:`MechanismFile` (``.mechanism``, ``.units``, ``.sweep``),
     its lengths restated in ``length_unit`` ("m", "cm", "mm" or "in") when given."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise FileFormatError(f"a mechanism file is named by a path, got {path!r}")
     path = Path(path)
     try:
+        # (only a regular file of at most MAX_BYTES: a device or a pipe may never end)
+        if path.exists() and not path.is_file():
+            raise FileFormatError(f"{path}: not a regular file (a mechanism file is UTF-8 JSON)")
+        if path.stat().st_size > MAX_BYTES:
+            raise FileFormatError(f"{path}: {path.stat().st_size / 2**20:.0f} MiB, more than a mechanism file's "
+                                  f"limit of {MAX_BYTES / 2**20:.0f} MiB")
         text = path.read_text(encoding="utf-8")
     except OSError as e:
         raise FileFormatError(f"{path}: cannot read the file: {e.strerror or e}") from None

@@ -33,12 +33,23 @@ SWEEP_FIELDS = {"start": "numbers", "stop": "numbers", "num": "count", "speed": 
 
 
 def is_number(v):
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    try:
+        return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    except OverflowError:  # (an integer beyond any float)
+        return False
+
+
+def _utf8(s):
+    try:
+        s.encode("utf-8")
+        return True
+    except UnicodeEncodeError:
+        return False
 
 
 def valid(kind, v):
-    if kind == "name":
-        return isinstance(v, str) and v != ""
+    if kind == "name":  # (a lone surrogate is no text: it cannot be written out)
+        return isinstance(v, str) and v != "" and _utf8(v)
     if kind in ("point", "vector"):
         ok = isinstance(v, list) and len(v) == 2 and all(is_number(x) for x in v)
         return ok and (kind == "point" or any(x != 0 for x in v))

@@ -2,7 +2,11 @@
 
 import math
 
+import numpy as np
+
 from planar.errors import ModelError
+
+SCALE = 1e100  # lengths and numbers of a catalogue mechanism within 1/SCALE..SCALE: their squares stay finite
 
 
 def lengths(**named):
@@ -13,8 +17,13 @@ def lengths(**named):
             v = float(value)
         except (TypeError, ValueError):
             raise ModelError(f"{key} must be a number, got {value!r}") from None
+        except OverflowError:  # (an integer beyond any float)
+            raise ModelError(f"{key} must be a positive length, got {value!r}") from None
         if not math.isfinite(v) or v <= 0:
             raise ModelError(f"{key} must be a positive length, got {value!r}")
+        if not 1 / SCALE <= v <= SCALE:
+            raise ModelError(f"{key} = {v:g} is beyond the lengths a sketch holds ({1 / SCALE:g} to {SCALE:g}): "
+                             f"give it in another unit")
         out.append(v)
     return out
 
@@ -25,9 +34,21 @@ def number(value, what):
         v = float(value)
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be a number, got {value!r}") from None
+    except OverflowError:  # (an integer beyond any float)
+        v = math.inf
     if not math.isfinite(v):
         raise ModelError(f"{what} must be finite, got {value!r}")
+    if abs(v) > SCALE:
+        raise ModelError(f"{what} = {v:g} is beyond the numbers a sketch holds (+-{SCALE:g}): give it in another unit")
     return v
+
+
+def flag(value, what):
+    """``value`` as a bool where it is one (True, False, numpy's, or the numbers 0 and 1 of a
+    table of designs): a string such as "no" is refused, not read as true."""
+    if not (isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, float, np.number)) and value in (0, 1))):
+        raise ModelError(f"{what} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def choice(value, choices, what):

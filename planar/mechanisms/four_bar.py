@@ -90,7 +90,7 @@ def four_bar(ground: float = 4.0, crank: float = 2.0, coupler: float = 3.0, rock
 
     O2 = np.asarray(checks.point_pair(pivot, "pivot", required=True), dtype=float)
     O4 = polar(O2, r1, th1)
-    A, B = loop_pose(O2, O4, r2, r3, r4, driver, start, bool(crossed))
+    A, B = loop_pose(O2, O4, r2, r3, r4, driver, start, checks.flag(crossed, "crossed"))
 
     m = Mechanism(name)  # the bodies' angles are their lines O2 -> A, A -> B, O4 -> B
     for body in DRIVERS:

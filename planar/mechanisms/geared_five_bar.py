@@ -59,7 +59,8 @@ def geared_five_bar(ground: float = 8.0, gear_radius_2: float = 3.0, gear_radius
     start = checks.number(start, "start")
     O2, O5 = np.zeros(2), np.array([r1, 0.0])
     # reference configuration: links 3 and 4 in line, so O2, B, C are collinear
-    C = circle_circle(O2, R2 + 2 * R4, O5, r5, "the geared five-bar's reference configuration")[int(bool(crossed))]
+    crossed = checks.flag(crossed, "crossed")
+    C = circle_circle(O2, R2 + 2 * R4, O5, r5, "the geared five-bar's reference configuration")[int(crossed)]
     th30 = angle_of(O2, C)
     pose = {"B": polar(O2, R2 + R4, th30), "C": C}
     m = _build(name, O2, O5, pose, 0.0, R2, R4)

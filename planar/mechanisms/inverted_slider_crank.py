@@ -62,7 +62,7 @@ def inverted_slider_crank(ground: float = 20.0, crank: float = 8.5, *, offset: f
     r4 = checks.number(offset, "offset")
     th1 = checks.number(frame_angle, "frame_angle")
     checks.choice(driver, DRIVERS, "driver")
-    crossed = bool(crossed)
+    crossed = checks.flag(crossed, "crossed")
 
     O2 = np.zeros(2)
     O4 = polar(O2, r1, th1)

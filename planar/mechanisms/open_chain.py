@@ -49,9 +49,12 @@ def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike |
     """
     r = checks.length_list(lengths, "lengths")
     checks.choice(driver, ("absolute", "relative"), "driver")
-    th0 = np.zeros(len(r)) if start is None else np.asarray(start, dtype=float)
-    if th0.shape != (len(r),) or not np.all(np.isfinite(th0)):
-        raise ModelError(f"start must hold {len(r)} finite angles, one per link; got {th0.tolist()!r}")
+    try:
+        th0 = np.zeros(len(r)) if start is None else np.asarray(start, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        th0 = None
+    if th0 is None or th0.shape != (len(r),) or not np.all(np.isfinite(th0)):
+        raise ModelError(f"start must hold {len(r)} finite angles, one per link; got {start!r}")
     angles = th0 if driver == "absolute" else np.cumsum(th0)
 
     m = Mechanism(name)

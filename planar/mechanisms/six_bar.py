@@ -32,6 +32,9 @@ from planar.model import Mechanism
 def _first_loop(name, ground, crank, coupler, rocker, frame_angle, crossed, start):
     """The driven four-bar and its sketch points O4, A, B."""
     m = four_bar(ground, crank, coupler, rocker, frame_angle=frame_angle, crossed=crossed, start=start, name=name)
+    # (four_bar has checked them: as numbers now)
+    ground, crank, coupler, rocker = checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)
+    frame_angle, start = checks.number(frame_angle, "frame_angle"), checks.number(start, "start")
     O4 = polar((0, 0), ground, frame_angle)
     A, B = loop_pose((0, 0), O4, crank, coupler, rocker, "crank", start, bool(crossed))
     return m, O4, A, B
@@ -41,7 +44,7 @@ def dyad(m, names, bodies, P, Q, r_p, r_q, crossed, what):
     """Close a loop with two links: ``bodies[0]`` from P (on ``bodies[2]``) and ``bodies[1]``
     from Q (on ``bodies[3]``), pinned together at the intersection left of P -> Q (right if
     ``crossed``). ``names`` are the three revolutes at P, the middle joint and Q."""
-    M = circle_circle(P, r_p, Q, r_q, what)[int(bool(crossed))]
+    M = circle_circle(P, r_p, Q, r_q, what)[int(checks.flag(crossed, "crossed_2"))]
     m.add_body(bodies[0], angle=(names[0], names[1]))
     m.add_body(bodies[1], angle=(names[2], names[1]))
     m.add_revolute(names[0], bodies[2], bodies[0], at=P)

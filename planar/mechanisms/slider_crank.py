@@ -64,7 +64,7 @@ def slider_crank(crank: float = 2.0, coupler: float = 5.0, *, offset: float = 1.
     th1 = checks.number(slide_angle, "slide_angle")
     checks.choice(driver, DRIVERS, "driver")
     pq = checks.point_pair(coupler_point, "coupler_point")
-    crossed = bool(crossed)
+    crossed = checks.flag(crossed, "crossed")
 
     O2 = np.zeros(2)
     u = polar((0, 0), 1.0, th1)

@@ -82,7 +82,7 @@ class Mechanism:
 
     def _body(self, body, what="body"):
         name = body.name if isinstance(body, Body) else body
-        if name not in self._bodies:
+        if not isinstance(name, str) or name not in self._bodies:
             known = ", ".join(repr(b) for b in self._bodies)
             raise ModelError(f"unknown {what} {name!r}: the bodies are {known}; add it with add_body first")
         return name

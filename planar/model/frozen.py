@@ -230,6 +230,8 @@ class Model:
             a = np.array(values, dtype=float, order="C")
         except (TypeError, ValueError):
             raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
+        except OverflowError:  # (an integer beyond any float)
+            raise InputError(f"sweep {what} must be finite; found an integer beyond any float") from None
         if a.ndim == 0:
             if N is None:
                 raise InputError(f"sweep {what} must be a sequence of input values, got a scalar")

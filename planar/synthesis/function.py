@@ -30,6 +30,8 @@ from planar.mechanisms import four_bar, slider_crank
 from planar.mechanisms.sketch import left_of, polar
 from planar.synthesis.result import check
 
+MAX_POINTS = 10_000  # precision points: a least-squares fit of three constants needs no more
+
 
 def precision_points(x_range, n=3, spacing="chebyshev"):
     """``n`` precision points over ``x_range``: Chebyshev spacing (the roots of the degree-n
@@ -40,8 +42,8 @@ def precision_points(x_range, n=3, spacing="chebyshev"):
     [1.066987, 1.5, 1.933013]
     """
     x0, xf = _pair(x_range, "x_range")
-    if int(n) != n or n < 1:
-        raise InputError(f"the number of precision points must be a positive integer, got {n!r}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_POINTS:
+        raise InputError(f"the number of precision points must be a whole number from 1 to {MAX_POINTS}, got {n!r}")
     if spacing == "chebyshev":
         j = np.arange(1, int(n) + 1)
         return (x0 + xf) / 2 - (xf - x0) / 2 * np.cos((2 * j - 1) * np.pi / (2 * n))
@@ -53,7 +55,8 @@ def precision_points(x_range, n=3, spacing="chebyshev"):
 def freudenstein(th2, th4):
     """K1, K2, K3 of Freudenstein's equation through the (th2, th4) pairs: exact for three,
     least squares for more."""
-    th2, th4 = np.asarray(th2, float), np.asarray(th4, float)
+    th2 = _angles(th2, "th2")
+    th4 = _angles(th4, "th4", th2.size)
     M = np.stack((np.cos(th4), -np.cos(th2), np.ones_like(th2)), axis=1)
     return _solve(M, np.cos(th2 - th4), "crank and rocker angles")
 
@@ -61,7 +64,12 @@ def freudenstein(th2, th4):
 def four_bar_lengths(K, ground=1.0):
     """Link lengths (r1, r2, r3, r4) from Freudenstein's K1, K2, K3 and the ground length.
     A negative r2 or r4 is a crank or rocker pointing the other way: its angle is th + pi."""
-    K1, K2, K3 = K
+    try:
+        K1, K2, K3 = (float(k) for k in K)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"K must be Freudenstein's three constants K1, K2, K3, got {K!r}") from None
+    if not np.all(np.isfinite([K1, K2, K3])):
+        raise InputError(f"Freudenstein's constants must be finite, got {K!r}")
     if K1 == 0 or K2 == 0:
         raise SynthesisError(f"Freudenstein's K1 = {K1:.6g}, K2 = {K2:.6g}: a crank or rocker of infinite "
                              "length; shift or widen the angle ranges")
@@ -77,7 +85,8 @@ def four_bar_lengths(K, ground=1.0):
 def slider_crank_dimensions(th2, s):
     """(crank r2, coupler r3, offset e) of the slider-crank through the (th2, s) pairs: exact
     for three, least squares for more. A negative r2 is a crank pointing the other way."""
-    th2, s = np.asarray(th2, float), np.asarray(s, float)
+    th2 = _angles(th2, "th2")
+    s = _angles(s, "s", th2.size)
     M = np.stack((s * np.cos(th2), np.sin(th2), np.ones_like(th2)), axis=1)
     K1, K2, K3 = _solve(M, s**2, "crank angles and slider travels")
     if K1 == 0:
@@ -163,10 +172,21 @@ def _map(y, f, x_range, output_range):
     return output_range[0] + (y - y0) / (yf - y0) * (output_range[1] - output_range[0])
 
 
+def _angles(v, what, size=None):
+    """``v`` as a 1-D array of finite numbers (of ``size`` values where given)."""
+    try:
+        a = np.asarray(v, float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{what} must be a list of numbers, got {v!r}") from None
+    if a.ndim != 1 or not np.all(np.isfinite(a)) or (size is not None and a.size != size):
+        raise InputError(f"{what} must be a list of finite numbers, one per precision point, got {v!r}")
+    return a
+
+
 def _pair(v, what):
     try:
         a, b = (float(t) for t in v)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"{what} must be a pair (start, end) of numbers, got {v!r}") from None
     if not (np.isfinite(a) and np.isfinite(b)) or a == b:
         raise InputError(f"{what} must be two different finite numbers, got {v!r}")

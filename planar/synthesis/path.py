@@ -33,6 +33,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.stats import qmc
 
+from planar import arguments
 from planar.analysis import transmission_angle
 from planar.errors import InputError, PlanarError, SynthesisError
 from planar.synthesis.families import FOUR_BAR, STEPHENSON
@@ -51,6 +52,8 @@ BETWEEN = 3  # crank angles between each two targets where the refinement keeps 
 SPACING = 1e-3  # smallest crank angle step between targets the refinement keeps (free timing)
 CONVERGED = 1e-6  # the refinement stops a design at this fraction of tol
 STALL = 1e-9  # or when a step lowers its sum of squares by less than this fraction
+MAX_DESIGNS = 10**7  # designs searched (and refined): minutes of work; more is no search a user waits for
+MAX_TARGETS = 100  # target points: the search holds each of a batch's designs' curve against every one
 STEP = 1e-7  # forward-difference step of the refinement's Jacobian (the design is of unit size)
 
 
@@ -145,11 +148,18 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
     size = float(np.ptp(T, axis=0).max())
     if size == 0:
         raise InputError("the target points all coincide: give distinct points")
-    for what, v in (("designs", designs), ("refine", refine)):
-        if not isinstance(v, (int, np.integer)) or v < 1:
-            raise InputError(f"{what} must be a positive integer, got {v!r}")
-    if not tol > 0:
+    for what, v, most in (("designs", designs, MAX_DESIGNS), ("refine", refine, MAX_DESIGNS)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= most:
+            raise InputError(f"{what} must be a whole number from 1 to {most:g}, got {v!r}")
+    if not (arguments.finite_number(tol) and tol > 0):
         raise InputError(f"tol must be a positive number (relative to the targets' size), got {tol!r}")
+    if min_transmission is not None and not (arguments.finite_number(min_transmission)
+                                             and 0 <= min_transmission <= np.pi / 2):
+        raise InputError(f"min_transmission must be an angle from 0 to pi/2 radians, got {min_transmission!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"seed must be a whole number of at least 0, got {seed!r}")
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress must be a function progress(done, total), got {progress!r}")
     t = (T - centre) / size
     tz = t[:, 0] + 1j * t[:, 1]
     tau = None if timing is None else _timing(timing, len(T))
@@ -197,14 +207,23 @@ def _better(best, new):
 
 
 def _targets(targets):
-    T = np.asarray(targets, float)
+    try:
+        T = np.asarray(targets, float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"targets must be an (N, 2) array of finite points, got {targets!r}") from None
+    if len(T) > MAX_TARGETS:
+        raise InputError(f"{len(T)} target points, more than the limit of {MAX_TARGETS}: the search holds every "
+                         f"design's error at every target")
     if T.ndim != 2 or T.shape[1] != 2 or len(T) < 2 or not np.all(np.isfinite(T)):
         raise InputError(f"targets must be an (N, 2) array of finite points with N >= 2, got shape {T.shape}")
     return T
 
 
 def _timing(timing, N):
-    tau = np.asarray(timing, float)
+    try:
+        tau = np.asarray(timing, float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"timing must hold one finite crank angle per target ({N}), got {timing!r}") from None
     if tau.shape != (N,) or not np.all(np.isfinite(tau)):
         raise InputError(f"timing must hold one finite crank angle per target ({N}), got shape {tau.shape}")
     return tau - tau[0]
