@@ -366,6 +366,17 @@ def test_bad_synthesis_arguments(call, message):
         call()
 
 
+@pytest.mark.parametrize("text, message", [
+    (b"x,y\n1,2,3\n1\n3,4\n", "line 2 has more values than the header has columns"),  # (an AttributeError)
+    (b"x,y\n\xff\xfe,2\n", "not a CSV text file"),  # (a UnicodeDecodeError)
+])
+def test_a_bad_targets_file_is_one_line(tmp_path, capsys, text, message):
+    path = tmp_path / "t.csv"
+    path.write_bytes(text)
+    code, out, err = run_or_exit(capsys, "synth", "path", path)
+    assert (code, err.count("\n")) == (1, 1) and message in err, err
+
+
 @pytest.mark.parametrize("d", [True, 2, -3, "0", slice(0, 1), 1.0])
 def test_a_design_is_picked_by_a_whole_index(d):
     study = planar.sweep_designs(four_bar, {"crank": [1.0, 1.5]}, [0.1, 0.2])

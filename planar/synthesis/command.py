@@ -55,8 +55,13 @@ def read_targets(path, columns, optional=()):
             rows = list(csv.DictReader(fh))
     except OSError as e:
         raise FileFormatError(f"{path}: cannot read the file: {e.strerror or e}") from None
+    except (UnicodeDecodeError, csv.Error) as e:
+        raise FileFormatError(f"{path}: not a CSV text file ({e})") from None
     if not rows:
         raise FileFormatError(f"{path}: no rows: give a header row ({','.join(columns)}) and one row per target")
+    for k, row in enumerate(rows, start=2):
+        if None in row:  # (csv puts a row's values past the header's columns under None)
+            raise FileFormatError(f"{path}: line {k} has more values than the header has columns")
     header = [h.strip() for h in rows[0]]
     missing = [c for c in columns if c not in header]
     if missing:
@@ -65,10 +70,10 @@ def read_targets(path, columns, optional=()):
     for c in list(columns) + [c for c in optional if c in header]:
         vals = []
         for k, row in enumerate(rows, start=2):
-            raw = {key.strip(): v for key, v in row.items() if key is not None}.get(c)
+            raw = {key.strip(): v for key, v in row.items()}.get(c)
             try:
                 vals.append(float(raw))
-            except (TypeError, ValueError):
+            except (TypeError, ValueError, OverflowError):
                 raise FileFormatError(f"{path}: line {k}, column {c}: {raw!r} is not a number") from None
         out[c] = np.array(vals)
     return out
