@@ -366,6 +366,21 @@ def test_bad_synthesis_arguments(call, message):
         call()
 
 
+@pytest.mark.parametrize("option, message", [
+    (["--seed", "-1"], "--seed -1: give a whole number of at least 0"),  # (each exited 1, after the file was read)
+    (["--designs", "0"], "--designs 0: give a whole number from 1"),
+    (["--tol", "nan"], "--tol nan: give a positive error"),
+    (["--tol", "1e400"], "--tol inf: give a positive error"),  # (any design passed)
+    (["--min-transmission", "500"], "--min-transmission 500.0: give an angle from 0 to 90 (deg)"),
+    (["--points", "1000000000"], "--points 1000000000: give a whole number from 1 to 10000"),
+])
+def test_bad_synth_options_exit_2_with_one_line(tmp_path, capsys, option, message):
+    path = tmp_path / "t.csv"
+    path.write_text("x,y\n1,2\n3,4\n5,6\n")
+    code, out, err = run_or_exit(capsys, "synth", "path", path, *option)
+    assert (code, err.count("\n")) == (2, 1) and message in err, err
+
+
 @pytest.mark.parametrize("text, message", [
     (b"x,y\n1,2,3\n1\n3,4\n", "line 2 has more values than the header has columns"),  # (an AttributeError)
     (b"x,y\n\xff\xfe,2\n", "not a CSV text file"),  # (a UnicodeDecodeError)

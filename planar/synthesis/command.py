@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from planar.errors import FileFormatError, InputError
+from planar.errors import FileFormatError
 
 
 def add_parser(sub):
@@ -79,14 +79,41 @@ def read_targets(path, columns, optional=()):
     return out
 
 
+def check_options(args):
+    """The command line's numbers, checked before any work: a bad one is a usage error (exit 2)
+    naming the option."""
+    from planar.cli.main import UsageError
+    from planar.synthesis.function import MAX_POINTS
+    from planar.synthesis.path import MAX_DESIGNS
+
+    if args.seed < 0:
+        raise UsageError(f"--seed {args.seed}: give a whole number of at least 0")
+    if args.designs is not None and not 1 <= args.designs <= MAX_DESIGNS:
+        raise UsageError(f"--designs {args.designs}: give a whole number from 1 to {MAX_DESIGNS:g}")
+    if not (np.isfinite(args.tol) and args.tol > 0):
+        raise UsageError(f"--tol {args.tol}: give a positive error relative to the targets' size (default 1e-6)")
+    turn = 90.0 if args.angle_unit == "deg" else np.pi / 2
+    if args.min_transmission is not None and not 0 <= args.min_transmission <= turn:
+        raise UsageError(f"--min-transmission {args.min_transmission}: give an angle from 0 to {turn:g} "
+                         f"({args.angle_unit})")
+    if not 1 <= args.points <= MAX_POINTS:
+        raise UsageError(f"--points {args.points}: give a whole number from 1 to {MAX_POINTS}")
+    for name in ("beta", "gamma", "input_range", "output_range"):
+        v = getattr(args, name)
+        if v is not None and not np.all(np.isfinite(v)):
+            raise UsageError(f"--{name.replace('_', '-')} {' '.join(map(str, v))}: give two finite numbers")
+
+
 def cmd_synth(args):
     from planar.cli import EXIT_OK, write_output
+    from planar.cli.main import UsageError
     from planar.progress import Progress
     from planar.synthesis import (function_four_bar, function_slider_crank, motion_four_bar, path_four_bar,
                                   path_six_bar)
     from planar.units import Units
 
     units = Units(angle=args.angle_unit)
+    check_options(args)
     if args.problem == "path":
         cols = read_targets(args.file, ("x", "y"), ("input",))
         if args.timing and "input" not in cols:
@@ -99,7 +126,7 @@ def cmd_synth(args):
             seed=args.seed, progress=Progress("search step"), **budget)
     elif args.problem == "function":
         if args.input_range is None or args.output_range is None:
-            raise InputError("function generation needs --input-range A0 A1 and --output-range B0 B1")
+            raise UsageError("function generation needs --input-range A0 A1 and --output-range B0 B1")
         cols = read_targets(args.file, ("x", "y"))
         x, y = cols["x"], cols["y"]
         if len(x) < 2 or np.any(np.diff(x) <= 0):
@@ -110,7 +137,7 @@ def cmd_synth(args):
                   points=args.points, spacing=args.spacing)
     else:
         if args.beta is None or args.gamma is None:
-            raise InputError("motion generation needs the free choices --beta B2 B3 and --gamma G2 G3")
+            raise UsageError("motion generation needs the free choices --beta B2 B3 and --gamma G2 G3")
         cols = read_targets(args.file, ("x", "y", "angle"))
         P = np.column_stack((cols["x"], cols["y"], units.angle_to_internal(cols["angle"])))
         s = motion_four_bar(P, beta=units.angle_to_internal(args.beta), gamma=units.angle_to_internal(args.gamma))
