@@ -322,6 +322,9 @@ def test_running_out_of_memory_is_one_line(tmp_path, capsys, monkeypatch):
      "design 1: O2-A must be a finite number, got nan"),
     (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{"O2-A": 10**400}], [0.1]), "O2-A must be a finite"),
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, [0.1], branch="x"), "branch must be 'smooth'"),
+    # (the first two rows were taken without a word)
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, np.zeros((3, 4, 1))),
+     "values of shape \\(3, 4, 1\\) give 3 designs their values .* but there are 2 designs"),
 ])
 def test_bad_design_arguments(call, message):
     with pytest.raises(InputError, match=message):

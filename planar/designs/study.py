@@ -118,6 +118,10 @@ def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fix
     """
     table = design_table(designs)
     options = study_options(batch, options)
+    rows = np.shape(values)[0] if isinstance(values, np.ndarray) and values.ndim == 3 else None
+    if rows is not None and rows != len(table):
+        raise InputError(f"values of shape {np.shape(values)} give {rows} designs their values (one row each), but "
+                         f"there are {len(table)} designs: give one row per design")
     parts = (sweep_part(build, table, lo, min(lo + batch, len(table)), values, velocity, acceleration, fixed, options)
              for lo in range(0, len(table), batch))
     return join(table, parts)
