@@ -127,6 +127,9 @@ def test_a_sweep_larger_than_memory_is_refused_with_the_limit(monkeypatch):
     (lambda m: m.drive(), "drive needs exactly one of joint=, body= or point="),
     (lambda m: m.drive("nope"), "unknown joint 'nope'"),
     (lambda m: m.add_revolute("J", ["ground"], "b", at=(0, 0)), r"unknown body \['ground'\]"),
+    # (read by truthiness: "no" made an internal mesh)
+    (lambda m: (m.add_body("b"), m.add_gear("G", m.ground, "b", 1.0, 2.0, internal="no")),
+     "gear 'G' internal must be True or False, got 'no'"),
 ])
 def test_bad_builder_arguments(call, message):
     with pytest.raises(ModelError, match=message):

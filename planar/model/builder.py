@@ -345,6 +345,8 @@ class Mechanism:
         (radians) sets the direction of the tooth force (:meth:`planar.Sweep.forces`).
         """
         a, b = self._pair(gear_a, gear_b, name)
+        internal = checks.flag(internal, f"gear {name!r} internal")
+        hold_distance = checks.flag(hold_distance, f"gear {name!r} hold_distance")
         data = dict(radius_a=checks.positive(radius_a, f"gear {name!r} radius_a"),
                     radius_b=checks.positive(radius_b, f"gear {name!r} radius_b"),
                     sign=-1.0 if internal else 1.0, pressure_angle=checks.pressure_angle(pressure_angle, name))

@@ -24,6 +24,13 @@ def point(value, what):
     return finite(value, what, (2,))
 
 
+def flag(value, what):
+    """``value`` as a bool where it is one (True, False or numpy's): "no" is refused, not read as true."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ModelError(f"{what} must be True or False, got {value!r}")
+    return bool(value)
+
+
 def positive(value, what):
     """``value`` as a positive float."""
     v = float(finite(value, what, ()))
