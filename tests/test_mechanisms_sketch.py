@@ -84,3 +84,14 @@ def test_line_through_runs_offset_right_of_the_pivot_through_the_point(pivot, of
     n = np.array([-e[1], e[0]])
     np.testing.assert_allclose(pivot + r * e - offset * n, P, atol=1e-9)  # (r - i offset) e^{i theta}
     assert (r >= 0) == longer or r == 0
+
+
+def test_places_within_rounding_of_each_other_are_one_site_across_cells():
+    # sites are kept by cells of side 1e-12 L: a place next to a cell's edge finds the site
+    # across it, and one two cells on is another site
+    from planar.model.resolve import sites
+
+    tol = 1e-12
+    points = {n: ("b", np.array([x * tol, 5.0])) for n, x in (("a", 9.9), ("b", 10.1), ("c", 12.5))}
+    X0, site, _ = sites(points, [], 1.0)
+    assert site["a"] == site["b"] != site["c"] and len(X0) == 2
