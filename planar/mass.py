@@ -66,10 +66,17 @@ class Load:
 
 def _per_value(value, inputs, shape, what):
     if callable(value):
-        out = np.asarray(value(inputs), dtype=float)
+        got = value(inputs)
+        try:
+            out = np.asarray(got, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            raise ModelError(f"a load's {what} function gave {type(got).__name__} {got!r:.60}; it must give numbers, "
+                             f"shape {shape}") from None
         if out.shape != shape:
             raise ModelError(f"a load's {what} function gave shape {out.shape} for {inputs.shape[0]} input "
                              f"values; it must give {shape}")
+        if not np.all(np.isfinite(out)):  # (else NaN forces with a valid status)
+            raise ModelError(f"a load's {what} function gave NaN or infinity; it must give finite numbers")
         return out
     return np.broadcast_to(np.asarray(value, dtype=float), shape)
 

@@ -53,6 +53,11 @@ SWEEP_CALLS = [
     ([0.1], {"tol": 10**400}, InputError, "tol must be a finite number"),
     ([0.1], {"max_step": 10**400}, InputError, "max_step must be a positive number"),
     ([0.1], {"branch": ["smooth"]}, InputError, "branch must be 'smooth' or 'other', got ['smooth']"),
+    # (each was read as other numbers: days since 1970, 1.0, the real part, the values under the mask)
+    (np.array(["2020-01-01"], dtype="datetime64[D]"), {}, InputError, "sweep values must be real numbers"),
+    (np.array([True, False]), {}, InputError, "sweep values must be real numbers, got an array of bool"),
+    (np.array([0.1 + 1j]), {}, InputError, "sweep values must be real numbers, got an array of complex128"),
+    (np.ma.masked_array([0.1, 0.2], mask=[0, 1]), {}, InputError, "with masked values"),
 ]
 
 
@@ -99,6 +104,17 @@ def test_bad_circuit_arguments(kwargs, message):
 def test_a_tracker_move_to_no_number_is_an_input_error(value):
     with pytest.raises(InputError, match="move takes a number|sweep values"):
         four_bar().compile().track().move(value)
+
+
+@pytest.mark.parametrize("torque, message", [
+    (lambda u: np.full(len(u), np.nan), "a load's torque function gave NaN or infinity"),  # (NaN forces, SOLVED)
+    (lambda u: "abc", "a load's torque function gave str 'abc'; it must give numbers"),  # (a ValueError)
+])
+def test_a_load_function_that_gives_no_finite_numbers_is_a_model_error(torque, message):
+    m = four_bar()
+    m.add_load("coupler", torque=torque)
+    with pytest.raises(ModelError, match=message):
+        m.sweep([0.1, 0.2]).forces()
 
 
 def test_a_design_parameter_the_builder_does_not_take_is_an_input_error():

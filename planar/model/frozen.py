@@ -226,6 +226,10 @@ class Model:
         one row broadcast to N rows: read-only and no N-sized copy (the compiled loop reads
         the row itself)."""
         f = len(self.drivers)
+        kind = getattr(values, "dtype", np.dtype(float)).kind
+        if kind in "bcmMSU" or np.ma.is_masked(values):  # (read as numbers, they would be other numbers)
+            raise InputError(f"sweep {what} must be real numbers, got an array of {getattr(values, 'dtype', '')}"
+                             f"{' with masked values' if np.ma.is_masked(values) else ''}")
         try:
             a = np.array(values, dtype=float, order="C")
         except (TypeError, ValueError):
