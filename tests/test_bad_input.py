@@ -117,6 +117,12 @@ def test_a_load_function_that_gives_no_finite_numbers_is_a_model_error(torque, m
         m.sweep([0.1, 0.2]).forces()
 
 
+def test_a_mechanism_with_nothing_to_drive_says_so():
+    # (it said "add 0 with drive()")
+    with pytest.raises(planar.MobilityError, match="has no driver and nothing to drive"):
+        planar.Mechanism().sweep([0.0])
+
+
 def test_a_design_parameter_the_builder_does_not_take_is_an_input_error():
     with pytest.raises(InputError, match=r"design 0 \{'nope': 1\}: four_bar refused its parameters .* name only"):
         planar.sweep_designs(four_bar, [{"nope": 1}], [0.1])

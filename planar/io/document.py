@@ -29,7 +29,7 @@ class SweepSettings:
 
         f = len(model.drivers)
         if f == 0:
-            raise FileFormatError(f"drivers: the mechanism has no driver to sweep: add {model.dof} to drivers, "
+            raise FileFormatError(f"drivers: the mechanism has no driver to sweep: add {max(model.dof, 1)} to drivers, "
                                   f'like {{"joint": "O2"}} or {{"body": "crank"}}')
         arguments.size(model, self.num * (2 if self.rocking else 1), "the sweep (sweep.num)")
         cols = []

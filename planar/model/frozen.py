@@ -142,6 +142,13 @@ class Model:
                 return j
         raise ModelError(f"unknown joint {name!r}: the joints are {[j.name for j in self.joints]}")
 
+    def _undriven(self):
+        """The message of the error that says the model has no driver, and what to do."""
+        if self.dof == 0:
+            return (f"mechanism {self.name!r} has no driver and nothing to drive (no degree of freedom): add "
+                    f"moving bodies")
+        return f"mechanism {self.name!r} has no driver: add {self.dof} with drive()"
+
     def sweep(self, values: ArrayLike, velocity: ArrayLike = 1.0, acceleration: ArrayLike = 0.0,
               **options: Any) -> "Sweep":
         """Positions, velocities and accelerations for each row of input ``values``.
@@ -165,7 +172,7 @@ class Model:
         from planar.sweep import run_sweep
 
         if not self.drivers:
-            raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
+            raise MobilityError(self._undriven())
         options = arguments.sweep_options(options, run_sweep)
         U = self.as_inputs(values, "values")
         arguments.values(self, U, options["max_step"])
@@ -187,7 +194,7 @@ class Model:
         from planar.tracking import Tracker
 
         if not self.drivers:
-            raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
+            raise MobilityError(self._undriven())
         return Tracker(self, **options)
 
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
