@@ -32,6 +32,7 @@ Models with more inputs sweep from the sketch.
 
 import numpy as np
 
+from planar import arguments
 from planar.errors import InputError
 from planar.events import NEAR_CURVE
 from planar.results import Status, Sweep
@@ -330,7 +331,6 @@ class Tracker:
     ``tol``, ``max_step``, ``rates``, ``engine``)."""
 
     def __init__(self, model, **options):
-        from planar import arguments
         from planar.sweep import run_sweep
 
         self.model = model
@@ -353,7 +353,7 @@ class Tracker:
         if self.model.u0.size == 1 and type(value) in NUMBER and type(velocity) in NUMBER and \
                 type(acceleration) in NUMBER:
             v, a = float(velocity), float(acceleration)
-            if abs(value) <= 1e300 and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
+            if arguments.finite_number(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
                 res = self._direct(np.array([[float(value)]]), np.array([[v]]), np.array([[a]]))
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments

@@ -3,8 +3,8 @@
 that names the field at fault."""
 
 import json
-import math
 
+from planar.arguments import finite_number
 from planar.errors import FileFormatError
 
 VERSION = 1
@@ -32,11 +32,7 @@ SWEEP_FIELDS = {"start": "numbers", "stop": "numbers", "num": "count", "speed": 
           "acceleration": "numbers", "rocking": "bool"}
 
 
-def is_number(v):
-    try:
-        return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-    except OverflowError:  # (an integer beyond any float)
-        return False
+is_number = finite_number
 
 
 def _utf8(s):

@@ -2,9 +2,8 @@
 
 import math
 
-import numpy as np
-
 from planar.errors import ModelError
+from planar.model import checks as model_checks
 
 SCALE = 1e100  # lengths and numbers of a catalogue mechanism within 1/SCALE..SCALE: their squares stay finite
 
@@ -43,12 +42,7 @@ def number(value, what):
     return v
 
 
-def flag(value, what):
-    """``value`` as a bool where it is one (True, False, numpy's, or the numbers 0 and 1 of a
-    table of designs): a string such as "no" is refused, not read as true."""
-    if not (isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, float, np.number)) and value in (0, 1))):
-        raise ModelError(f"{what} must be True or False, got {value!r}")
-    return bool(value)
+flag = model_checks.flag  # the catalogue's flags as the builder's
 
 
 def choice(value, choices, what):

@@ -25,8 +25,9 @@ def point(value, what):
 
 
 def flag(value, what):
-    """``value`` as a bool where it is one (True, False or numpy's): "no" is refused, not read as true."""
-    if not isinstance(value, (bool, np.bool_)):
+    """``value`` as a bool where it is one (True, False, numpy's, or the numbers 0 and 1 of a
+    table of designs): a string such as "no" is refused, not read as true."""
+    if not (isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, float, np.number)) and value in (0, 1))):
         raise ModelError(f"{what} must be True or False, got {value!r}")
     return bool(value)
 
