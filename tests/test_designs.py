@@ -120,6 +120,22 @@ def test_a_batch_of_designs_is_each_design_swept_alone_and_freudensteins_closed_
         np.testing.assert_allclose(study[d].acceleration("C"), alone.acceleration("C"), rtol=0, atol=1e-9)
 
 
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_batch_walks_values_in_any_order_and_spacing_as_each_design_alone(engine):
+    """Values back and forth, repeated, dense and a turn apart: each design's walk (on the
+    compiled engine, a design a lane through stations between values further apart than
+    max_step) gives what the design swept alone does."""
+    designs = _crank_rockers(np.random.default_rng(11), 5)
+    U = np.r_[np.linspace(1.0, 0.2, 9), 0.2, 0.2 + 2 * np.pi, np.linspace(6.0, 6.01, 4), -3.0]
+    study = sweep_designs(four_bar, designs, U, 1.3, 0.4, engine=engine)
+    assert study.batched.all() and study.ok.all()
+    for d, design in enumerate(designs):
+        alone = _alone(four_bar, design, U, 1.3, 0.4)
+        np.testing.assert_array_equal(study.status[d], alone.status)
+        np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(study.qdd[d], alone.qdd, rtol=0, atol=1e-9)
+
+
 def test_failing_designs_keep_their_statuses_and_reasons_and_the_others_are_batched():
     fixed = dict(ground=4.0, rocker=3.0, coupler_point=(1.0, 0.5))
     designs = [dict(crank=1.0, coupler=3.5),  # crank-rocker: regular all round

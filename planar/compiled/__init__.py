@@ -15,12 +15,13 @@ loop reads them. Each joint type's scalar kernel comes from its class (``scalar_
 :func:`kinds`, so the solver still never asks a joint's type (a kernel runs lane by lane).
 The blocks' Schur complements are factored by :mod:`planar.lu`'s LU, lane by lane.
 
-Three entries: :func:`final` (one Newton step from given poses, with modes and rates: the
+Four entries: :func:`final` (one Newton step from given poses, with modes and rates: the
 anchors' Newton iterations and kinematic coefficients), :func:`fill` (the bulk of a sweep:
 each value's Hermite guess, up to STEPS Newton steps, the acceptance test, status and rates,
-written in place into the sweep's arrays) and :func:`direct` (poses on demand: each value from
-the pose known nearest it, the whole direct path of :mod:`planar.tracking`). All call the one
-loop (chunks of values on numba's number of threads, Python's: the loop releases the GIL; a
+written in place into the sweep's arrays), :func:`direct` (poses on demand: each value from
+the pose known nearest it, the whole direct path of :mod:`planar.tracking`) and :func:`walk`
+(designs of one structure swept together: each design's whole walk, a design a lane). All
+call the one loop (chunks of values on numba's number of threads, Python's: the loop releases the GIL; a
 chunk or less on the calling thread), each thread with work buffers kept for the plan.
 
 numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside
@@ -177,6 +178,37 @@ def direct(model, plan, KU, HQ, signs, U, tol, reach, steps):
     if not ok.all():
         return None
     return q, qu, quu, status, res, iters, sing, branch
+
+
+def walk(model, plan, U, q0, tol, steps, rows):
+    """The walks of designs ``rows`` of one structure through their stations U (D, S, 2: each
+    station's input, and the design's index in the plan's tables), each from its sketch q0[d]
+    at station 0 (its input the sketch's), every later station from the cubic Taylor
+    predictor of the one before, by Newton to ``tol`` (up to ``steps`` steps) and the final step
+    of :func:`final`, with the sweep's acceptance test (:mod:`planar.acceptance`; the sketch's
+    modes), every station SOLVED and clear of other solution curves, in one call of the loop:
+    a design a lane. A dict: ``ok`` (D,) whether design d walked every station (False for the
+    designs not in ``rows``), and per station (D, S, ...) its pose ``q``, ``qu`` and ``quu``
+    (dq/du and d2q/du2), ``status``, ``res``, ``iters``, ``sing`` and ``branch`` (read only
+    where ``ok``), and the designs' modes ``signs`` (D, blocks)."""
+    C, engine = _compiled(model, plan)
+    D, S = U.shape[:2]
+    n, nb = C.T.dims[D_N], C.T.blk.shape[0]
+    Q = np.empty((D, S, n))
+    Q[:, 0] = q0
+    qu, quu = np.empty((D * S, n)), np.empty((D * S, n))
+    res, sing, branch = np.empty(D * S), np.empty(D * S), np.empty(D * S)
+    status, iters, signs = np.empty(D * S, np.int8), np.empty(D * S, np.int64), np.zeros((D, nb), np.int8)
+    ok = np.zeros(D, bool)
+    no_b, no_f = C.none[1], C.none[2]
+    rows = np.ascontiguousarray(rows, np.int64)
+    engine.loop(C, engine.chunk(rows.size, engine.LANES), rows, engine.WALK, int(steps), no_b, np.arange(S),
+                np.zeros((0, 6, n)), no_f, signs, float(tol), ROUND, 0.0, Q.reshape(D * S, n),
+                np.require(U, float, ("C", "W")).reshape(D * S, -1), C.one, C.zero, True, qu, quu, res,
+                np.empty((D * S, nb), np.int8), sing, branch, no_f, no_f, no_f, ok, status, iters, no_b, no_b)
+    shape = lambda a: a.reshape((D, S) + a.shape[1:])  # noqa: E731
+    return dict(ok=ok, q=Q, qu=shape(qu), quu=shape(quu), status=shape(status), res=shape(res), iters=shape(iters),
+                sing=shape(sing), branch=shape(branch), signs=signs)
 
 
 def _rates_in(a):
@@ -337,4 +369,4 @@ def tables(model, plan):
                   jb, model.u0.size if any(g.per_design for g in sysm.groups) else -1]))
 
 
-__all__ = ["check", "direct", "final", "fill", "tables", "Tables"]
+__all__ = ["check", "direct", "final", "fill", "tables", "Tables", "walk"]

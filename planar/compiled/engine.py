@@ -26,19 +26,21 @@ from planar.compiled import CHUNK, D_BODIES, D_DESIGN, D_JBODIES, D_JROWS, D_KMA
 from planar.compiled import MIN_CHUNK, kinds
 from planar.compiled import B_ANGLE, B_CO, B_FO, B_K, B_LENGTHS, B_LO, B_NF, B_NL, B_NS, B_NV, B_NW, B_O, B_R
 from planar.compiled import B_RO, B_SO, B_UO, B_VO, B_WEIGHTED
-from planar.events import HELD, NEAR, SINGULAR, status_of
+from planar.events import HELD, NEAR, NEAR_CURVE, SINGULAR, status_of
 from planar.joints import scalar
 from planar.lu import lu
 from planar.results import Status
 
 NEAR_ANGLE = 0.05  # a bulk value's angles within this of its anchor's: cos and sin from the anchor's
 CLOSE = 1e-4  # a batch value takes more Newton steps while its last one (scaled) is below this
+ST_SOLVED = int(Status.SOLVED)
 ST_BRANCH_EVENT = int(Status.BRANCH_EVENT)  # the last status with rates
 ST_NEAR_SINGULAR = int(Status.NEAR_SINGULAR)  # the last status of a value reached on its branch with no event
 # where the loop's values start from (its ``mode``): poses given (Newton to its tolerances:
 # planar.compiled.final), a sweep's quintic Hermite guesses between anchors (planar.compiled.fill),
-# or the Taylor predictor from the nearest pose known on the branch (planar.compiled.direct)
-FINAL, BULK, KNOWN = 0, 1, 2
+# the Taylor predictor from the nearest pose known on the branch (planar.compiled.direct), or a
+# design's walk, each lane a design stepping through its stations (planar.compiled.walk)
+FINAL, BULK, KNOWN, WALK = 0, 1, 2, 3
 LANES = 32  # values the loop takes together (fewer in a smaller chunk)
 
 # fast-math's "contract" only: LLVM may fuse a * b + c into one fused multiply-add (one rounding
@@ -449,8 +451,13 @@ def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach,
     coefficients, ADJ, SA: see :func:`planar.compiled.fill`); KNOWN from the Taylor predictor
     of the pose known at the input in KU nearest each value (HQ: its q, dq/du, d2q/du2; SA:
     the branch's modes; a value further than ``reach`` from every known input, or whose
-    nearest is as near as another with a lower input, the lower's), with the buffers W of
-    :func:`_buffers`, in groups of L (the lanes):
+    nearest is as near as another with a lower input, the lower's); WALK: rows[lo:hi] are
+    designs, each a lane stepping through its G.size stations (design d's station s: row
+    d * G.size + s of the arrays it writes), the first from its sketch in Q, each later one
+    from the Taylor predictor of the station before (its q, and its rates at a unit input rate
+    in QD and QDD), accepted while it is SOLVED, clear of other solution curves and on its
+    branch (the first station's modes, written into SA[d]); OK[m]: design rows[m] walked every
+    station. With the buffers W of :func:`_buffers`, in groups of L (the lanes):
     every table entry is read once per group, and the innermost loops run over the lanes. A
     group steps while any of its values does; a value that has stopped keeps its last step's
     numbers. Allocates nothing, so it is compiled without numba's reference counting
@@ -469,13 +476,15 @@ def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach,
     w = fw[8]
     a_prev, a_ref = -1, -1  # the previous value's anchor interval, and that of aref, u0 and iu
     u0, iu = 0.0, 0.0
-    for m0 in range(lo, hi, L):
+    S = G.size if mode == WALK else 1  # a group's stations
+    for gs in range((hi - lo + L - 1) // L * S):  # each group of values, at each station
+        m0, station = lo + gs // S * L, gs % S
         for l in range(L):  # the group's values into the lanes: guesses (bulk) or poses
             m = m0 + l
             live[l] = act[l] = False
-            if m >= hi:
+            if m >= hi or (mode == WALK and station > 0 and not OK[m]):
                 continue
-            i = rows[m]
+            i = rows[m] * S + station
             I[l], des[l] = i, _design(T, U[i])
             if mode == BULK:
                 # the anchors around the value: G[a] < i <= G[a + 1], by binary search; the rows
@@ -540,9 +549,25 @@ def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach,
                     col = T.pcols[k2]
                     mv = _mx(mv, abs((q[col, l] - HQ[k, 0, col]) * ics[k2]))
                 move[l] = mv
+            elif mode == WALK and station > 0:
+                # the cubic Taylor predictor from the station before (p): its third derivative
+                # from the change of the second over the step before that (none at the first)
+                p, anc[l], mv = i - 1, rows[m], 0.0
+                du = U[i, 0] - U[p, 0]
+                back = U[p, 0] - U[p - 1, 0] if station > 1 else 0.0
+                for j in range(n):
+                    d3 = (QDD[p, j] - QDD[p - 1, j]) / back if back != 0.0 else 0.0
+                    q[j, l] = qg[j, l] = Q[p, j] + du * (QD[p, j] + du * (0.5 * QDD[p, j] + du * d3 / 6.0))
+                for k in range(T.pcols.size):
+                    col = T.pcols[k]
+                    mv = _mx(mv, abs((q[col, l] - Q[p, col]) * ics[k]))
+                move[l] = mv
             else:
                 for j in range(n):
-                    q[j, l] = Q[i, j]
+                    q[j, l] = qg[j, l] = Q[i, j]
+                anc[l], move[l] = rows[m], 0.0
+                if mode == WALK:
+                    OK[m] = True
             live[l] = act[l] = True
         for it in range(1, steps + 1):
             _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, near, L)
@@ -608,10 +633,17 @@ def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach,
                 # no further from the guess than JUMP times the predicted move, certified on its
                 # branch; from a known pose, with no event at it (status SOLVED or NEAR_SINGULAR)
                 sts[l] = status_of(sing[l], red[l], tol)
+                if mode == WALK and station == 0:  # a design's sketch: its modes are its branch's
+                    for b in range(sg.shape[0]):
+                        SA[anc[l], b] = sg[b, l]
                 ok = res[l] <= tol and step[l] <= ROUND and on_course(o, move[l]) and certified(o, sing[l])
                 for b in range(sg.shape[0]):
                     ok = ok and sg[b, l] == SA[anc[l], b]
-                OK[m] = ok = ok and (mode == BULK or sts[l] <= ST_NEAR_SINGULAR)
+                if mode == KNOWN:
+                    ok = ok and sts[l] <= ST_NEAR_SINGULAR
+                elif mode == WALK:  # a design batched only where every station is regular
+                    ok = ok and sts[l] == ST_SOLVED and sing[l] >= NEAR_CURVE
+                OK[m] = ok
                 if not ok:  # left for the general path: no pose here yet (or the anchor's own, with its modes)
                     live[l] = False
                     if mode == BULK and not SOLVED[i]:
@@ -666,13 +698,13 @@ def _buffers(T, L):
             np.zeros(L, np.int64), np.zeros(L, np.int64), np.zeros(L, np.bool_), act)
 
 
-def chunk(N):
+def chunk(N, least=MIN_CHUNK):
     """Values per task of :func:`loop` for a call of N values: CHUNK, fewer to give every thread
-    one, down to MIN_CHUNK."""
-    if N <= MIN_CHUNK:
-        return MIN_CHUNK
+    one, down to ``least``."""
+    if N <= least:
+        return least
     threads = numba.get_num_threads()
-    return min(CHUNK, max(MIN_CHUNK, (N + threads - 1) // threads))
+    return min(CHUNK, max(least, (N + threads - 1) // threads))
 
 
 def loop(C, size, rows, *args):
@@ -785,5 +817,5 @@ def _stamp():
     kernels and their shared pieces, the LU, the acceptance and status rules and the constants."""
     modules = {sys.modules[cls.__module__] for cls in kinds()} | {scalar, sys.modules[lu.__module__]}
     text = "".join(sorted(inspect.getsource(m) for m in modules)) + "".join(map(inspect.getsource, SHARED))
-    text += repr(([c.__name__ for c in kinds()], CERT, JUMP, ROUND, NEAR, SINGULAR, HELD, list(Status)))
+    text += repr(([c.__name__ for c in kinds()], CERT, JUMP, ROUND, NEAR, NEAR_CURVE, SINGULAR, HELD, list(Status)))
     return hashlib.sha1(text.encode()).hexdigest()

@@ -50,8 +50,10 @@ def assemble(t, pos, cons, spec, dims, starts, L, need):
             o = np.broadcast_to(cv.data.get("origin", np.zeros((2, 1))), (2, L.size)).T[need]
             rows.append(("travel", site[site_key(c.data["at"])], (o, u), None if start is None else start[need]))
 
-    def X(z):
-        return X0 + np.einsum("dsck,dk->dsc", B, z)
+    B = B.reshape(D, 2 * S, cols[-1])
+
+    def X(X0, B, z):  # the sites at coordinates z
+        return X0 + (B @ z[:, :, None]).reshape(X0.shape)
 
     def values(X):
         out = np.empty((len(X), len(rows)))
@@ -64,7 +66,7 @@ def assemble(t, pos, cons, spec, dims, starts, L, need):
                 out[:, k] = np.sum((X[:, a] - b[0][sel]) * b[1][sel], axis=1)
         return out
 
-    def jacobian(X):
+    def jacobian(X, B):
         G = np.zeros((len(X), len(rows), S, 2))
         for k, (kind, a, b, _) in enumerate(rows):
             if kind == "length":
@@ -80,7 +82,7 @@ def assemble(t, pos, cons, spec, dims, starts, L, need):
                     G[:, k, j] += g
             else:
                 G[:, k, a] += b[1][sel]
-        return np.einsum("drsc,dsck->drk", G, B[sel]) * (scale * Ls[sel, None])[:, :, None]
+        return (G.reshape(len(X), len(rows), 2 * S) @ B) * (scale * Ls[sel, None])[:, :, None]
 
     angle = np.array([r[0] == "angle" for r in rows])
     sel = np.arange(D)
@@ -100,22 +102,23 @@ def assemble(t, pos, cons, spec, dims, starts, L, need):
         sel = np.flatnonzero(alive)
         goal = a[sel] + (tt + step) * (b[sel] - a[sel])
         zs, scale = z[sel], np.where(angle, 1.0, 1.0 / Ls[sel, None])
+        X0s, Bs = X0[sel], B[sel]
         for _ in range(30):  # Gauss-Newton, as planar.dimensions._Problem.newton, design by design
-            r = residuals(X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs), goal)
+            Xs = X(X0s, Bs, zs)
+            r = residuals(Xs, goal)
             go = np.max(np.abs(r), axis=1, initial=0.0) > 1e-14
             if not go.any():
                 break
-            Xs = X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs)
-            J = jacobian(Xs)
+            J = jacobian(Xs, Bs)
             dx = _min_norm(J, r)
             dx *= np.minimum(1.0, 0.25 / np.maximum(np.max(np.abs(dx), axis=1, initial=0.0), 1e-300))[:, None]
             zs = np.where(go[:, None], zs - dx * Ls[sel, None], zs)
-        r = residuals(X0[sel] + np.einsum("dsck,dk->dsc", B[sel], zs), goal)
+        r = residuals(X(X0s, Bs, zs), goal)
         ok = np.max(np.abs(r), axis=1, initial=0.0) <= 1e-12
         z[sel] = zs
         alive[sel[~ok]] = False
         tt, dt = tt + step, min(2 * step, 0.25)
-    Xa = X(z)
+    Xa = X(X0, B, z)
     for i, j, k in t.triangles:  # the assembly mode drawn is kept
         before, after = _turns(X0, i, j, k), _turns(Xa, i, j, k)
         alive &= ~((np.abs(before) > 1e-9 * Ls**2) & (np.sign(before) != np.sign(after)))
@@ -130,14 +133,15 @@ def assemble(t, pos, cons, spec, dims, starts, L, need):
 def _min_norm(J, r):
     """The least-squares step of least norm, J+ r, per design: J^T (J J^T)^-1 r where the rows
     of J are independent (cheap), the pseudo-inverse where they are not (redundant lengths)."""
-    A = np.einsum("drk,dsk->drs", J, J)
+    Jt = J.swapaxes(1, 2)
+    A = J @ Jt
     with np.errstate(all="ignore"):  # |det| over the product of the diagonal (Hadamard): 1 for orthogonal rows
         full = np.linalg.det(A) / np.prod(np.diagonal(A, axis1=1, axis2=2), axis=1) > 1e-10
     dx = np.empty(J.shape[::2])
     if full.any():
-        dx[full] = np.einsum("drk,dr->dk", J[full], np.linalg.solve(A[full], r[full][:, :, None])[:, :, 0])
+        dx[full] = (Jt[full] @ np.linalg.solve(A[full], r[full][:, :, None]))[:, :, 0]
     if not full.all():
-        dx[~full] = np.einsum("dkr,dr->dk", np.linalg.pinv(J[~full]), r[~full])
+        dx[~full] = (np.linalg.pinv(J[~full]) @ r[~full][:, :, None])[:, :, 0]
     return dx
 
 

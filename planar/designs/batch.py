@@ -52,6 +52,10 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
         return np.concatenate([u, ids[d]], axis=1)
 
     p, fits = block_plan(ref, output_columns(ref, outputs)).over_designs(t.system, q, at(u, every), ref.col_scale)
+    if engine == "numba" and f == 1:
+        ok = _walk(t, p, out, U, Ud, Udd, tol, max_step, fits)
+        _drop(out, rows[ok], p, n, N)
+        return ok, fits
     br = Branch(ref, p, tol, engine=engine)
     with np.errstate(all="ignore"):
         ref_signs, sing = br.modes(q, at(u, every))
@@ -134,11 +138,54 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
         good &= (r["status"] == Status.SOLVED) & (r["sing"] >= NEAR_CURVE)
         ok[np.unique(d[~good])] = False
         _put(out, rows[d], i, r)
-    if p.cols.size < n:  # coordinates the outputs do not need: not solved
+    _drop(out, rows[ok], p, n, N)
+    return ok, fits
+
+
+def _walk(t, p, out, U, Ud, Udd, tol, max_step, fits):
+    """The walks of one-input designs in the compiled engine (:func:`planar.compiled.walk`), a
+    design a lane: every value a station, from the sketch's input on, with stations between
+    values further apart than ``max_step`` (scaled) for any design. Writes the rows of the
+    designs that walked every value and returns (D,) True for those."""
+    from planar import compiled
+
+    ref, rows = t.model, t.index
+    D, N = U.shape[:2]
+    V = np.concatenate([t.u0[:, :1], U[:, :, 0]], axis=1)  # the sketch's input, then the values
+    scale = 1.0 / t.L if ref.input_lengths[0] else np.ones(D)
+    span = np.max(np.abs(np.diff(V, axis=1))[fits] * scale[fits, None], axis=0, initial=0.0)
+    parts = np.maximum(1, np.ceil(span / max_step)).astype(int)  # the steps to each value
+    gap, at = np.repeat(np.arange(N), parts), np.cumsum(parts)  # (at: each value's station)
+    frac = (np.arange(gap.size) - (at - parts)[gap] + 1) / parts[gap]
+    stations = np.empty((D, 1 + gap.size, 2))
+    stations[:, 0, 0], stations[:, :, 1] = V[:, 0], np.arange(D)[:, None]
+    stations[:, 1:, 0] = V[:, gap] + (V[:, gap + 1] - V[:, gap]) * frac
+    stations[:, at, 0] = V[:, 1:]  # (each value as given)
+    w = compiled.walk(ref, p, stations, t.q0, tol, PREDICTED, np.flatnonzero(fits))
+    d = np.flatnonzero(w["ok"])
+    if d.size == D:  # (most studies: every design, and a view of the stations where they are the values)
+        d, at = slice(None), slice(1, None) if gap.size == N else at
+    g = rows[d]
+
+    def pick(a):
+        return a[d][:, at] if isinstance(d, np.ndarray) else a[:, at]
+
+    qu, quu = pick(w["qu"]), pick(w["quu"])
+    out.q[g], out.residual[g], out.singularity[g] = pick(w["q"]), pick(w["res"]), pick(w["sing"])
+    out.branch[g], out.iterations[g], out.status[g] = pick(w["branch"]), pick(w["iters"]), pick(w["status"])
+    if np.all(Ud == 1.0) and not np.any(Udd):  # (a unit input rate: the rates are the coefficients)
+        out.qd[g], out.qdd[g] = qu, quu
+    else:
+        out.qd[g], out.qdd[g] = qu * Ud, quu * Ud**2 + qu * Udd
+    return w["ok"]
+
+
+def _drop(out, g, p, n, N):
+    """NaN in the coordinates of designs (rows) g the outputs do not need (not solved)."""
+    if p.cols.size < n:
         drop = np.setdiff1d(np.arange(n), p.cols)
         for a in (out.q, out.qd, out.qdd):
-            a[np.ix_(rows[ok], np.arange(N), drop)] = np.nan
-    return ok, fits
+            a[np.ix_(g, np.arange(N), drop)] = np.nan
 
 
 def _put(out, g, i, r):
