@@ -6,6 +6,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import planar
+from planar.designs import batch as design_batch
 from planar.designs import tables as design_tables
 from planar.designs import DesignSweep, Vary, sweep_designs
 from planar.results import POSED
@@ -134,6 +135,20 @@ def test_a_batch_walks_values_in_any_order_and_spacing_as_each_design_alone(engi
         np.testing.assert_array_equal(study.status[d], alone.status)
         np.testing.assert_allclose(study.q[d], alone.q, rtol=0, atol=1e-12)
         np.testing.assert_allclose(study.qdd[d], alone.qdd, rtol=0, atol=1e-9)
+
+
+@pytest.mark.numba
+def test_the_compiled_walk_over_slices_of_designs_is_the_walk_over_all(monkeypatch):
+    """Walks too long for one call (stations beyond WALK_BYTES) go a few designs a call; a
+    design that meets a limit on the way is left to its sweep alone, whatever its slice."""
+    designs = _crank_rockers(np.random.default_rng(3), 4)
+    designs.insert(2, dict(designs[0], crank=3.0))  # crank no longer the shortest: limits within the turn
+    whole = sweep_designs(four_bar, designs, TH, 1.3, 0.4, engine="numba")
+    monkeypatch.setattr(design_batch, "WALK_BYTES", 1)  # a design a call
+    sliced = sweep_designs(four_bar, designs, TH, 1.3, 0.4, engine="numba")
+    assert whole.batched.tolist() == sliced.batched.tolist() == [True, True, False, True, True]
+    for k in ("q", "qd", "qdd", "status", "residual", "singularity", "iterations"):
+        np.testing.assert_array_equal(getattr(sliced, k), getattr(whole, k))
 
 
 def test_failing_designs_keep_their_statuses_and_reasons_and_the_others_are_batched():

@@ -180,17 +180,17 @@ def direct(model, plan, KU, HQ, signs, U, tol, reach, steps):
     return q, qu, quu, status, res, iters, sing, branch
 
 
-def walk(model, plan, U, q0, tol, steps, rows):
-    """The walks of designs ``rows`` of one structure through their stations U (D, S, 2: each
+def walk(model, plan, U, q0, tol, steps):
+    """The walks of designs of one structure through their stations U (D, S, 2: each
     station's input, and the design's index in the plan's tables), each from its sketch q0[d]
     at station 0 (its input the sketch's), every later station from the cubic Taylor
     predictor of the one before, by Newton to ``tol`` (up to ``steps`` steps) and the final step
     of :func:`final`, with the sweep's acceptance test (:mod:`planar.acceptance`; the sketch's
     modes), every station SOLVED and clear of other solution curves, in one call of the loop:
-    a design a lane. A dict: ``ok`` (D,) whether design d walked every station (False for the
-    designs not in ``rows``), and per station (D, S, ...) its pose ``q``, ``qu`` and ``quu``
-    (dq/du and d2q/du2), ``status``, ``res``, ``iters``, ``sing`` and ``branch`` (read only
-    where ``ok``), and the designs' modes ``signs`` (D, blocks)."""
+    a design a lane. A dict: ``ok`` (D,) whether design d walked every station, and per
+    station (D, S, ...) its pose ``q``, ``qu`` and ``quu`` (dq/du and d2q/du2), ``status``,
+    ``res``, ``iters``, ``sing`` and ``branch`` (read only where ``ok``), and the designs' modes
+    ``signs`` (D, blocks)."""
     C, engine = _compiled(model, plan)
     D, S = U.shape[:2]
     n, nb = C.T.dims[D_N], C.T.blk.shape[0]
@@ -201,8 +201,7 @@ def walk(model, plan, U, q0, tol, steps, rows):
     status, iters, signs = np.empty(D * S, np.int8), np.empty(D * S, np.int64), np.zeros((D, nb), np.int8)
     ok = np.zeros(D, bool)
     no_b, no_f = C.none[1], C.none[2]
-    rows = np.ascontiguousarray(rows, np.int64)
-    engine.loop(C, engine.chunk(rows.size, engine.LANES), rows, engine.WALK, int(steps), no_b, np.arange(S),
+    engine.loop(C, engine.chunk(D, engine.LANES), np.arange(D), engine.WALK, int(steps), no_b, np.arange(S),
                 np.zeros((0, 6, n)), no_f, signs, float(tol), ROUND, 0.0, Q.reshape(D * S, n),
                 np.require(U, float, ("C", "W")).reshape(D * S, -1), C.one, C.zero, True, qu, quu, res,
                 np.empty((D * S, nb), np.int8), sing, branch, no_f, no_f, no_f, ok, status, iters, no_b, no_b)

@@ -11,6 +11,8 @@ from planar.results import Status
 from planar.solver import PREDICTED
 from planar.sweep import CHUNK, Branch, final_step, output_columns, sweep_anchors
 
+WALK_BYTES = 1 << 28  # the compiled walk's stations of a call (its designs' poses and rates), at most
+
 
 class Results:
     """The (D, N, ...) arrays of a study, NaN and NOT_ASSEMBLABLE until a design is put."""
@@ -145,8 +147,9 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
 def _walk(t, p, out, U, Ud, Udd, tol, max_step, fits):
     """The walks of one-input designs in the compiled engine (:func:`planar.compiled.walk`), a
     design a lane: every value a station, from the sketch's input on, with stations between
-    values further apart than ``max_step`` (scaled) for any design. Writes the rows of the
-    designs that walked every value and returns (D,) True for those."""
+    values further apart than ``max_step`` (scaled) for any design; as many designs a call as
+    WALK_BYTES of stations hold. Writes the rows of the designs that walked every value and
+    returns (D,) True for those."""
     from planar import compiled
 
     ref, rows = t.model, t.index
@@ -157,27 +160,33 @@ def _walk(t, p, out, U, Ud, Udd, tol, max_step, fits):
     parts = np.maximum(1, np.ceil(span / max_step)).astype(int)  # the steps to each value
     gap, at = np.repeat(np.arange(N), parts), np.cumsum(parts)  # (at: each value's station)
     frac = (np.arange(gap.size) - (at - parts)[gap] + 1) / parts[gap]
-    stations = np.empty((D, 1 + gap.size, 2))
-    stations[:, 0, 0], stations[:, :, 1] = V[:, 0], np.arange(D)[:, None]
-    stations[:, 1:, 0] = V[:, gap] + (V[:, gap + 1] - V[:, gap]) * frac
-    stations[:, at, 0] = V[:, 1:]  # (each value as given)
-    w = compiled.walk(ref, p, stations, t.q0, tol, PREDICTED, np.flatnonzero(fits))
-    d = np.flatnonzero(w["ok"])
-    if d.size == D:  # (most studies: every design, and a view of the stations where they are the values)
-        d, at = slice(None), slice(1, None) if gap.size == N else at
-    g = rows[d]
+    plain = gap.size == N  # (no station between values: a value's is a slice)
+    ok = np.zeros(D, bool)
+    todo = np.flatnonzero(fits)
+    per = max(1, WALK_BYTES // ((1 + gap.size) * 8 * (3 * ref.n + 8)))
+    for lo in range(0, todo.size, per):
+        d = todo[lo : lo + per]
+        stations = np.empty((d.size, 1 + gap.size, 2))
+        stations[:, 0, 0], stations[:, :, 1] = V[d, 0], d[:, None]
+        stations[:, 1:, 0] = V[d][:, gap] + (V[d][:, gap + 1] - V[d][:, gap]) * frac
+        stations[:, at, 0] = V[d, 1:]  # (each value as given)
+        w = compiled.walk(ref, p, stations, t.q0[d], tol, PREDICTED)
+        ok[d] = w["ok"]
+        k = np.flatnonzero(w["ok"])
+        every = k.size == d.size and np.array_equal(d, np.arange(D))  # (most studies: views)
 
-    def pick(a):
-        return a[d][:, at] if isinstance(d, np.ndarray) else a[:, at]
+        def pick(a):
+            return a[:, 1:] if every and plain else (a[:, at] if every else a[k][:, at])
 
-    qu, quu = pick(w["qu"]), pick(w["quu"])
-    out.q[g], out.residual[g], out.singularity[g] = pick(w["q"]), pick(w["res"]), pick(w["sing"])
-    out.branch[g], out.iterations[g], out.status[g] = pick(w["branch"]), pick(w["iters"]), pick(w["status"])
-    if np.all(Ud == 1.0) and not np.any(Udd):  # (a unit input rate: the rates are the coefficients)
-        out.qd[g], out.qdd[g] = qu, quu
-    else:
-        out.qd[g], out.qdd[g] = qu * Ud, quu * Ud**2 + qu * Udd
-    return w["ok"]
+        g = rows if every else rows[d[k]]
+        qu, quu = pick(w["qu"]), pick(w["quu"])
+        out.q[g], out.residual[g], out.singularity[g] = pick(w["q"]), pick(w["res"]), pick(w["sing"])
+        out.branch[g], out.iterations[g], out.status[g] = pick(w["branch"]), pick(w["iters"]), pick(w["status"])
+        if np.all(Ud == 1.0) and not np.any(Udd):  # (a unit input rate: the rates are the coefficients)
+            out.qd[g], out.qdd[g] = qu, quu
+        else:
+            out.qd[g], out.qdd[g] = qu * Ud, quu * Ud**2 + qu * Udd
+    return ok
 
 
 def _drop(out, g, p, n, N):

@@ -1,7 +1,7 @@
 """What a study gives: :class:`DesignSweep`, the (D, N, ...) arrays of every design, and
 :class:`Models`, each design's model compiled when asked for."""
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -73,6 +73,7 @@ class DesignSweep:
     gap: np.ndarray
     points: dict  # name -> (body name, (D, 2) the point in the body's frame, per design)
     template: object  # the first design's model: the bodies' names and coordinates
+    _offsets: dict = field(default_factory=dict, init=False, repr=False)  # name -> _point's, once
 
     def __post_init__(self):
         for v in vars(self).values():
@@ -122,12 +123,14 @@ class DesignSweep:
 
     def _point(self, name):
         """(body name, S): the point's world offset from its body's frame (D, N, 2)."""
-        if name not in self.points:
-            self.template.point(name)  # raises, naming the points there are
-        body, s = self.points[name]
-        s = s[:, None, :]
-        phi = self._body(body, self.q)[2]
-        return body, rotate(phi, s)
+        if name not in self._offsets:
+            if name not in self.points:
+                self.template.point(name)  # raises, naming the points there are
+            body, s = self.points[name]
+            S = rotate(self._body(body, self.q)[2], s[:, None, :])
+            S.flags.writeable = False
+            self._offsets[name] = body, S
+        return self._offsets[name]
 
     def position(self, name):
         body, S = self._point(name)
