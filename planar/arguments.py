@@ -104,11 +104,23 @@ def rates(model, Ud, Udd):
 
 
 def _memory():
-    """Bytes of physical memory, or None where the system does not say."""
+    """Bytes of memory this process may have: the machine's physical memory, or the process's
+    address-space limit (RLIMIT_AS, ``ulimit -v``) where that is less; None where the system
+    says neither."""
+    limits = []
     try:
-        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        limits.append(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (AttributeError, ValueError, OSError):
-        return None
+        pass
+    try:
+        import resource  # (POSIX only)
+
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if soft != resource.RLIM_INFINITY and soft > 0:
+            limits.append(soft)
+    except (ImportError, AttributeError, ValueError, OSError):
+        pass
+    return min(limits, default=None)
 
 
 def size(model, N, what="the sweep"):
@@ -120,7 +132,7 @@ def size(model, N, what="the sweep"):
     have = _memory()
     if have is not None and need > have:
         raise InputError(f"{what} of {N} values needs about {need / 2**30:.3g} GiB for its results, more than "
-                         f"this machine's {have / 2**30:.3g} GiB of memory: sweep fewer values, or in chunks")
+                         f"the {have / 2**30:.3g} GiB of memory this process may have: sweep fewer values, or in chunks")
 
 
 def values(model, U, step):

@@ -132,16 +132,29 @@ def test_a_sweep_larger_than_memory_is_refused_with_the_limit(monkeypatch):
     monkeypatch.setattr(arguments, "_memory", lambda: 2**30)  # a machine with 1 GiB
     model = four_bar().compile()
     with pytest.raises(InputError, match=r"the sweep of 10000000 values needs about 3.35 GiB for its results, "
-                                         r"more than this machine's 1 GiB of memory: sweep fewer values"):
+                                         r"more than the 1 GiB of memory this process may have: sweep fewer values"):
         arguments.size(model, 10_000_000)
     with pytest.raises(InputError, match="the circuit of 100000000 values needs about"):
         model.circuit(samples=100_000_000)
     model.sweep(np.linspace(0.0, 1.0, 1000))  # what fits still runs
 
 
+def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_limit(monkeypatch):
+    resource = pytest.importorskip("resource")
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (2**30, resource.RLIM_INFINITY))  # ulimit -v 1048576
+    assert arguments._memory() == 2**30
+    with pytest.raises(InputError, match=r"more than the 1 GiB of memory this process may have"):
+        arguments.size(four_bar().compile(), 10_000_000)
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+    assert arguments._memory() > 2**30  # no limit: the machine's memory
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda m: m.add_body("b", angle="x"), r"angle of body 'b' \(a number, or a line \(p, q\) of two point names\) must be numeric"),
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
+    (lambda m: planar.Mechanism(name=None), "a mechanism's name must be a string, got None"),
+    (lambda m: setattr(m, "name", 3), "a mechanism's name must be a string, got 3"),
+    (lambda m: four_bar(name=("four", "bar")), r"a mechanism's name must be a string, got \('four', 'bar'\)"),
     (lambda m: m.add_revolute("J", m.ground, "nobody", at=(0, 0)), "unknown body 'nobody'"),
     (lambda m: m.add_revolute("J", m.ground, m.ground, at=(0, 0)), "joins body 'ground' to itself"),
     (lambda m: m.add_point("P", m.ground, at=(0, math.nan)), "'P' at must be finite"),
@@ -328,7 +341,7 @@ def test_a_name_that_is_no_text_is_a_file_error(tmp_path, capsys):
 
 
 def test_running_out_of_memory_is_one_line(tmp_path, capsys, monkeypatch):
-    # (what fits is checked against the machine's memory; a process limited to less ran out)
+    # (what fits is checked against the memory the process may have; running out anyway is one line)
     def fail(*args, **kwargs):
         raise MemoryError
 

@@ -67,6 +67,18 @@ class Mechanism:
     # ---- building ------------------------------------------------------------------------
 
     @property
+    def name(self) -> str:
+        """The mechanism's name (in files, plots and messages): a string."""
+        return self._name
+
+    @name.setter
+    def name(self, name: str) -> None:
+        if not isinstance(name, str):
+            raise ModelError(f"a mechanism's name must be a string, got {name!r}")
+        self._name = name
+        self._model = None  # (a model carries its mechanism's name)
+
+    @property
     def ground(self) -> Body:
         """The fixed body (frame), at the origin with angle 0."""
         return Body(GROUND)
