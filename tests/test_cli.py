@@ -234,3 +234,21 @@ def test_default_sweep_is_a_turn_or_a_travel():
     s = cli.default_sweep(m, units)
     assert s.stop[0] - s.start[0] == pytest.approx(0.5 * m.L)
     assert np.isclose(0.5 * (s.start[0] + s.stop[0]), m.u0[0])
+
+
+def test_the_csv_table_in_pieces_reads_back_every_number_and_quotes_its_header(monkeypatch):
+    from io import StringIO
+
+    from planar.cli import tables
+
+    monkeypatch.setattr(tables, "ROWS", 3)  # three pieces and a short one
+    x = np.array([0.1, 1 / 3, np.nan, 2.0, 1e-300, -np.inf, 7.0])
+    status = np.array(["SOLVED", "SOLVED", "NOT_ASSEMBLABLE", "LIMIT", "SOLVED", "NOT_ASSEMBLABLE", "SOLVED"])
+    cols = [("input:crank", "deg", x), ("status", "", status), ('n, "q"', "", np.arange(7))]
+    pieces = list(tables.csv_chunks(cols))
+    assert [done for _, done in pieces] == [0, 3, 6, 7]
+    rows = list(csv.reader(StringIO("".join(text for text, _ in pieces))))
+    assert rows[0] == ["input:crank [deg]", "status", 'n, "q"']
+    assert [r[0] for r in rows[1:]] == ["0.1", repr(1 / 3), "", "2.0", "1e-300", "", "7.0"]
+    assert [float(r[0]) for r in rows[1:] if r[0]] == [v for v in x if np.isfinite(v)]
+    assert [r[1] for r in rows[1:]] == status.tolist() and [r[2] for r in rows[1:]] == [repr(float(k)) for k in range(7)]

@@ -9,8 +9,6 @@ arrays without solving again; a single value is solved on its own (:func:`pose_l
 (73, ['limit position at crank = 117.2796 deg', 'limit position at crank = -117.2796 deg'])
 """
 
-import csv
-import io
 from dataclasses import dataclass
 
 import numpy as np
@@ -231,8 +229,6 @@ def pose_lines(model, units, value, rate=1.0):
 
 def csv_text(res, units):
     """The sweep as the CSV table ``planar run`` writes (one row per pose)."""
-    from planar.cli.tables import csv_rows, table
+    from planar.cli.tables import csv_chunks, table
 
-    out = io.StringIO()
-    csv.writer(out).writerows(csv_rows(table(res, units)))
-    return out.getvalue()
+    return "".join(text for text, _ in csv_chunks(table(res, units)))

@@ -116,8 +116,8 @@ def parser():
                         help="the whole circuit from the sketch, the input turning back at each limit position "
                              "(--num values in all; no --start or --stop)")
     r.add_argument("--engine", choices=("numpy", "numba"), default="numpy",
-                   help="numba: the compiled engine for long sweeps (the fast extra; compiles once per mechanism "
-                        "structure, 10-65 s, then cached)")
+                   help="numba: the compiled engine for long sweeps (the fast extra; compiled once per "
+                        "installation, about half a minute, then loaded from its cache)")
     r.add_argument("--angle-unit", choices=("deg", "rad"), help="angle unit of the outputs and of --start/--stop")
     r.add_argument("--rate-unit", choices=tuple(RATE_UNITS), help="unit of angular rates in the outputs")
     r.add_argument("--forces", action="store_true",

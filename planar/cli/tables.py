@@ -1,6 +1,7 @@
 """The tables a run writes: one column per output, one row per sweep value, as CSV or JSON."""
 
 import csv
+import io
 import json
 import math
 from pathlib import Path
@@ -50,21 +51,40 @@ def _header(name, unit):
     return f"{name} [{unit}]" if unit else name
 
 
-def csv_rows(cols):
-    """The header, then one row per sweep value: unsolved values empty."""
-    yield [_header(n, u) for n, u, _ in cols]
-    for row in zip(*(v for _, _, v in cols)):
-        yield [v if isinstance(v, str) else ("" if not math.isfinite(v) else repr(float(v))) for v in row]
+ROWS = 4096  # rows of a table formatted at once
+
+
+def csv_chunks(cols):
+    """The CSV text of ``cols`` in pieces: the header (quoted as the csv module quotes), then
+    ROWS rows at a time, each value a column's number by ``repr`` (the shortest text that reads
+    back to the same float) and an unsolved (non-finite) one empty. Yields (text, rows so far)."""
+    head = io.StringIO()
+    csv.writer(head).writerow([_header(n, u) for n, u, _ in cols])
+    yield head.getvalue(), 0
+    N = len(cols[0][2]) if cols else 0
+    for lo in range(0, N, ROWS):
+        cells = [_cells(np.asarray(v[lo : lo + ROWS])) for _, _, v in cols]
+        yield "".join(",".join(row) + "\r\n" for row in zip(*cells)), min(N, lo + ROWS)
+
+
+def _cells(v):
+    """One column's values as text: numbers by repr, non-finite ones empty, text as it is."""
+    if v.dtype.kind not in "fiub":
+        return [str(x) for x in v.tolist()]
+    a = v.astype(float)
+    out = list(map(repr, a.tolist()))
+    for i in np.flatnonzero(~np.isfinite(a)).tolist():
+        out[i] = ""
+    return out
 
 
 def write_csv(cols, path):
     progress, N = Progress(f"writing {Path(path).name}: rows"), len(cols[0][2]) if cols else 0
     with open(path, "w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f)
-        for i, row in enumerate(csv_rows(cols)):
-            w.writerow(row)
-            if i and (i % 4096 == 0 or i == N):
-                progress(i, N)
+        for text, done in csv_chunks(cols):
+            f.write(text)
+            if done:
+                progress(done, N)
 
 
 def write_json(cols, path, name):
