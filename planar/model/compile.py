@@ -152,14 +152,15 @@ def _first_independent(Js, rows, rank, tol, piv):
     """The ``rank`` independent rows met first in the order the joints were added, so the
     joints called redundant are the later ones whatever the rounding (the pivoted order ``piv``
     where rounding leaves the greedy pick short)."""
-    Q = np.zeros((Js.shape[1], 0))
+    Qt = np.zeros((rank, Js.shape[1]))  # the kept rows' orthonormal basis, a row each
     keep = []
     for k, v in enumerate(Js):
-        r = v - Q @ (Q.T @ v)
-        r -= Q @ (Q.T @ r)  # twice is enough (Kahan)
+        Q = Qt[: len(keep)]
+        r = v - (Q @ v) @ Q
+        r -= (Q @ r) @ Q  # twice is enough (Kahan)
         size = np.linalg.norm(r)
         if size > tol:
-            Q = np.column_stack([Q, r / size])
+            Qt[len(keep)] = r / size
             keep.append(k)
             if len(keep) == rank:
                 return rows[keep]
@@ -175,9 +176,10 @@ def _check_drivers(system, q0, u0, active, n_joint_rows, drivers, rs, cs):
 
     R = scipy.linalg.qr(Js.T, mode="r")[0]
     reach = np.abs(np.diagonal(R))
+    small = 1e-9 * max(1.0, np.abs(Js).max())
     for k, d in enumerate(drivers):
         i = n_joint_rows + k
-        if i >= reach.size or reach[i] <= 1e-9 * max(1.0, np.abs(Js).max()):
+        if i >= reach.size or reach[i] <= small:
             raise MobilityError(f"driver {d.name!r} depends on the joints or on the drivers before it at the "
                                 f"sketch: either it cannot move independently (for example both gears of one "
                                 f"mesh driven: drive another coordinate, or remove it), or the sketch is a dead "
