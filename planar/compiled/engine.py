@@ -553,11 +553,12 @@ def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach,
                 # the cubic Taylor predictor from the station before (p): its third derivative
                 # from the change of the second over the step before that (none at the first)
                 p, anc[l], mv = i - 1, rows[m], 0.0
-                du = U[i, 0] - U[p, 0]
-                back = U[p, 0] - U[p - 1, 0] if station > 1 else 0.0
+                pp = p - 1 if station > 1 else p
+                du, back = U[i, 0] - U[p, 0], U[p, 0] - U[pp, 0]
+                c3 = du / (6.0 * back) if back != 0.0 else 0.0
                 for j in range(n):
-                    d3 = (QDD[p, j] - QDD[p - 1, j]) / back if back != 0.0 else 0.0
-                    q[j, l] = qg[j, l] = Q[p, j] + du * (QD[p, j] + du * (0.5 * QDD[p, j] + du * d3 / 6.0))
+                    q[j, l] = qg[j, l] = Q[p, j] + du * (QD[p, j] + du * (0.5 * QDD[p, j] + c3 * (QDD[p, j] -
+                                                                                              QDD[pp, j])))
                 for k in range(T.pcols.size):
                     col = T.pcols[k]
                     mv = _mx(mv, abs((q[col, l] - Q[p, col]) * ics[k]))
