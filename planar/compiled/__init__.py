@@ -21,8 +21,9 @@ each value's Hermite guess, up to STEPS Newton steps, the acceptance test, statu
 written in place into the sweep's arrays), :func:`direct` (poses on demand: each value from
 the pose known nearest it, the whole direct path of :mod:`planar.tracking`) and :func:`walk`
 (designs of one structure swept together: each design's whole walk, a design a lane). All
-call the one loop (chunks of values on numba's number of threads, Python's: the loop releases the GIL; a
-chunk or less on the calling thread), each thread with work buffers kept for the plan.
+call the one loop (chunks of values on numba's number of threads, Python's: the loop releases
+the GIL; a chunk or less on the calling thread), each thread with work buffers kept for the
+plan.
 
 numba caches the machine code on disk (``cache=True``: in ``__pycache__`` beside
 :mod:`planar.compiled.engine`, or where ``NUMBA_CACHE_DIR`` says, or numba's user cache
@@ -189,8 +190,7 @@ def walk(model, plan, U, q0, tol, steps):
     modes), every station SOLVED and clear of other solution curves, in one call of the loop:
     a design a lane. A dict: ``ok`` (D,) whether design d walked every station, and per
     station (D, S, ...) its pose ``q``, ``qu`` and ``quu`` (dq/du and d2q/du2), ``status``,
-    ``res``, ``iters``, ``sing`` and ``branch`` (read only where ``ok``), and the designs' modes
-    ``signs`` (D, blocks)."""
+    ``res``, ``iters``, ``sing`` and ``branch`` (read only where ``ok``)."""
     C, engine = _compiled(model, plan)
     D, S = U.shape[:2]
     n, nb = C.T.dims[D_N], C.T.blk.shape[0]
@@ -198,16 +198,17 @@ def walk(model, plan, U, q0, tol, steps):
     Q[:, 0] = q0
     qu, quu = np.empty((D * S, n)), np.empty((D * S, n))
     res, sing, branch = np.empty(D * S), np.empty(D * S), np.empty(D * S)
-    status, iters, signs = np.empty(D * S, np.int8), np.empty(D * S, np.int64), np.zeros((D, nb), np.int8)
+    status, iters = np.empty(D * S, np.int8), np.empty(D * S, np.int64)
     ok = np.zeros(D, bool)
     no_b, no_f = C.none[1], C.none[2]
+    # (the designs' modes: written by each design's first station, read by the later ones)
     engine.loop(C, engine.chunk(D, engine.LANES), np.arange(D), engine.WALK, int(steps), no_b, np.arange(S),
-                np.zeros((0, 6, n)), no_f, signs, float(tol), ROUND, 0.0, Q.reshape(D * S, n),
+                np.zeros((0, 6, n)), no_f, np.zeros((D, nb), np.int8), float(tol), ROUND, 0.0, Q.reshape(D * S, n),
                 np.require(U, float, ("C", "W")).reshape(D * S, -1), C.one, C.zero, True, qu, quu, res,
                 np.empty((D * S, nb), np.int8), sing, branch, no_f, no_f, no_f, ok, status, iters, no_b, no_b)
     shape = lambda a: a.reshape((D, S) + a.shape[1:])  # noqa: E731
     return dict(ok=ok, q=Q, qu=shape(qu), quu=shape(quu), status=shape(status), res=shape(res), iters=shape(iters),
-                sing=shape(sing), branch=shape(branch), signs=signs)
+                sing=shape(sing), branch=shape(branch))
 
 
 def _rates_in(a):
