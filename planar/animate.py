@@ -16,7 +16,7 @@ import numpy as np
 
 from planar.draw.pose import path_points, pose_title
 from planar.draw.scene import Scene
-from planar.draw.style import PATH_COLOURS, SAME, TINY, finish
+from planar.draw.style import PATH_COLOURS, SAME, TINY, finish, thinned
 from planar.errors import InputError
 from planar.units import Units
 
@@ -92,6 +92,9 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
     scene = Scene(res)
     names = path_points(res, points) if trace else []
     paths = [res.position(n) for n in names]
+    # the paths as drawn: at most DRAWN values, every frame's among them (a trace ends at its pose)
+    kept = thinned(np.all([np.isfinite(p).all(axis=1) for p in paths], axis=0), keep=frames) if paths else None
+    paths = [p[kept] for p in paths]
 
     fig, ax = plt.subplots(figsize=size, layout="constrained")
     for k, (n, p) in enumerate(zip(names, paths)):
@@ -116,7 +119,7 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
         shown.extend(scene.draw(ax, i))
         ax.set_title(pose_title(scene, i, units))
         # the trace: every pose of the sweep up to the furthest one shown so far
-        upto = frames[: f + 1].max() + 1
+        upto = np.searchsorted(kept, frames[: f + 1].max() + 1) if paths else 0
         for line, p in zip(traces, paths):
             line.set_data(p[:upto, 0], p[:upto, 1])
 

@@ -279,3 +279,28 @@ def test_point_labels_do_not_collide(build):
     for k, a in enumerate(boxes):
         for b in boxes[k + 1:]:
             assert not a.overlaps(b), (a, b)
+
+
+def test_a_long_sweep_draws_a_thinned_line_that_breaks_where_the_sweep_does():
+    from types import SimpleNamespace
+
+    from planar.draw.style import DRAWN, drawn
+    from planar.results import Status
+
+    N = 50 * DRAWN
+    x = np.linspace(0.0, 1.0, N)
+    y = np.sin(20 * x)
+    y[20_000:20_500] = np.nan  # values not solved
+    status = np.zeros(N, np.int8)
+    status[300_001] = Status.JUMPED
+    X, Y = drawn(SimpleNamespace(status=status), x, y)
+    assert DRAWN // 2 < X.size <= DRAWN + 10
+    # the line stops at the last value before the gap and starts again at the first after it
+    i = np.flatnonzero(np.isnan(Y) & np.isfinite(X))
+    assert X[i[0] - 1] == x[19_999] and X[i[-1] + 1] == x[20_500]
+    # a NaN before the jump, between the values either side of it
+    j = np.flatnonzero(np.isnan(X))[0]
+    assert X[j - 1] == x[300_000] and X[j + 1] == x[300_001]
+    assert X[0] == x[0] and X[-1] == x[-1] and np.all(np.diff(X[np.isfinite(X)]) > 0)
+    # a short sweep is drawn whole
+    assert drawn(SimpleNamespace(status=np.zeros(5)), np.arange(5.0))[0].tolist() == [0, 1, 2, 3, 4]

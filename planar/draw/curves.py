@@ -5,7 +5,7 @@ import numpy as np
 
 from planar.analysis.outputs import OUTPUTS, output_values, specs
 from planar.analysis.ranges import runs
-from planar.draw.style import EVENT_MARK, PATH_COLOURS, broken, pyplot
+from planar.draw.style import EVENT_MARK, PATH_COLOURS, drawn, pyplot
 from planar.errors import InputError
 from planar.results import POSED
 from planar.units import Units
@@ -61,7 +61,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     for a, (kind, panel) in zip(axes, panels.items()):
         title, unit_kind = OUTPUTS[kind].title, OUTPUTS[kind].unit
         for k, spec in enumerate(panel):
-            a.plot(*broken(res, x, output_values(res, spec, units)), lw=1.6,
+            a.plot(*drawn(res, x, output_values(res, spec, units)), lw=1.6,
                    color=PATH_COLOURS[k % len(PATH_COLOURS)], label=spec.partition(":")[2])
         unit = units.label(unit_kind)
         a.set_ylabel(f"{title}" + (f"\n[{unit}]" if unit else ""), fontsize=9)
@@ -88,10 +88,10 @@ def plot_forces(forces, *, units=None):
     x, xlabel = input_axis(res, units)
     for k, (d, is_len) in enumerate(zip(m.input_names, m.input_lengths)):
         unit = units.label("force" if is_len else "moment")
-        axes[0].plot(x, forces.driver_effort(d), lw=1.6, color=PATH_COLOURS[k % len(PATH_COLOURS)],
+        axes[0].plot(*drawn(res, x, forces.driver_effort(d)), lw=1.6, color=PATH_COLOURS[k % len(PATH_COLOURS)],
                      label=f"{d} [{unit}]")
     for k, j in enumerate(forces.reactions):
-        axes[1].plot(x, np.hypot(*forces.reaction(j).T), lw=1.4, color=PATH_COLOURS[k % len(PATH_COLOURS)],
+        axes[1].plot(*drawn(res, x, np.hypot(*forces.reaction(j).T)), lw=1.4, color=PATH_COLOURS[k % len(PATH_COLOURS)],
                      ls="-" if k < len(PATH_COLOURS) else "--", label=j)
     axes[0].set_ylabel("driver effort", fontsize=9)
     axes[1].set_ylabel(f"reaction force\n[{units.label('force')}]", fontsize=9)

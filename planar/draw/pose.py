@@ -4,7 +4,7 @@ instant centres, and the poses of a sweep's events."""
 import numpy as np
 
 from planar.draw.scene import Scene, world
-from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, broken, finish,
+from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, drawn, finish,
                                new_axes, pyplot)
 from planar.units import Units
 
@@ -97,7 +97,7 @@ def draw_paths(res, points=None, *, ax=None, events=True, units=None):
     ax = new_axes(ax)
     for k, name in enumerate(path_points(res, points)):
         p = res.position(name)
-        ax.plot(*broken(res, p[:, 0], p[:, 1]), color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
+        ax.plot(*drawn(res, p[:, 0], p[:, 1]), color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
                 label=f"path of {name}", zorder=1.8)
         if events:
             b, s = res.model.points[name]
@@ -194,7 +194,7 @@ def draw_instant_centres(source, i=0, *, ax=None, loci=False, units=None):
                 out = ((path[:, 0] < box.x0 - pad) | (path[:, 0] > box.x1 + pad)
                        | (path[:, 1] < box.y0 - pad) | (path[:, 1] > box.y1 + pad))
                 path = np.where(out[:, None], np.nan, path)
-            ax.plot(*path.T, color="#7b3294", lw=0.9, ls="-.", alpha=0.6, zorder=1.6)
+            ax.plot(*drawn(source, *path.T), color="#7b3294", lw=0.9, ls="-.", alpha=0.6, zorder=1.6)
         if not np.all(np.isfinite(p)):
             far.append(label)
             continue

@@ -57,13 +57,45 @@ def finish(ax, units=None):
     return ax
 
 
-def broken(res, *series):
-    """The (N,) series with a NaN put before each JUMPED value, so a line is not drawn across
-    the jump.
+DRAWN = 10_000  # values a curve draws at most (a figure is ~1,000 pixels across); beyond, every k-th
+
+
+def thinned(finite, keep=()):
+    """Indices of the values a curve of ``finite.size`` values draws (``finite``: (N,) whether
+    each value is finite): all of them up to DRAWN; beyond, every k-th for at most DRAWN, the
+    last, those in ``keep``, and at each run of values not finite its first (the line's break)
+    and the finite values either side (so the line stops and starts again where it does).
+
+    >>> i = thinned(np.isfinite(np.r_[np.arange(50_000.0), np.nan, np.nan, np.arange(50_000.0)]), keep=[7])
+    >>> int(i.size), i[:3].tolist(), i[-1].item(), [k for k in i.tolist() if 49_995 < k < 50_005]
+    (9096, [0, 7, 11], 100001, [49999, 50000, 50002])
+    """
+    N = finite.size
+    if N <= DRAWN:
+        return np.arange(N)
+    on = np.zeros(N, bool)
+    on[:: -(-N // DRAWN)] = True
+    on[-1] = True
+    on[np.asarray(keep, int)] = True
+    bad = ~finite
+    on[0] |= bad[0]
+    on[1:] |= bad[1:] & finite[:-1]  # the first of each run not finite
+    on[:-1] |= finite[:-1] & bad[1:]  # the finite value before it
+    on[1:] |= finite[1:] & bad[:-1]  # and the one after the run
+    return np.flatnonzero(on)
+
+
+def drawn(res, *series):
+    """The (N,) series of sweep ``res`` as a line draws them: a NaN put before each JUMPED
+    value, so that the line is not drawn across the jump, and thinned (:func:`thinned`).
 
     >>> from types import SimpleNamespace
-    >>> broken(SimpleNamespace(status=np.array([0, 0, Status.JUMPED])), np.arange(3.0))[0].tolist()
+    >>> drawn(SimpleNamespace(status=np.array([0, 0, Status.JUMPED])), np.arange(3.0))[0].tolist()
     [0.0, 1.0, nan, 2.0]
     """
     at = np.flatnonzero(np.asarray(res.status) == Status.JUMPED)
-    return [np.insert(np.asarray(v, float), at, np.nan) for v in series]
+    series = [np.insert(np.asarray(v, float), at, np.nan) for v in series]
+    if not series or series[0].size <= DRAWN:
+        return series
+    i = thinned(np.all([np.isfinite(v) for v in series], axis=0))
+    return [v[i] for v in series]
