@@ -245,23 +245,25 @@ def test_designs_of_every_joint_type_are_batched_and_each_is_its_sweep_alone(nam
         np.testing.assert_allclose(study.qdd[d], alone.qdd, rtol=0, atol=1e-9)
 
 
-def test_outputs_restrict_the_batch_to_the_blocks_they_need():
-    study = sweep_designs(watt_six_bar, {"crank": [1.4, 1.5]}, TH, outputs=("rocker",))
+@pytest.mark.parametrize("engine", ENGINES)
+def test_outputs_restrict_the_batch_to_the_blocks_they_need(engine):
+    study = sweep_designs(watt_six_bar, {"crank": [1.4, 1.5]}, TH, outputs=("rocker",), engine=engine)
     alone = watt_six_bar(crank=1.4).sweep(TH, outputs=("rocker",))
     assert study.batched.all() and np.isnan(alone.q).any()
     np.testing.assert_array_equal(np.isnan(study.q[0]), np.isnan(alone.q))
     np.testing.assert_allclose(study.q[0], alone.q, rtol=0, atol=1e-12)
 
 
-def test_values_may_be_one_row_per_design():
+@pytest.mark.parametrize("engine", ENGINES)
+def test_values_may_be_one_row_per_design(engine):
     starts = np.array([0.3, -1.0, 2.0])
-    U = starts[:, None] + TH[None]  # (D, N): each design from its own start
+    U = starts[:, None] + TH[None] * np.array([1.0, -0.5, 2.0])[:, None]  # (D, N): each design its own values
     fixed = dict(ground=4.0, crank=1.0, coupler=3.5, rocker=3.0, coupler_point=(1.0, 0.5))
-    study = sweep_designs(four_bar, {"start": starts}, U, fixed=fixed)
+    study = sweep_designs(four_bar, {"start": starts}, U, fixed=fixed, engine=engine)
     assert study.batched.all() and study.inputs.shape == (3, TH.size, 1)
     cf = oracles.freudenstein(4.0, 1.0, 3.5, 3.0, U, 1.0, 0.5)
     np.testing.assert_allclose(study.position("C"), cf["C"], rtol=0, atol=1e-12)
-    same = sweep_designs(four_bar, {"start": starts}, U[:, :, None], fixed=fixed)  # (D, N, f)
+    same = sweep_designs(four_bar, {"start": starts}, U[:, :, None], fixed=fixed, engine=engine)  # (D, N, f)
     np.testing.assert_array_equal(same.q, study.q)
     with pytest.raises(planar.InputError, match="one row per design"):
         sweep_designs(four_bar, {"start": starts}, U[:2], fixed=fixed)
