@@ -95,7 +95,5 @@ def drawn(res, *series):
     """
     at = np.flatnonzero(np.asarray(res.status) == Status.JUMPED)
     series = [np.insert(np.asarray(v, float), at, np.nan) for v in series]
-    if not series or series[0].size <= DRAWN:
-        return series
     i = thinned(np.all([np.isfinite(v) for v in series], axis=0))
     return [v[i] for v in series]
