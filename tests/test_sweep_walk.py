@@ -460,6 +460,28 @@ def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
     assert np.sum(res.status == Status.NOT_ASSEMBLABLE) == 166 and not np.any(res.status == Status.NOT_CONVERGED)
 
 
+@pytest.mark.parametrize("backwards", [False, True])
+def test_values_past_a_limit_at_the_sketch_whose_images_a_period_back_the_branch_reaches_are_solved(backwards):
+    # (found by a fuzz campaign) a Stephenson six-bar whose crank rocks over [-1.8662, 1.8662],
+    # sketched at its upper end and swept over [-1.134, 4.866] downwards: the values from
+    # 4.417 on (the range a turn on) came back NOT_ASSEMBLABLE, as the search past the gap found
+    # only other modes there and the sketch's own stretch further on was entered first; upwards
+    # they were solved. Both ways now give the range a turn on, each pose the pose a turn back
+    m = stephenson_six_bar(ground=4.880129187450895, crank=0.8724383512345397, coupler=3.2208235564912115,
+                           rocker=1.980695432915346, coupler_point=(-1.2669528654086244, -1.9475098391811978),
+                           pivot_6=(-2.4609938618607736, -2.143272440409377), link_5=3.274075215439777,
+                           link_6=3.160135326460027, crossed=True, crossed_2=True, start=1.8661982797645835)
+    U = np.linspace(-1.1338017202354165, 4.866198279764584, 181)
+    res = m.sweep(U[::-1] if backwards else U)
+    status = res.status[::-1] if backwards else res.status
+    assert not np.any(status == Status.NOT_CONVERGED)
+    posed = POSED[status]
+    np.testing.assert_array_equal(posed, (U <= 1.8662) | (U >= 4.4170))
+    image = m.sweep(U[U >= 4.4170] - 2 * np.pi)
+    D = res.position("D")[::-1] if backwards else res.position("D")
+    np.testing.assert_allclose(D[U >= 4.4170], image.position("D"), atol=1e-9)
+
+
 def test_far_values_out_of_a_rocking_range_are_out_of_reach_both_ways_round():
     # (found by a fuzz campaign) a Stephenson six-bar whose crank rocks over [-0.840, 1.353]
     # (the dyad C-D-O6 folds at both ends): far values outside that range a whole number of

@@ -133,7 +133,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         way tries the next such anchor)."""
         for _ in range(tries):
             # (within a turn, not a value on an event: a limit's pose is no pose to go on from)
-            V = U[anchors[k:]]
+            V = U[anchors[k:end]]
             c = np.flatnonzero(~past(origin[1][None], V) & ~on_event(model, V, events)
                                & (scaled_norm(model, V - origin[1]) <= TURN))
             if not c.size:
@@ -212,80 +212,103 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     kin = Kin()  # the anchors' kinematic coefficients where known (one input)
     coef = None  # those of the state, where known
     lo, k, wave = -1, 0, WAVE
-    while k < anchors.size:
-        idx = anchors[k : k + wave]
-        stop = np.flatnonzero(past(state[1][None], U[idx]) | on_event(model, U[idx], events))
-        tried = stop[0] if stop.size else idx.size
-        # an anchor several steps from the one before (sparse values) is walked to: a wave
-        # would not reach it
-        far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
-                             > SPARSE * max_step)
-        tried = far[0] if far.size else tried
-        a, qa, ka = solve_wave(br, state, U, idx[:tried], coef)
-        if a:
-            q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
-            state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
-            if ka is not None:
-                kin.add(idx[:a], *ka)
-                coef = ka[0][-1], ka[1][-1]
-        wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
-        # a wave that stopped part way goes on as a new wave from its last anchor; the walk
-        # takes the anchor where one accepted none (or where an event was located)
-        if k >= anchors.size or a == idx.size or 0 < a < tried:
-            continue
-        coef = None
-        i = anchors[k]
-        got = ("lost",) if past(state[1][None], U[i][None])[0] else walk(state, i, lo)
-        lo = i
-        if at_events(model, U[i : i + 1], events):
-            k += 1
-            continue  # a value on a singular position is no pose to go on from
-        if got[0] == "ok":
-            q[i], solved[i], signs[i] = got[1], True, got[2]
-            state = (got[1], U[i], got[2])
-            k += 1
-            continue
-        if got[0] == "limit":
-            state = (got[2][0], got[2][1], state[2])
-        # out of reach: the next anchor that assembles on the branch, a whole period on from a
-        # value solved, else by one batched search, else (where only another circuit or mode
-        # assembles there) a period the other way round from the sketch
-        known = np.flatnonzero(solved)
-        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:]])
-        if found is None and got[0] == "limit" and entries < MAX_ENTRIES:
-            # the range past the gap entered at its far end, as a sweep with values all the way
-            # enters it: the first of the walk's steps past the limit where the branch can be
-            # entered, and walked on from there
-            grid = _past_gap(model, state[1], U[anchors[k]], max_step)
-            nearer = walker.enter_any([state[0], model.q0], chosen, grid)[0] if grid.size else None
-            if nearer is not None:
-                entries += 1
-                u_e = grid[nearer[0]]
-                state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
+    end = anchors.size  # the walk's bound: a range skipped before is walked up to its end
+    skipped = []  # (k, upto): anchors past a gap passed over for the origin's stretch further on
+    while True:
+        while k < end:
+            idx = anchors[k : min(k + wave, end)]
+            stop = np.flatnonzero(past(state[1][None], U[idx]) | on_event(model, U[idx], events))
+            tried = stop[0] if stop.size else idx.size
+            # an anchor several steps from the one before (sparse values) is walked to: a wave
+            # would not reach it
+            far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
+                                 > SPARSE * max_step)
+            tried = far[0] if far.size else tried
+            a, qa, ka = solve_wave(br, state, U, idx[:tried], coef)
+            if a:
+                q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
+                state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
+                if ka is not None:
+                    kin.add(idx[:a], *ka)
+                    coef = ka[0][-1], ka[1][-1]
+            wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
+            # a wave that stopped part way goes on as a new wave from its last anchor; the walk
+            # takes the anchor where one accepted none (or where an event was located)
+            if k >= end or a == idx.size or 0 < a < tried:
                 continue
-        homed = found is None and got[0] != "far" and not _nested
-        if homed:
-            # the origin's own stretch come back to from elsewhere (past a gap, from another
-            # interval of the range): walked to from the origin, no limit the walk met between
-            found = home(k)
-        upto = anchors.size if found is None else k + found[0]
-        guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
-        nearer, assembles = (walker.enter_any(guesses, chosen, U[anchors[k:upto]]) if upto > k else (None, False))
-        if nearer is not None:
-            found, homed = (*nearer, chosen), False
-        if found is None and assembles and not _nested:
-            found = _enter_by_images(model, walker, U[anchors[k:]], state[1], chosen, options)
-        if found is None:
+            coef = None
+            i = anchors[k]
+            got = ("lost",) if past(state[1][None], U[i][None])[0] else walk(state, i, lo)
+            lo = i
+            if at_events(model, U[i : i + 1], events):
+                k += 1
+                continue  # a value on a singular position is no pose to go on from
+            if got[0] == "ok":
+                q[i], solved[i], signs[i] = got[1], True, got[2]
+                state = (got[1], U[i], got[2])
+                k += 1
+                continue
+            if got[0] == "limit":
+                state = (got[2][0], got[2][1], state[2])
+            # out of reach: the next anchor that assembles on the branch, a whole period on from a
+            # value solved, else by one batched search, else (where only another circuit or mode
+            # assembles there) a period the other way round from the sketch
+            known = np.flatnonzero(solved)
+            found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
+            if found is None and got[0] == "limit" and entries < MAX_ENTRIES:
+                # the range past the gap entered at its far end, as a sweep with values all the way
+                # enters it: the first of the walk's steps past the limit where the branch can be
+                # entered, and walked on from there
+                grid = _past_gap(model, state[1], U[anchors[k]], max_step)
+                nearer = walker.enter_any([state[0], model.q0], chosen, grid)[0] if grid.size else None
+                if nearer is not None:
+                    entries += 1
+                    u_e = grid[nearer[0]]
+                    state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
+                    continue
+            homed = found is None and got[0] != "far" and not _nested
+            if homed:
+                # the origin's own stretch come back to from elsewhere (past a gap, from another
+                # interval of the range): walked to from the origin, no limit the walk met between
+                found = home(k)
+            upto = end if found is None else k + found[0]
+            guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
+            nearer, assembles = (walker.enter_any(guesses, chosen, U[anchors[k:upto]]) if upto > k else (None, False))
+            if nearer is not None:
+                found, homed = (*nearer, chosen), False
+            if found is None and assembles and not _nested:
+                found = _enter_by_images(model, walker, U[anchors[k:end]], state[1], chosen, options)
+            if found is None:
+                break
+            c, qe, se = found
+            if homed and c:
+                skipped.append((k, k + c, state[1]))
+            k += c
+            i = anchors[k]
+            qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
+            q[i], solved[i], signs[i] = qe, True, se
+            if got[0] == "far":
+                direct.append(i)
+            state, lo = (qe, U[i], se), i
+            k += 1
+        if not skipped:
             break
-        c, qe, se = found
-        k += c
-        i = anchors[k]
-        qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
-        q[i], solved[i], signs[i] = qe, True, se
-        if got[0] == "far":
-            direct.append(i)
-        state, lo = (qe, U[i], se), i
-        k += 1
+        # a range passed over: entered a whole period on from a value solved since, or from
+        # the sweep of its images a period back where some lie in the origin's stretch (no
+        # limit met between), and walked on from there
+        k0, end, u_gap = skipped.pop()
+        known = np.flatnonzero(solved)
+        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k0:end]])
+        if found is None and not _nested:
+            V = _images(model, walker, U[anchors[k0:end]], u_gap)
+            if V is not None and np.any(~past(origin[1][None], V[0]) & (scaled_norm(model, V[0] - origin[1]) <= TURN)):
+                found = _enter_by_images(model, walker, U[anchors[k0:end]], u_gap, chosen, options)
+        k = end
+        if found is not None:
+            c, qe, se = found
+            k, i = k0 + c + 1, anchors[k0 + c]
+            q[i], solved[i], signs[i] = qe, True, se
+            state, lo, coef, wave = (qe, U[i], se), i, None, WAVE
 
     # 2. every other value from an anchor of its own stretch (no event in between): first a
     # finer set of anchors, so that the interpolation is at rounding level for the rest
@@ -424,13 +447,10 @@ def _enter_by_images(model, walker, targets, u, signs, options):
     gap may find only other circuits where the branch's range a period on is re-entered the
     other way round (a Watt six-bar's second interval: its image a turn back lies past the
     limit the sketch sits next to). None if the input has no period or none is reached."""
-    per = walker.period() if targets.shape[1] == 1 else None
-    if per is None:
+    images = _images(model, walker, targets, u)
+    if images is None:
         return None
-    P, _ = per
-    k = np.sign(targets[0, 0] - u[0])
-    n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
-    V = targets[::-1] - n * P  # (from the sketch outwards, the way the walk there goes)
+    V, n = images
     for W, res in walker.images:
         # (a later search past a gap asks for some of an earlier one's images: its sweep holds them)
         at = {float(w): i for i, w in enumerate(W[:, 0])}
@@ -450,6 +470,19 @@ def _enter_by_images(model, walker, targets, u, signs, options):
         if got is not None:
             return V.shape[0] - 1 - int(c), got[0], signs
     return None
+
+
+def _images(model, walker, targets, u):
+    """(V, n): the images of ``targets`` (M, 1) past a gap from ``u`` that
+    :func:`_enter_by_images` sweeps, n whole periods back (reversed: from the sketch
+    outwards, the way the walk there goes); None where the input has no period."""
+    per = walker.period() if targets.shape[1] == 1 else None
+    if per is None:
+        return None
+    P, _ = per
+    k = np.sign(targets[0, 0] - u[0])
+    n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
+    return targets[::-1] - n * P, n
 
 
 def _past_gap(model, u_limit, u_next, max_step):
