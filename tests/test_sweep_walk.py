@@ -12,6 +12,7 @@ from hypothesis import HealthCheck, assume, example, given, settings, strategies
 
 from planar.blocks import Plan, plan as block_plan
 from planar.errors import PlanarError
+from planar.events.tracer import Tracer
 from planar.mechanisms import (four_bar, gear_train, geared_five_bar, planetary_gear_train, rack_and_pinion, rolling_wheel,
                                slider_crank, stephenson_six_bar, watt_six_bar)
 from planar.results import POSED, VALID, Status
@@ -73,6 +74,21 @@ class Evaluations:
 
     def __exit__(self, *exc):
         self._patch.stop()
+
+
+class TracerSteps(Evaluations):
+    """Counts the arclength tracer's steps (each several evaluations of its own) in its block."""
+
+    def __enter__(self):
+        real = Tracer.step
+
+        def counted(tracer, *args, **kw):
+            self.calls += 1
+            return real(tracer, *args, **kw)
+
+        self._patch = mock.patch.object(Tracer, "step", counted)
+        self._patch.start()
+        return self
 
 
 def test_the_four_bar_reproduction_solves_every_value_in_range():
@@ -480,6 +496,42 @@ def test_values_past_a_limit_at_the_sketch_whose_images_a_period_back_the_branch
     image = m.sweep(U[U >= 4.4170] - 2 * np.pi)
     D = res.position("D")[::-1] if backwards else res.position("D")
     np.testing.assert_allclose(D[U >= 4.4170], image.position("D"), atol=1e-9)
+
+
+def test_a_walk_from_next_to_a_limit_takes_its_own_steps_again_past_it():
+    # (found by a fuzz campaign) a slider-crank sketched 7.7e-9 inside a limit of its crank's
+    # range [0.1832, 2.9584]: the walk's steps fail there and the arclength tracer took over
+    # for the whole way (a turn of the crank on, the walk over a period: 159 tracer steps);
+    # past the singular stretch it now gives the walk back
+    u0 = 0.18317895394778927
+    m = slider_crank(crank=4.67137729979805, coupler=1.9403108163859453, offset=2.791231386324089,
+                     coupler_point=(-0.7417895781775796, -1.8525216108965168), start=u0)
+    with TracerSteps() as steps:
+        res = m.sweep([u0 + 2 * np.pi])
+    assert steps.calls <= 40, steps.calls
+    np.testing.assert_allclose(res.position("C"), m.sweep([u0]).position("C"), atol=1e-9)
+    U = np.random.default_rng(42702).permutation(np.linspace(u0 - 4, u0 + 4, 181))
+    res = m.sweep(U)
+    (lo, hi), = oracles.slider_crank_limits(4.67137729979805, 1.9403108163859453, 2.791231386324089, "crank", 0.0)
+    off = np.abs(np.angle(np.exp(1j * (U - 0.5 * (lo + hi))))) - 0.5 * (hi - lo)  # (from the range, a turn round)
+    inside = off < -1e-6
+    assert POSED[res.status[inside]].all() and not POSED[res.status[off > 1e-6]].any()
+    o = oracles.slider_crank(4.67137729979805, 1.9403108163859453, U[inside], offset=2.791231386324089)
+    np.testing.assert_allclose(res.position("B")[inside], o["B"], atol=1e-9)
+
+
+def test_a_point_at_rest_gives_the_input_no_period():
+    # (found by a fuzz campaign) a geared five-bar whose gears' ratio has no period within
+    # twelve turns: a gear's centre, at rest, moves by rounding, and its speed over its
+    # acceleration (2e-15 rad) was taken for a period of the input, so the values past the
+    # limit at -2.2141 came back NOT_CONVERGED, 26 of 41
+    m = geared_five_bar(ground=6.072652857824006, gear_radius_2=1.9323918248113148,
+                        gear_radius_4=3.0935376218248507, link_5=11.831524553751766)
+    U = np.linspace(-4.0, 4.0, 181)
+    res = m.sweep(U)
+    np.testing.assert_array_equal(POSED[res.status], U > -2.2141392)
+    assert np.all(res.status[U < -2.2141392] == Status.NOT_ASSEMBLABLE)
+    np.testing.assert_allclose(res.nearest_limit[U < -2.2141392], -2.2141392, atol=1e-6)
 
 
 def test_far_values_out_of_a_rocking_range_are_out_of_reach_both_ways_round():

@@ -10,18 +10,22 @@ from planar.events import NEAR, NEAR_CURVE, Event
 from planar.events.tracer import Tracer
 
 MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
+RESUME = 4  # walk steps of input a crossing asked to resume traces at least
+LEADS = 0.1  # least share of the input in the unit tangent where the walk resumes
 
 
 @dataclass
 class Crossing:
     """What :func:`cross` found: the pose at the target (``q`` or None), whether a limit
-    stopped it (``limit`` event, with the last regular pose before it in ``before``), and the
-    events met on the way (in order)."""
+    stopped it (``limit`` event, with the last regular pose before it in ``before``), the
+    events met on the way (in order), and (``resume``: (q, u) or None) a regular pose past
+    what made the walk ask, where the input leads again and the walk goes on."""
 
     q: np.ndarray = None
     limit: Event = None
     before: tuple = None
     events: list = field(default_factory=list)
+    resume: tuple = None
 
 
 def tangent_cone(model, plan, q, u, t_in, rate):
@@ -66,9 +70,11 @@ def tangent_cone(model, plan, q, u, t_in, rate):
     return tuple(tans)
 
 
-def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
+def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0, resume=False):
     """Follow the branch from the regular pose (q, u_a) to the input u_b through whatever
-    singular positions lie between; see :class:`Crossing`."""
+    singular positions lie between; see :class:`Crossing`. With ``resume``, stop at the first
+    regular pose RESUME walk steps on where the input leads (the arclength steps cost several
+    times the walk's: a walk that started next to a limit would be traced all the way)."""
     tr = Tracer(model, plan, q, u_a, u_b, max_step)
     out = Crossing()
     y, t, det = tr.start(q)
@@ -170,6 +176,9 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0):
             guess = tr.q_of(y + w * (y1 - y))
             out.q = guess
             at_target = y_min is y1
+            break
+        if resume and y1[-1] >= RESUME * max_step and t1[-1] >= LEADS and sing > NEAR and gap >= NEAR_CURVE:
+            out.resume = (tr.q_of(y1), tr.u_of(y1))
             break
         y, t, det = y1, t1, det1
     if not any(e.kind in ("bifurcation", "singular") for e in out.events):

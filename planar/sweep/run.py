@@ -112,9 +112,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 events.append(ev)
             if back is None:  # (a limit met before too: value i, if re-entered, is past it all the same)
                 stops.append(ev.index)
-            limits.append((ev, np.sign(U[i] - start[1])))
+            # (each limit and direction once: the searches past gaps ask past() hundreds of times)
+            _once(limits, (ev, np.sign(U[i] - start[1])))
             if walker.also is not None:  # (the other way round a limit too: both bound the value)
-                round_limits.append(walker.also)
+                _once(round_limits, walker.also)
         return got
 
     def enter_far(start, i):
@@ -432,6 +433,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         _nested.rounds = walker.rounds
     return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
                    order, origin[1])
+
+
+def _once(met, limit):
+    """Append (limit event, direction) to ``met`` unless it holds that limit and direction."""
+    ev, d = limit
+    u = np.atleast_1d(ev.input)
+    if not any(np.array_equal(np.atleast_1d(e.input), u) and np.array_equal(s, d) for e, s in met):
+        met.append(limit)
 
 
 def _apart(part, before):

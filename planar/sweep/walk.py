@@ -167,7 +167,16 @@ class Walker:
         return got
 
     def _walk(self, q, u, signs, target, index, total):
-        """The walk the direct way (see :meth:`walk`), ``total`` its scaled length."""
+        """The walk the direct way (see :meth:`walk`), ``total`` its scaled length; where it
+        asked the tracer through a singular stretch, on from where the tracer gives it back."""
+        while True:
+            got = self._steps(q, u, signs, target, index, total)
+            if got[0] != "resume":
+                return got
+            _, q, u, signs = got
+            total = float(scaled_norm(self.br.m, target - u))
+
+    def _steps(self, q, u, signs, target, index, total):
         br = self.br
         h = min(1.0, self.max_step / total)
         t = 0.0
@@ -204,10 +213,20 @@ class Walker:
                 return self._cross(q, u, signs, target, index)
         return "ok", q, signs
 
-    def _cross(self, q, u, signs, target, index):
+    def _cross(self, q, u, signs, target, index, resume=True):
+        """Through the stretch the walk's steps could not take, by the tracer: the walk's
+        result, or ("resume", q, u, signs) where the tracer gives the walk back."""
         br, m = self.br, self.br.m
-        got = cross(m, br.p, q, u, target, self.max_step, other=self.other, index=index)
+        k = len(self.events)
+        got = cross(m, br.p, q, u, target, self.max_step, other=self.other, index=index, resume=resume)
         self.events.extend(got.events)
+        if got.resume is not None:
+            q1, u1 = got.resume
+            qn, conv, _, _ = br.solve(q1[None], u1[None], max_iter=DISTANT)
+            if conv[0]:
+                return "resume", qn[0], u1, br.signs(qn, u1[None])[0]
+            del self.events[k:]  # (traced again, all the way)
+            return self._cross(q, u, signs, target, index, resume=False)
         if got.limit is not None:
             ev = got.limit
             if scaled_norm(m, np.atleast_1d(ev.input) - target) <= 1e-10:
@@ -428,7 +447,8 @@ def _linear_symmetry(br, s0):
     speed, acc = (np.hypot(x[0::3], x[1::3])[known[0::3] & known[1::3]] for x in (v, a))
     turn = 2 * np.pi / float(input_scale(m)[0])
     cands = np.r_[turn, 2 * np.pi / rate[rate > 1e-9 * turn], 2 * np.pi * speed[acc > 0] / acc[acc > 0]]
-    for P in dict.fromkeys(float(x) for x in cands if np.isfinite(x) and x > 0):
+    # (a point at rest moves by rounding: its speed over its acceleration is no period)
+    for P in dict.fromkeys(float(x) for x in cands if np.isfinite(x) and x > 1e-6 * turn):
         lin = np.zeros(m.n)
         lin[cols] = P * v[cols]
         qn, conv, _, _ = br.solve((q0 + lin)[None], (u0 + P)[None], max_iter=DISTANT)
