@@ -214,7 +214,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     coef = None  # those of the state, where known
     lo, k, wave = -1, 0, WAVE
     end = anchors.size  # the walk's bound: a range skipped before is walked up to its end
-    skipped = []  # (k, upto): anchors past a gap passed over for the origin's stretch further on
+    skipped = []  # (k, upto, u): anchors past a gap from u, passed over for the origin's stretch further on
     while True:
         while k < end:
             idx = anchors[k : min(k + wave, end)]
