@@ -34,12 +34,29 @@ def _solve(J, b):
         return x
 
 
+def rounding(model, q, cols):
+    """(N,) the scaled residual and Newton step below which poses q (N, n) cannot be solved:
+    the rounding of their coordinates (columns ``cols``, scaled) through the rows' coefficients.
+    Below the tolerances for poses of ordinary size; above them for angles counted to 1e5 rad
+    with no period to bring them back (a geared linkage of irrational ratio), whose rows hold
+    only to that rounding.
+
+    >>> from planar.mechanisms import four_bar
+    >>> m = four_bar(4, 2, 3, 4).compile()
+    >>> bool(rounding(m, m.q0[None], np.arange(m.n))[0] < 1e-14), bool(rounding(m, m.q0[None] + 1e6, np.arange(m.n))[0] > 1e-12)
+    (True, True)
+    """
+    with np.errstate(invalid="ignore"):
+        return np.finfo(float).eps * model.Phi_q_norm * np.max(np.abs(q[:, cols]) / model.col_scale[cols], axis=1)
+
+
 def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=None, plan=None, engine=None):
     """Solve Phi(q; u) = 0 (independent rows plus drivers) from guesses q (N, n).
 
     Converged when the scaled residual is below ``tol`` and the scaled Newton step below
     ``step_tol`` (both: a residual test alone accepts plateaus near limit positions, a step
     test alone accepts stagnation). ``max_step`` (scaled) damps each step, for far guesses.
+    Both tests hold at least to the rounding of the pose's coordinates (:func:`rounding`).
     ``plan`` (default: the whole model) restricts the solve to some blocks. ``engine``: the
     module :mod:`planar.compiled`, to take the undamped iterations in its compiled loop, each
     value on its own (default: numpy).
@@ -49,7 +66,8 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=N
     p = block_plan(model) if plan is None else plan
     if engine is not None and max_step is None:
         f = engine.final(model, p, q, u, u, u, rates=False, steps=max_iter, tol=tol, step_tol=step_tol)
-        return f["q"], (f["res"] <= tol) & (f["step"] <= step_tol), f["res"], f["iters"]
+        floor = rounding(model, f["q"], p.cols)
+        return f["q"], (f["res"] <= np.maximum(tol, floor)) & (f["step"] <= np.maximum(step_tol, floor)), f["res"], f["iters"]
     q = np.array(q, dtype=float)
     N = q.shape[0]
     conv = np.zeros(N, bool)
@@ -69,7 +87,8 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=N
                 dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
             q[idx] -= dq
             iters[idx] = it + 1
-            done = (res[idx] <= tol) & (step <= step_tol)
+            floor = rounding(model, q[idx], p.cols)
+            done = (res[idx] <= np.maximum(tol, floor)) & (step <= np.maximum(step_tol, floor))
             bad = ~np.isfinite(step) | ~np.isfinite(res[idx])
             conv[idx[done]] = True
             idx = idx[~done & ~bad]

@@ -16,6 +16,7 @@ from planar.events.tracer import Tracer
 from planar.mechanisms import (four_bar, gear_train, geared_five_bar, planetary_gear_train, rack_and_pinion, rolling_wheel,
                                slider_crank, stephenson_six_bar, watt_six_bar)
 from planar.results import POSED, VALID, Status
+from planar.solver import rounding
 from planar.sweep.branch import Branch
 from tests import oracles
 
@@ -275,6 +276,49 @@ def test_a_far_input_of_a_geared_linkage_with_no_period_is_entered_directly_as_a
     # (its arm's turns differ: the gears count them)
     near = geared_five_bar(8.0, 3.0, 3.7, 6.0, start=0.3).sweep([0.3, 0.6, 0.5])
     np.testing.assert_allclose(res.q[[0, 1, 4]], near.q, atol=1e-12)
+
+
+def test_far_values_of_a_geared_linkage_are_entered_from_the_poses_solved_and_held_to_their_rounding():
+    # (found by a fuzz campaign) the loop of a geared five-bar closes at many poses of the same
+    # modes at one input (the arm's and gear 4's angles are tied by the gears' ratio, which has
+    # no period). At 2433.87 and 77177.94 Newton from the sketch and from the pose before lands
+    # in other modes only, and the way round through a limit found none; at 242585.24 and
+    # 301051.79 the rows, read at angles counted that far, hold to 4e-12 at best (the rounding
+    # of the angles), above the tolerance: all four came back NOT_CONVERGED
+    m = geared_five_bar(ground=12.75032542703261, gear_radius_2=2.160690500077992, gear_radius_4=4.459776962368497,
+                        link_5=10.819613919924373, crossed=True, start=1.2288206418630878)
+    far = np.array([2433.8687011203865, -2104.1221880702237, 77177.94136920969, 242585.23608797984,
+                    301051.7880473607])
+    U = np.r_[1.2288206418630878 + np.linspace(-0.5, 0.5, 11), far]
+    res = m.sweep(U)
+    assert not np.any(res.status == Status.NOT_CONVERGED), U[res.status == Status.NOT_CONVERGED]
+    assert np.all(res.status[11:] == Status.JUMPED)
+    # (the rounding of angles counted to 3e5 rad through coefficients of up to ~5: 3e-10)
+    model = m.compile()
+    assert np.all(res.residual[11:] <= np.maximum(1e-12, rounding(model, res.q[11:], np.arange(model.n))))
+    br = Branch(model, block_plan(model, None), 1e-12)
+    np.testing.assert_array_equal(br.signs(res.q[11:], res.inputs[11:]),
+                                  np.repeat(br.signs(model.q0[None], model.u0[None]), far.size, 0))
+    # each a valid pose: the links' lengths hold
+    O5 = np.array([12.75032542703261, 0.0])
+    np.testing.assert_allclose(np.linalg.norm(res.position("C")[11:] - O5, axis=1), 10.819613919924373, atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(res.position("C")[11:] - res.position("B")[11:], axis=1),
+                               4.459776962368497, atol=1e-9)
+
+
+def test_a_value_entered_directly_is_no_start_that_brings_values_past_a_limit_within_reach():
+    # (found by a fuzz campaign) far values below the sketch, entered directly, were taken for
+    # the walk's start towards the near values past the limit at -0.1971: no limit lies between
+    # them, so -0.393 (other modes assemble there) came back NOT_CONVERGED
+    m = geared_five_bar(ground=7.487542510533224, gear_radius_2=8.6555827519966, gear_radius_4=1.484144101101302,
+                        link_5=14.922897615308479)
+    g = np.random.default_rng(33203)
+    U = np.r_[g.uniform(-0.5, 0.5, 20), g.choice([-1.0, 1.0], 10) * 10 ** g.uniform(2, 6, 10)]
+    res = m.sweep(U)
+    assert not np.any(res.status == Status.NOT_CONVERGED), U[res.status == Status.NOT_CONVERGED]
+    past = (U > -1.0) & (U < -0.1971)
+    assert np.all(res.status[past] == Status.NOT_ASSEMBLABLE)
+    np.testing.assert_allclose(res.nearest_limit[past], -0.19709824, atol=1e-6)
 
 
 @st.composite

@@ -4,6 +4,7 @@ mobility report). The model calls the algorithms (sweep, tracking, circuit) from
 importing them there: the model sits below them."""
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -119,6 +120,17 @@ class Model:
     def dof(self) -> int:
         return self.n - self.rank
 
+    @cached_property
+    def Phi_q_norm(self):
+        """The largest sum of a row's scaled Jacobian entries (|Phi_q| scaled by ``row_scale``
+        and ``col_scale``) at the sketch, twice over (a lever's components change as its body
+        turns): what a rounding of the coordinates moves a row by, at most, per unit of
+        their scaled size (:func:`planar.solver.rounding`)."""
+        with np.errstate(all="ignore"):
+            _, J = self.system.evaluate(self.q0[None], self.u0[None])
+        Js = np.abs(J[0][self.active_rows]) * self.row_scale[self.active_rows, None] * self.col_scale
+        return 2.0 * float(np.max(np.sum(Js, axis=1), initial=1.0))
+
     @property
     def input_names(self) -> tuple[str, ...]:
         return tuple(d.name for d in self.drivers)
@@ -159,7 +171,8 @@ class Model:
         values in order; a one-input model starts it from the nearest pose it has solved on
         the branch before, with the same results as from the sketch (:mod:`planar.tracking`).
         Returns a frozen :class:`planar.results.Sweep`.
-        Options: ``tol`` (scaled residual, 1e-12), ``max_step`` (largest input step between
+        Options: ``tol`` (scaled residual, 1e-12; a pose whose angles are counted to 1e5 rad
+        holds its rows to their rounding: see :func:`planar.solver.rounding`), ``max_step`` (largest input step between
         continuation anchors: radians, or lengths / L; 0.05), ``outputs`` (names of the
         bodies, points or joints wanted: only the blocks they need are solved), ``branch``
         ("smooth" or "other" at a bifurcation), ``rates`` (False: positions only, velocities

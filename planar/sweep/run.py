@@ -21,6 +21,7 @@ HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
 MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
+GUESSES = 64  # poses solved that a value too far to walk to is entered from, at most
 FAR = 100.0  # scaled input from the sketch beyond which a periodic input is solved periods back
 ROCKING = 4 * np.pi  # the same for an input that rocks (its walk would meet two limits a period)
 
@@ -122,7 +123,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         """Value i, too far from ``start`` to walk with no period to shorten the way, entered
         directly in the sketch's modes: past every gap between, the walk would re-enter the
         branch in them, and within a stretch it keeps them."""
-        qe = walker.enter([model.q0, start[0]], chosen, U[i])  # (its angles counted as the sketch's first)
+        # (its angles counted as the sketch's first; then from up to GUESSES poses solved)
+        known = np.flatnonzero(solved)
+        known = known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)] if known.size else known
+        qe = walker.enter([model.q0, start[0]], chosen, U[i], q[known])
         if qe is None:
             return ("far",)
         direct.append(i)  # (not reached continuously from the value before it: JUMPED)
@@ -399,7 +403,11 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     beyond = np.zeros(N, bool)
     miss = np.flatnonzero(~solved)
     if miss.size and limits:
-        last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
+        # (a value entered directly, too far to walk, is no walk's start: the gaps between it
+        # and the value are not known)
+        walked = solved.copy()
+        walked[direct] = False
+        last = np.maximum.accumulate(np.where(walked, np.arange(N), -1))
         beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss], limits + round_limits)
     jumps = (stops + direct + periods, None)
     if order is not None:

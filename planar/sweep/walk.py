@@ -315,9 +315,14 @@ class Walker:
             return qn[0]
         return q
 
-    def enter(self, guesses, signs, target):
-        """Re-enter the motion range at ``target`` from guesses of the same branch."""
+    def enter(self, guesses, signs, target, poses=None):
+        """Re-enter the motion range at ``target`` from guesses of the same branch, each by
+        Newton (from a least-squares minimum where Newton from it fails); where each lands in
+        other modes, from ``poses`` (G, n) in one batch (poses of the branch solved elsewhere:
+        where the loop closes at many poses in the same modes, as a geared linkage's, one of
+        them lands in ours), and only then round through a limit from the modes found."""
         br = self.br
+        other = []
         for g in guesses:
             qn, conv, _, _ = newton(br.m, g[None], target[None], tol=br.tol, max_iter=REENTRY, max_step=0.3, plan=br.p)
             if not conv[0]:
@@ -331,13 +336,24 @@ class Walker:
             found = br.signs(qn, target[None])[0]
             if np.all(found == signs):
                 return qn[0]
+            other.append((qn[0], found))
+        if poses is not None and len(poses):
+            T = np.repeat(target[None], len(poses), 0)
+            # (undamped: its first step puts the coordinates the rows read linearly, the driven
+            # angle and those geared to it, where the target has them)
+            qn, conv, _, _ = newton(br.m, poses, T, tol=br.tol, max_iter=REENTRY, plan=br.p)
+            if conv.any():
+                ours = np.flatnonzero(conv)[np.all(br.signs(qn[conv], T[conv]) == signs, axis=1)]
+                if ours.size:
+                    return qn[ours[0]]
+        for qn, found in other:
             # another mode of the same circuit: go round through a limit to ours; not again in
             # modes and inputs a tracing that did not come back to ours has covered (the same
             # circuit, most likely: the tracings are few, each costs ~100s of solves)
             covered = any(np.array_equal(found, f) and lo <= target[0] <= hi for f, (lo, hi) in self._round)
             if target.size == 1 and self.rounds > 0 and not covered:
                 self.rounds -= 1
-                got, span = around(br.m, br.p, qn[0], target, signs, self.max_step, np.pi)
+                got, span = around(br.m, br.p, qn, target, signs, self.max_step, np.pi)
                 if got is not None:
                     return got
                 self._round.append((found, span))
