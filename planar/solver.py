@@ -19,6 +19,9 @@ PROJECTED = 10  # a point of a traced curve, moved onto a value of the input
 ALONG_TANGENT = 20  # a guess along a tangent or a secant of a traced curve, next to a singular position
 DISTANT = 30  # a pose from the tracer, a period away, or a batch value off its guess
 REENTRY = 40  # a guess across a gap of the motion range, or a least-squares minimum
+# Newton's steps at a pose solved to the rounding of its coordinates (:func:`rounding`), over
+# that rounding: they solve the rows' rounding noise through the Jacobian's inverse
+WANDER = 10.0
 
 
 def _solve(J, b):
@@ -56,7 +59,8 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=N
     Converged when the scaled residual is below ``tol`` and the scaled Newton step below
     ``step_tol`` (both: a residual test alone accepts plateaus near limit positions, a step
     test alone accepts stagnation). ``max_step`` (scaled) damps each step, for far guesses.
-    Both tests hold at least to the rounding of the pose's coordinates (:func:`rounding`).
+    Both tests hold at least to the rounding of the pose's coordinates (:func:`rounding`; the
+    step's, WANDER times it).
     ``plan`` (default: the whole model) restricts the solve to some blocks. ``engine``: the
     module :mod:`planar.compiled`, to take the undamped iterations in its compiled loop, each
     value on its own (default: numpy).
@@ -67,7 +71,8 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=N
     if engine is not None and max_step is None:
         f = engine.final(model, p, q, u, u, u, rates=False, steps=max_iter, tol=tol, step_tol=step_tol)
         floor = rounding(model, f["q"], p.cols)
-        return f["q"], (f["res"] <= np.maximum(tol, floor)) & (f["step"] <= np.maximum(step_tol, floor)), f["res"], f["iters"]
+        conv = (f["res"] <= np.maximum(tol, floor)) & (f["step"] <= np.maximum(step_tol, WANDER * floor))
+        return f["q"], conv, f["res"], f["iters"]
     q = np.array(q, dtype=float)
     N = q.shape[0]
     conv = np.zeros(N, bool)
@@ -88,7 +93,7 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=N
             q[idx] -= dq
             iters[idx] = it + 1
             floor = rounding(model, q[idx], p.cols)
-            done = (res[idx] <= np.maximum(tol, floor)) & (step <= np.maximum(step_tol, floor))
+            done = (res[idx] <= np.maximum(tol, floor)) & (step <= np.maximum(step_tol, WANDER * floor))
             bad = ~np.isfinite(step) | ~np.isfinite(res[idx])
             conv[idx[done]] = True
             idx = idx[~done & ~bad]

@@ -306,6 +306,24 @@ def test_far_values_of_a_geared_linkage_are_entered_from_the_poses_solved_and_he
                                4.459776962368497, atol=1e-9)
 
 
+@pytest.mark.numba
+def test_far_values_of_a_geared_linkage_are_the_same_on_both_engines():
+    # (found by a fuzz campaign) the poses the two engines solve differ at rounding, and Newton
+    # from them at a far value landed on poses of the arm counted turns apart; at 3.25e5 rad the
+    # compiled engine's Newton steps wandered at 7e-10, over the rounding of the residual, and
+    # the value came back NOT_CONVERGED there and JUMPED on numpy
+    m = geared_five_bar(ground=5.873086029246162, gear_radius_2=2.623475552172559, gear_radius_4=4.346267788458001,
+                        link_5=6.4196522454600515, start=-2.86773692205929)
+    g = np.random.default_rng(51703)
+    U = -2.86773692205929 + np.r_[g.uniform(-0.5, 0.5, 20), g.choice([-1.0, 1.0], 10) * 10 ** g.uniform(2, 6, 10)]
+    a, b = m.sweep(U), m.sweep(U, engine="numba")
+    np.testing.assert_array_equal(a.status, b.status)
+    assert not np.any(a.status == Status.NOT_CONVERGED)
+    posed = POSED[a.status]
+    # (to the rounding of angles counted to 4e5 rad, WANDER times over: Newton's steps there)
+    np.testing.assert_allclose(a.q[posed], b.q[posed], rtol=1e-12, atol=1e-8)
+
+
 def test_a_value_entered_directly_is_no_start_that_brings_values_past_a_limit_within_reach():
     # (found by a fuzz campaign) far values below the sketch, entered directly, were taken for
     # the walk's start towards the near values past the limit at -0.1971: no limit lies between

@@ -123,10 +123,13 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         """Value i, too far from ``start`` to walk with no period to shorten the way, entered
         directly in the sketch's modes: past every gap between, the walk would re-enter the
         branch in them, and within a stretch it keeps them."""
-        # (its angles counted as the sketch's first; then from up to GUESSES poses solved)
+        # (its angles counted as the sketch's first; then from up to GUESSES poses solved; the
+        # poses to 1e-9 of their scales: both engines give them alike, where their poses differ
+        # at rounding and Newton from afar may land on another pose of the loop for that alone)
         known = np.flatnonzero(solved)
         known = known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)] if known.size else known
-        qe = walker.enter([model.q0, start[0]], chosen, U[i], q[known])
+        snap = np.round(np.r_[start[0][None], q[known]] / model.col_scale, 9) * model.col_scale
+        qe = walker.enter([model.q0, snap[0]], chosen, U[i], snap[1:])
         if qe is None:
             return ("far",)
         direct.append(i)  # (not reached continuously from the value before it: JUMPED)

@@ -345,7 +345,11 @@ class Walker:
             if conv.any():
                 ours = np.flatnonzero(conv)[np.all(br.signs(qn[conv], T[conv]) == signs, axis=1)]
                 if ours.size:
-                    return qn[ours[0]]
+                    # the one that moved least from its guess: an undamped step from afar may
+                    # count an angle hundreds of turns on (a pose as valid, and as arbitrary)
+                    c = br.p.cols
+                    move = np.max(np.abs(qn[ours][:, c] - poses[ours][:, c]) / br.m.col_scale[c], axis=1)
+                    return qn[ours[np.argmin(move)]]
         for qn, found in other:
             # another mode of the same circuit: go round through a limit to ours; not again in
             # modes and inputs a tracing that did not come back to ours has covered (the same
