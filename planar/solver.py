@@ -53,6 +53,18 @@ def rounding(model, q, cols):
         return np.finfo(float).eps * model.Phi_q_norm * np.max(np.abs(q[:, cols]) / model.col_scale[cols], axis=1)
 
 
+def converged(model, q, cols, res, step, tol, step_tol, wander=1.0):
+    """(N,) the residuals ``res`` within ``tol`` and the steps ``step`` within ``step_tol`` of
+    poses q, or within their :func:`rounding` (the step's ``wander`` times it). The rounding is
+    computed only for the poses the tolerances alone do not pass: a few, far from the sketch."""
+    ok = (res <= tol) & (step <= step_tol)
+    far = np.flatnonzero(~ok & np.isfinite(res) & np.isfinite(step))
+    if far.size:
+        floor = rounding(model, q[far], cols)
+        ok[far] = (res[far] <= np.maximum(tol, floor)) & (step[far] <= np.maximum(step_tol, wander * floor))
+    return ok
+
+
 def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=None, plan=None, engine=None):
     """Solve Phi(q; u) = 0 (independent rows plus drivers) from guesses q (N, n).
 
@@ -70,9 +82,7 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=N
     p = block_plan(model) if plan is None else plan
     if engine is not None and max_step is None:
         f = engine.final(model, p, q, u, u, u, rates=False, steps=max_iter, tol=tol, step_tol=step_tol)
-        floor = rounding(model, f["q"], p.cols)
-        conv = (f["res"] <= np.maximum(tol, floor)) & (f["step"] <= np.maximum(step_tol, WANDER * floor))
-        return f["q"], conv, f["res"], f["iters"]
+        return f["q"], converged(model, f["q"], p.cols, f["res"], f["step"], tol, step_tol, WANDER), f["res"], f["iters"]
     q = np.array(q, dtype=float)
     N = q.shape[0]
     conv = np.zeros(N, bool)
@@ -92,8 +102,7 @@ def newton(model, q, u, *, tol=1e-12, step_tol=1e-10, max_iter=STEPS, max_step=N
                 dq *= np.minimum(1.0, max_step / np.where(step > 0, step, 1.0))[:, None]
             q[idx] -= dq
             iters[idx] = it + 1
-            floor = rounding(model, q[idx], p.cols)
-            done = (res[idx] <= np.maximum(tol, floor)) & (step <= np.maximum(step_tol, WANDER * floor))
+            done = converged(model, q[idx], p.cols, res[idx], step, tol, step_tol, WANDER)
             bad = ~np.isfinite(step) | ~np.isfinite(res[idx])
             conv[idx[done]] = True
             idx = idx[~done & ~bad]

@@ -172,9 +172,10 @@ class Model:
         the branch before, with the same results as from the sketch (:mod:`planar.tracking`).
         Returns a frozen :class:`planar.results.Sweep`.
         Options: ``tol`` (scaled residual, 1e-12; a pose whose angles are counted to 1e5 rad
-        holds its rows to their rounding: see :func:`planar.solver.rounding`), ``max_step`` (largest input step between
-        continuation anchors: radians, or lengths / L; 0.05), ``outputs`` (names of the
-        bodies, points or joints wanted: only the blocks they need are solved), ``branch``
+        holds its rows to their rounding: see :func:`planar.solver.rounding`), ``max_step``
+        (largest input step between continuation anchors: radians, or lengths / L; 0.05),
+        ``outputs`` (names of the bodies, points or joints wanted: only the blocks they need
+        are solved), ``branch``
         ("smooth" or "other" at a bifurcation), ``rates`` (False: positions only, velocities
         and accelerations NaN: the velocity and acceleration solves are skipped), ``engine``
         ("numpy", or "numba": the per-value work in one loop of machine code; needs the ``fast``

@@ -7,7 +7,7 @@ from planar.acceptance import ROUND, certified, on_course
 from planar.errors import InputError
 from planar.events import HELD, status_of
 from planar.results import Status
-from planar.solver import DISTANT, PREDICTED, acceleration, newton, rounding, velocity
+from planar.solver import DISTANT, PREDICTED, acceleration, converged, newton, velocity
 
 
 def input_scale(model):
@@ -191,8 +191,8 @@ def final_step(br, q, U, Ud, Udd, steps=1):
     # a guess that holds the constraints where the Jacobian is singular (the correction is not
     # finite) is a pose on the singular position itself: kept, status SINGULAR, no rates
     on_singular = (res <= tol) & ~np.isfinite(step)
-    floor = rounding(m, q, p.cols)  # (angles counted to 1e5 rad hold their rows to its rounding only)
-    conv = (res <= np.maximum(tol, floor)) & ((step <= np.maximum(ROUND, floor)) | on_singular)
+    # (angles counted to 1e5 rad hold their rows to their rounding only)
+    conv = converged(m, q, p.cols, res, step, tol, ROUND) | ((res <= tol) & on_singular)
     sing = np.where(on_singular, 0.0, sing)
     slow = np.flatnonzero(~conv)
     if slow.size:
