@@ -3,7 +3,8 @@ planar/ where that extra cannot be imported (their tests skip themselves)."""
 
 import importlib.util
 
-OPTIONAL = {"planar/cluster.py": ("dask.distributed", "zarr"), "planar/compiled/engine.py": ("numba",)}
+OPTIONAL = {"planar/cluster.py": ("dask.distributed", "zarr"), "planar/compiled/engine.py": ("numba",),
+            "planar/compiled/assembly.py": ("numba",)}
 
 
 def _importable(name):

@@ -1,10 +1,11 @@
 """Many designs of one structure: D random crank-rocker four-bars with coupler points, each over
 N = 180 crank angles (positions, velocities and accelerations), swept by planar.sweep_designs
-1024 designs at a time (the chunked path's unit of work: each chunk's results are checked and let
-go, as a study on a cluster writes them to its store), the designs given two ways: to the
-catalogue's builder (planar.mechanisms.four_bar, a Mechanism built per design, "builder") and as
-the numbers of one dimensioned four-bar (planar.Vary: its stated lengths, no Mechanism per
-design, "Vary"; also with the compiled engine, "Vary numba", where numba is installed), beside
+planar.designs.BATCH designs at a time (the chunked path's unit of work: each chunk's results
+are checked and let go, as a study on a cluster writes them to its store), the designs given two
+ways: to the catalogue's builder (planar.mechanisms.four_bar, a Mechanism built per design,
+"builder") and as the numbers of one dimensioned four-bar (planar.Vary: its stated lengths, no
+Mechanism per design, "Vary"; also with the compiled engine, "Vary numba", where numba is
+installed), beside
 
 - the closed form vectorised over all designs at once (tests/oracles.py: four_bar),
 - planar's per-design loop (build, compile and sweep each design alone; at D <= --loop-up-to,

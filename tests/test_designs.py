@@ -304,6 +304,46 @@ def test_sketches_drawn_roughly_are_assembled_at_once_and_a_design_that_cannot_b
         mechs[3].compile()
 
 
+def _rigid_coupler_four_bar():
+    """A four-bar whose coupler's four points have all six distances stated: one redundant
+    (J J^T singular at every assembly step: the pseudo-inverse's path)."""
+    P = dict(O2=(0.0, 0.0), A=(1.0, 0.3), B=(3.5, 2.5), O4=(4.0, 0.0), C=(2.0, 2.0), E=(2.5, 0.5))
+    m = planar.Mechanism("rigid coupler")
+    for b in ("crank", "coupler", "rocker"):
+        m.add_body(b)
+    for name, a, b in (("O2", m.ground, "crank"), ("A", "crank", "coupler"), ("B", "coupler", "rocker"),
+                       ("O4", "rocker", m.ground)):
+        m.add_revolute(name, a, b, at=P[name])
+    for name in "CE":
+        m.add_point(name, "coupler", P[name])
+    for a, b in (("O2", "O4"), ("O2", "A"), ("A", "B"), ("O4", "B"), ("A", "C"), ("B", "C"), ("A", "E"), ("B", "E"),
+                 ("C", "E")):
+        m.distance(a, b, float(np.hypot(*np.subtract(P[a], P[b]))))
+    m.drive(body="crank", start=0.0)
+    return m
+
+
+@pytest.mark.numba
+@pytest.mark.parametrize("mech, lengths", [(four_bar(coupler_point=(1.0, 0.5)), ("O2-A", "A-B", "O4-B")),
+                                           (slider_crank(driver="slider"), ("O2-A", "A-B")),
+                                           (watt_six_bar(), ("O2-A", "A-B", "O4-B")),
+                                           (_rigid_coupler_four_bar(), ("O2-A", "O4-B"))], ids=["four_bar", "slider",
+                                                                                           "watt", "redundant"])
+def test_the_compiled_engine_assembles_the_designs_sketches_as_the_numpy_engine(mech, lengths):
+    """Lengths, angle and travel starts, redundant lengths; some designs cannot be assembled."""
+    family, rng = Vary(mech), np.random.default_rng(5)
+    starts = mech.sketch().starts
+    numbers = [{k: v + rng.uniform(-0.5, 0.5) if k in starts else v * rng.uniform(0.6, 1.4)
+                for k, v in family.numbers.items() if k in starts or k in lengths} for _ in range(40)]
+    a, left = design_tables.varied(family.mechanism, family.model, numbers)
+    b, also = design_tables.varied(family.mechanism, family.model, numbers, "numba")
+    assert left == also and a.index.tolist() == b.index.tolist() and a.index.size >= 10
+    np.testing.assert_allclose(b.q0, a.q0, rtol=0, atol=1e-12)
+    for name, (body, S) in a.points.items():
+        np.testing.assert_allclose(b.points[name][1], S, rtol=0, atol=1e-12)
+    _tables_against_alone(b, [family(**x) for x in numbers])
+
+
 def test_a_mechanisms_numbers_vary_without_a_mechanism_per_design_and_match_freudenstein():
     rng = np.random.default_rng(7)
     designs = _crank_rockers(rng, 12)

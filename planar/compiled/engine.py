@@ -711,26 +711,25 @@ def chunk(N, least=MIN_CHUNK):
 def loop(C, size, rows, *args):
     """The values (``args``: :func:`_values`' after rows, up to the tables) of the plan C
     (:class:`planar.compiled.Compiled`) in chunks of ``size`` (:func:`chunk`) on numba's number
-    of threads, each chunk with its thread's buffers; a chunk or less on the calling thread.
-    Python's threads (the loop releases the GIL): numba's parallel loop compiled the loop twice
-    more, for twice the compile time."""
-    N = rows.shape[0]
-    if N <= size:  # (one chunk)
-        _values(0, N, rows, *args, C.T, C.work(min(LANES, N)))
-        return
-    threads = numba.get_num_threads()
-
-    def run(lo):
-        hi = min(N, lo + size)
+    of threads (:func:`spread`), each chunk with its thread's buffers."""
+    def run(lo, hi):
         _values(lo, hi, rows, *args, C.T, C.work(min(LANES, hi - lo)))
 
-    if threads == 1:
+    spread(rows.shape[0], size, run)
+
+
+def spread(N, size, run):
+    """run(lo, hi) over 0..N in chunks of ``size`` on numba's number of threads; a chunk or
+    less on the calling thread. Python's threads (the machine code releases the GIL): numba's
+    parallel loop compiled the loop twice more, for twice the compile time."""
+    threads = numba.get_num_threads()
+    if N <= size or threads == 1:
         for lo in range(0, N, size):
-            run(lo)
+            run(lo, min(N, lo + size))
         return
     if threads not in _POOLS:
         _POOLS[threads] = ThreadPoolExecutor(threads, thread_name_prefix="planar")
-    for _ in _POOLS[threads].map(run, range(0, N, size)):
+    for _ in _POOLS[threads].map(lambda lo: run(lo, min(N, lo + size)), range(0, N, size)):
         pass
 
 
@@ -788,8 +787,11 @@ def _missing(stamp):
 
 
 def _compile(stamp):
-    """Drop the cached code, compile afresh (numba caches it) and stamp it."""
-    for fn in _ENTRIES:
+    """Drop the cached code (the designs' assembly's too: it compiles in the LU), compile
+    afresh (numba caches it) and stamp it."""
+    from planar.compiled import assembly
+
+    for fn in _ENTRIES + (assembly._follow,):
         fn._cache.flush()
     _warm()
     try:

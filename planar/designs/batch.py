@@ -115,10 +115,11 @@ def sweep_batch(t, out, Ud, Udd, tol, max_step, outputs, engine="numpy"):
         if one:
             Ka[k] = qu, quu, quuu
         if act.size:  # the anchor's value, of the designs still walking: its last step's
-            r = {key: v[good] for key, v in r.items()}
+            if not good.all():
+                r = {key: v[good] for key, v in r.items()}
             if one:
                 r["qd"], r["qdd"] = r["qd"] * Ud[a], r["qdd"] * Ud[a] ** 2 + r["qd"] * Udd[a]
-            _put(out, rows[act], a, r)
+            _put(out, _rows(rows, act), a, r)
 
     # 2. every other value from the anchor before it (a Taylor predictor), Newton, its final
     # step, certificate and rates in one pass over (design, value) rows
@@ -195,6 +196,13 @@ def _drop(out, g, p, n, N):
         drop = np.setdiff1d(np.arange(n), p.cols)
         for a in (out.q, out.qd, out.qdd):
             a[np.ix_(g, np.arange(N), drop)] = np.nan
+
+
+def _rows(rows, act):
+    """rows[act], a slice where that is all of them in order (a view, not a gather)."""
+    if act.size == rows.size and np.array_equal(rows, np.arange(rows[0], rows[0] + rows.size)):
+        return slice(rows[0], rows[0] + rows.size)
+    return rows[act]
 
 
 def _put(out, g, i, r):

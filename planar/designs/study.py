@@ -28,13 +28,13 @@ def design_table(designs):
     ({'crank': 1.0, 'coupler_point': (1, 0), 'rocker': 3.0}, {'crank': 2.0, 'coupler_point': (2, 0), 'rocker': 3.0})
     """
     if isinstance(designs, dict):
-        cols = {k: (None if np.ndim(v) == 0 else list(v)) for k, v in designs.items()}
+        cols = {k: (None if np.ndim(v) == 0 else _column(v)) for k, v in designs.items()}
         sizes = {k: len(c) for k, c in cols.items() if c is not None}
         if not sizes or len(set(sizes.values())) != 1 or 0 in sizes.values():
             raise InputError("designs must be a dict of columns of equal, non-zero lengths (one value per design) "
                              f"with at least one column: got lengths {sizes}")
         D = next(iter(sizes.values()))
-        return tuple({k: (designs[k] if c is None else _plain(c[d])) for k, c in cols.items()} for d in range(D))
+        return tuple({k: (designs[k] if c is None else c[d]) for k, c in cols.items()} for d in range(D))
     try:
         table = tuple(designs)
     except TypeError:
@@ -42,6 +42,13 @@ def design_table(designs):
     if not table or not all(isinstance(d, dict) for d in table):
         raise InputError("designs must be a dict of parameter columns or a non-empty sequence of dicts")
     return table
+
+
+def _column(c):
+    """A column's values as plain Python numbers (a row of an array as a tuple)."""
+    if isinstance(c, np.ndarray) and c.ndim <= 2:  # (at once)
+        return c.tolist() if c.ndim == 1 else [tuple(r) for r in c.tolist()]
+    return [_plain(v) for v in c]
 
 
 def _plain(v):
@@ -84,6 +91,21 @@ class Vary:
     def model(self):
         return compile_unplanned(self.mechanism)
 
+    def check_all(self, designs, first=0):
+        """:meth:`check` each of ``designs`` (dicts), the first wrong named as design first + d:
+        a column at once where it is all finite floats."""
+        for name in set().union(*designs):
+            col = [x.get(name, 0.0) for x in designs]
+            if name not in self.numbers or not all(type(v) is float for v in col) or not np.isfinite(col).all():
+                break
+        else:
+            return
+        for d, x in enumerate(designs):
+            try:
+                self.check(x)
+            except InputError as e:
+                raise InputError(f"design {first + d}: {e}") from None
+
     def check(self, numbers):
         unknown = sorted(set(numbers) - set(self.numbers))
         if unknown:
@@ -101,7 +123,7 @@ class Vary:
         return m
 
 
-BATCH = 1024  # designs swept together: the batch's temporaries stay ~BATCH * N * 1 kB
+BATCH = 2048  # designs swept together: the batch's temporaries stay ~BATCH * N * 1 kB
 
 
 def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fixed=None, batch=BATCH, **options):
@@ -235,12 +257,8 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     groups, left = [], []
     if vary:  # no Mechanism per design: the tables from the numbers
         numbers = [dict(fixed, **table[lo + d]) for d in range(D)]
-        for d, x in enumerate(numbers):
-            try:
-                build.check(x)
-            except InputError as e:
-                raise InputError(f"design {lo + d}: {e}") from None
-        t, rest = design_tables.varied(build.mechanism, build.model, numbers)
+        build.check_all(numbers, lo)
+        t, rest = design_tables.varied(build.mechanism, build.model, numbers, options.get("engine", "numpy"))
         left = [d for d in rest if alone(d) is not None]
         if t is not None:
             same = [d for d in left if _structure(models[d]) == _structure(build.model)]
@@ -253,7 +271,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
         ref = next((d for d in left if alone(d) is not None), None)
         if ref is None:
             break
-        t, rest = design_tables.tables(mechs[ref], models[ref], [mechs[d] for d in left])
+        t, rest = design_tables.tables(mechs[ref], models[ref], [mechs[d] for d in left], options.get("engine", "numpy"))
         rest = [left[k] for k in rest]
         same = [d for d in rest if alone(d) is not None and _structure(models[d]) == _structure(models[ref])]
         parts = ([replace(t, index=np.array(left)[t.index])] if t is not None else [])

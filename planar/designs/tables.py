@@ -175,9 +175,10 @@ def _apart(P, L):
     return np.hypot(*(P[:, :, None] - P[:, None, :]).transpose(3, 0, 1, 2)) > 1e-12 * L[:, None, None]
 
 
-def tables(mech, model, mechs):
+def tables(mech, model, mechs, engine="numpy"):
     """(:class:`Tables` of the designs ``mechs`` taken, the positions of the others): ``model``
-    is ``mech`` compiled (the template; ``mech`` may be among ``mechs``)."""
+    is ``mech`` compiled (the template; ``mech`` may be among ``mechs``); sketches assembled by
+    ``engine`` (:func:`planar.designs.assembly.assemble`)."""
     t = _Template(mech, model)
     take = [k for k, m in enumerate(mechs) if m is not None and _signature(m) == t.signature]
     rest = sorted(set(range(len(mechs))) - set(take) - {k for k, m in enumerate(mechs) if m is None})
@@ -191,15 +192,16 @@ def tables(mech, model, mechs):
     spec = {b: np.array([sk.bodies[b] for sk in sks], float) for b in t.spec_bodies}
     dims = np.array([[d.length for d in sk.dimensions] for sk in sks], float).reshape(D, -1)
     starts = {s: np.array([sk.starts[s] for sk in sks], float) for s in t.starts}
-    out, bad = _build(t, P, data, spec, dims, starts, next((k for k, m in enumerate(ms) if m is mech), None))
+    out, bad = _build(t, P, data, spec, dims, starts, next((k for k, m in enumerate(ms) if m is mech), None), engine)
     return out and replace(out, index=np.array(take)[out.index]), sorted(rest + [take[k] for k in bad])
 
 
-def varied(mech, model, numbers):
+def varied(mech, model, numbers, engine="numpy"):
     """(:class:`Tables`, the positions of the designs it does not take) of the designs of
     ``mech`` (``model`` its compiled model) that differ from it by the ``numbers`` (D,
     dicts): its stated distances "a-b" and its drivers' starts (by the driver's name), the
-    others as ``mech`` has them. Its sketch as drawn is every design's first guess."""
+    others as ``mech`` has them. Its sketch as drawn is every design's first guess, assembled by
+    ``engine`` (:func:`planar.designs.assembly.assemble`)."""
     t = _Template(mech, model)
     sk, D = t.sk, len(numbers)
     col = lambda name, v: [x.get(name, v) for x in numbers]  # noqa: E731
@@ -213,16 +215,16 @@ def varied(mech, model, numbers):
     P = np.repeat(t.P, D, axis=0)
     data = {key: np.repeat(np.asarray(_data(sk, *key), float)[None], D, axis=0) for key in t.keys}
     spec = {b: np.full(D, sk.bodies[b]) for b in t.spec_bodies}
-    out, bad = _build(t, P, data, spec, dims, starts, None)
+    out, bad = _build(t, P, data, spec, dims, starts, None, engine)
     bad = sorted(set(bad) | set(np.flatnonzero(~ok).tolist()))
     return (out.take(np.flatnonzero(np.isin(out.index, bad, invert=True))) if out is not None else None), bad
 
 
-def _build(t, P, data, spec, dims, starts, at):
+def _build(t, P, data, spec, dims, starts, at, engine):
     """(:class:`Tables` of the designs it takes, indexed 0..D-1; the others) from the designs'
     numbers: named points ``P`` (D, points, 2), joint data ``data`` {(constraint, key): (D, ...)},
     bodies' given angles ``spec``, stated lengths ``dims`` (D, stated), drivers' ``starts``;
-    ``at`` the position of the template among them, or None."""
+    ``at`` the position of the template among them, or None; sketches assembled by ``engine``."""
     sk, model = t.sk, t.model
     D = len(P)
     # the constraints with every design's numbers, designs last (components first)
@@ -258,7 +260,7 @@ def _build(t, P, data, spec, dims, starts, at):
         need = np.flatnonzero(good & (off > 5e-15))  # (below, compiling moves nothing: as drawn, bit for bit)
         if need.size:
             before = {n: p[:, need] for n, p in pos.items()}
-            good[need] &= assemble(t, pos, cons, spec, dims, starts, L, need)
+            good[need] &= assemble(t, pos, cons, spec, dims, starts, L, need, engine)
             for b, line in t.lines.items():  # a body's angle given: turned with its line, if that moved
                 if isinstance(sk.bodies[b], float) and line is not None:
                     d0 = before[line[1]] - before[line[0]]
