@@ -518,6 +518,27 @@ def test_a_watt_six_bar_comes_back_to_the_sketchs_interval_from_its_other_one():
     assert np.allclose(up.q[posed], down.q[::-1][posed], atol=1e-9)
 
 
+def test_a_watt_six_bars_other_interval_is_entered_from_the_poses_solved():
+    # (found by a fuzz campaign) the sketch's interval [-1.333, -1.062] and another, [1.075,
+    # 1.325], per turn. Up a turn in 0.035 rad steps, the search past the gap at -1.062 found
+    # only the other modes of two blocks at 1.16 (least squares and Newton from the pose at the
+    # limit and from the sketch), and the tracing round from them had not come back: 1.09-1.30
+    # NOT_ASSEMBLABLE. Newton from a pose solved on the sketch's interval lands in its modes
+    s = -1.290441837063891
+    m = watt_six_bar(2.443382749357639, 3.4405591839016676, 0.5565511506230306, 3.16449800111078,
+                     coupler_point=(-1.4547327849893643, -2.553987007193639),
+                     rocker_point=(2.6504657750793115, -2.5090581914813743), link_5=2.6238476515696925,
+                     link_6=5.23919288269596, crossed=True, start=s)
+    U = np.arange(s, s + 2 * np.pi, 0.035)
+    res = m.sweep(U)
+    V = np.unique(np.r_[U, np.arange(s, s + 2 * np.pi, 0.01)])
+    dense = m.sweep(V)
+    other = (U > 1.08) & (U < 1.32)
+    at = np.searchsorted(V, U[other])
+    assert other.sum() == 7 and (res.status[other] == Status.SOLVED).all() and (dense.status[at] == Status.SOLVED).all()
+    np.testing.assert_allclose(res.q[other], dense.q[at], rtol=0, atol=1e-9)
+
+
 def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
     # (found by a fuzz campaign) a Stephenson six-bar sketched 2e-9 from a limit: 166 of 181
     # shuffled values are out of the branch's reach, and the values tried one by one past the

@@ -126,14 +126,18 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         # (its angles counted as the sketch's first; then from up to GUESSES poses solved; the
         # poses to 1e-9 of their scales: both engines give them alike, where their poses differ
         # at rounding and Newton from afar may land on another pose of the loop for that alone)
-        known = np.flatnonzero(solved)
-        known = known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)] if known.size else known
-        snap = np.round(np.r_[start[0][None], q[known]] / model.col_scale, 9) * model.col_scale
+        snap = np.round(np.r_[start[0][None], solved_poses()] / model.col_scale, 9) * model.col_scale
         qe = walker.enter([model.q0, snap[0]], chosen, U[i], snap[1:])
         if qe is None:
             return ("far",)
         direct.append(i)  # (not reached continuously from the value before it: JUMPED)
         return "ok", qe, chosen
+
+    def solved_poses():
+        """Up to GUESSES of the poses solved, spread over them: where a search's guesses land
+        in other modes, Newton from one of these may land in ours (:meth:`Walker.enter`)."""
+        known = np.flatnonzero(solved)
+        return q[known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)]] if known.size else q[:0]
 
     def home(k, tries=3):
         """(index from k, pose, modes) of the first anchor from k that the walk reaches from
@@ -268,7 +272,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 # enters it: the first of the walk's steps past the limit where the branch can be
                 # entered, and walked on from there
                 grid = _past_gap(model, state[1], U[anchors[k]], max_step)
-                nearer = walker.enter_any([state[0], model.q0], chosen, grid)[0] if grid.size else None
+                nearer = walker.enter_any([state[0], model.q0], chosen, grid, poses=solved_poses())[0] if grid.size else None
                 if nearer is not None:
                     entries += 1
                     u_e = grid[nearer[0]]
@@ -281,7 +285,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 found = home(k)
             upto = end if found is None else k + found[0]
             guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
-            nearer, assembles = (walker.enter_any(guesses, chosen, U[anchors[k:upto]]) if upto > k else (None, False))
+            nearer, assembles = (walker.enter_any(guesses, chosen, U[anchors[k:upto]], poses=solved_poses()) if upto > k
+                                 else (None, False))
             if nearer is not None:
                 found, homed = (*nearer, chosen), False
             if found is None and assembles and not _nested:

@@ -241,11 +241,12 @@ class Walker:
             return ("lost",)
         return "ok", qn[0], br.signs(qn, target[None])[0]
 
-    def enter_any(self, guesses, signs, targets, tries=4):
+    def enter_any(self, guesses, signs, targets, tries=4, poses=None):
         """((index, pose) of the first of ``targets`` (M, f) where the branch can be entered,
         or None if none found; whether any target searched assembles at all): a batched
         least-squares search from each guess, then Newton, the mode test and, on another mode,
-        the way round through a limit."""
+        Newton from ``poses`` of the branch solved elsewhere and the way round through a limit
+        (:meth:`enter`)."""
         br = self.br
         best, assembles = None, False
         # the first few targets and some spread over the rest, at most SPREAD walk steps apart
@@ -265,7 +266,7 @@ class Walker:
                                if near.size else near):
                 if best is not None and pick[c] >= best[0]:
                     break
-                qe = self.enter([ql[c]], signs, targets[pick[c]])
+                qe = self.enter([ql[c]], signs, targets[pick[c]], poses)
                 if qe is not None:
                     best = (int(pick[c]), qe)
                     break
