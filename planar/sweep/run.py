@@ -123,11 +123,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         """Value i, too far from ``start`` to walk with no period to shorten the way, entered
         directly in the sketch's modes: past every gap between, the walk would re-enter the
         branch in them, and within a stretch it keeps them."""
-        # (its angles counted as the sketch's first; then from up to GUESSES poses solved; the
-        # poses to 1e-9 of their scales: both engines give them alike, where their poses differ
-        # at rounding and Newton from afar may land on another pose of the loop for that alone)
-        snap = np.round(np.r_[start[0][None], solved_poses()] / model.col_scale, 9) * model.col_scale
-        qe = walker.enter([model.q0, snap[0]], chosen, U[i], snap[1:])
+        # (its angles counted as the sketch's first; then from up to GUESSES poses solved)
+        qe = walker.enter([model.q0, snapped(start[0])], chosen, U[i], solved_poses())
         if qe is None:
             return ("far",)
         direct.append(i)  # (not reached continuously from the value before it: JUMPED)
@@ -137,7 +134,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         """Up to GUESSES of the poses solved, spread over them: where a search's guesses land
         in other modes, Newton from one of these may land in ours (:meth:`Walker.enter`)."""
         known = np.flatnonzero(solved)
-        return q[known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)]] if known.size else q[:0]
+        return snapped(q[known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)]] if known.size
+                       else q[:0])
+
+    def snapped(Q):
+        """Poses to 1e-9 of their scales, as guesses from afar: both engines give them alike,
+        where their poses differ at rounding and Newton from afar may land on another pose of
+        the loop for that alone."""
+        return np.round(Q / model.col_scale, 9) * model.col_scale
 
     def home(k, tries=3):
         """(index from k, pose, modes) of the first anchor from k that the walk reaches from
