@@ -56,7 +56,9 @@ def rounding(model, q, cols):
 def converged(model, q, cols, res, step, tol, step_tol, wander=1.0):
     """(N,) the residuals ``res`` within ``tol`` and the steps ``step`` within ``step_tol`` of
     poses q, or within their :func:`rounding` (the step's ``wander`` times it). The rounding is
-    computed only for the poses the tolerances alone do not pass: a few, far from the sketch."""
+    computed only for the poses the tolerances alone do not pass: in Newton's loop, those still
+    stepping (a few array operations over them an iteration, against its evaluation and solve);
+    in a final step, the few the tolerances miss."""
     ok = (res <= tol) & (step <= step_tol)
     far = np.flatnonzero(~ok & np.isfinite(res) & np.isfinite(step))
     if far.size:
