@@ -4,7 +4,7 @@ past a gap, the input's period and whole turns of angles; one class with the hel
 import numpy as np
 
 from planar.events.crossing import around, cross
-from planar.solver import DISTANT, REENTRY, least_squares_gap, newton
+from planar.solver import DISTANT, REENTRY, least_squares_gap, newton, rounding
 from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
 from planar.sweep.branch import input_scale, scaled_norm
 
@@ -312,7 +312,9 @@ class Walker:
         if not shift.any():
             return q
         qn, conv, _, _ = self.br.solve((q + shift)[None], u[None])
-        if conv[0] and np.all(self.br.signs(qn, u[None])[0] == signs) and _turns(self.br, qn[0] - q) is not None:
+        # (q counted hundreds of turns on holds its rows only to the rounding of its angles)
+        slack = float(rounding(self.br.m, q[None], cols)[0])
+        if conv[0] and np.all(self.br.signs(qn, u[None])[0] == signs) and _turns(self.br, qn[0] - q, slack=slack) is not None:
             return qn[0]
         return q
 
@@ -321,7 +323,9 @@ class Walker:
         Newton (from a least-squares minimum where Newton from it fails); where each lands in
         other modes, from ``poses`` (G, n) in one batch (poses of the branch solved elsewhere:
         where the loop closes at many poses in the same modes, as a geared linkage's, one of
-        them lands in ours), and only then round through a limit from the modes found."""
+        them lands in ours), and only then round through a limit from the modes found. The pose
+        found has its angles counted within half a turn of its guess's where it can
+        (:meth:`near_turns`)."""
         br = self.br
         other = []
         for g in guesses:
@@ -336,7 +340,7 @@ class Walker:
                     continue
             found = br.signs(qn, target[None])[0]
             if np.all(found == signs):
-                return qn[0]
+                return self.near_turns(qn[0], target, signs, g)
             other.append((qn[0], found))
         if poses is not None and len(poses):
             T = np.repeat(target[None], len(poses), 0)
@@ -350,7 +354,8 @@ class Walker:
                     # count an angle hundreds of turns on (a pose as valid, and as arbitrary)
                     c = br.p.cols
                     move = np.max(np.abs(qn[ours][:, c] - poses[ours][:, c]) / br.m.col_scale[c], axis=1)
-                    return qn[ours[np.argmin(move)]]
+                    k = ours[np.argmin(move)]
+                    return self.near_turns(qn[k], target, signs, poses[k])
         for qn, found in other:
             # another mode of the same circuit: go round through a limit to ours; not again in
             # modes and inputs a tracing that did not come back to ours has covered (the same
@@ -502,13 +507,13 @@ def _invariant(br, P, D):
     return bool(np.max(np.abs(Phi[0, p.rows]) * m.row_scale[p.rows]) <= 1e3 * np.finfo(float).eps * size)
 
 
-def _turns(br, d, base=0.0):
+def _turns(br, d, base=0.0, slack=0.0):
     """base + the change d - base (n,) of a pose rounded to whole turns of its angles, None
-    where it is not whole turns (to SAME, scaled) or moves a position."""
+    where it is not whole turns (to SAME + ``slack``, scaled) or moves a position."""
     m, cols = br.m, br.p.cols
     dc = (d - base)[cols]
     turns = np.where(cols % 3 == 2, np.round(dc / (2 * np.pi)), 0.0)
-    if not np.max(np.abs(dc - 2 * np.pi * turns) / m.col_scale[cols]) <= SAME:
+    if not np.max(np.abs(dc - 2 * np.pi * turns) / m.col_scale[cols]) <= SAME + slack:
         return None
     D = np.zeros(m.n) + base
     D[cols] += 2 * np.pi * turns
