@@ -203,7 +203,10 @@ class Walker:
             if br.accept(qn, q_pred, lambda k: q[None], conv, sn, signs[None], sg)[0]:
                 q, u, t = qn[0], u_next, t + dt
                 h = min(2 * h, self.max_step / total)
-                halvings = 0
+                # the count starts again at a full step only: towards a turning point steps
+                # that pass at half the size fail again at the full one, and the walk would
+                # creep up on the limit, a batch and two steps per halving of its distance
+                halvings = 0 if h == self.max_step / total else halvings
                 continue
             flipped = bool(conv[0]) and not np.all(sn[0] == signs)
             halvings += 1
@@ -257,6 +260,10 @@ class Walker:
         pick = np.unique(np.r_[np.arange(min(len(targets), 4 * tries)), marks,
                                np.linspace(0, len(targets) - 1, 2 * tries).astype(int)])
         for g in guesses:
+            if best is not None:  # (a later guess can only enter earlier)
+                pick = pick[pick < best[0]]
+                if not pick.size:
+                    break
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick])
             near = np.flatnonzero(gap <= GAP)
             assembles |= near.size > 0
