@@ -444,18 +444,22 @@ def _symmetry(br):
         _, J = p.system.evaluate(q0[None], u0[None])
     row = J[0][p.rows[p.drivers[0]]]
     col = p.cols[np.argmax(np.abs(row[p.cols]))]  # the driven angle
-    for k in range(1, PERIODS + 1):
-        P = 2 * np.pi * k
-        g = q0.copy()
-        with np.errstate(all="ignore"):
-            Phi, _ = p.system.evaluate(q0[None], (u0 + P)[None])
-        g[col] -= Phi[0, p.rows[p.drivers[0]]] / row[col]
-        qn, conv, _, _ = br.solve(g[None], (u0 + P)[None], max_iter=DISTANT)
-        if not conv[0]:
-            continue
-        D = _turns(br, qn[0] - q0)
-        if D is not None and np.all(br.signs(qn, (u0 + P)[None])[0] == s0):
-            return P, D
+    # (the PERIODS candidates in one batch: a solve costs about what one candidate's does)
+    P = 2 * np.pi * np.arange(1.0, PERIODS + 1)
+    U = u0[None] + P[:, None]
+    G = np.repeat(q0[None], PERIODS, 0)
+    with np.errstate(all="ignore"):
+        Phi, _ = p.system.evaluate(G, U)
+    G[:, col] -= Phi[:, p.rows[p.drivers[0]]] / row[col]
+    qn, conv, _, _ = br.solve(G, U, max_iter=DISTANT)
+    ok = np.flatnonzero(conv)
+    same = np.zeros(PERIODS, bool)
+    if ok.size:  # (the modes of no pose are not asked: an empty batch)
+        same[ok] = np.all(br.signs(qn[ok], U[ok]) == s0, axis=1)
+    for k in np.flatnonzero(same):
+        D = _turns(br, qn[k] - q0)
+        if D is not None:
+            return float(P[k]), D
     return _linear_symmetry(br, s0)
 
 
@@ -481,13 +485,21 @@ def _linear_symmetry(br, s0):
     turn = 2 * np.pi / float(input_scale(m)[0])
     cands = np.r_[turn, 2 * np.pi / rate[rate > 1e-9 * turn], 2 * np.pi * speed[acc > 0] / acc[acc > 0]]
     # (a point at rest moves by rounding: its speed over its acceleration is no period)
-    for P in dict.fromkeys(float(x) for x in cands if np.isfinite(x) and x > 1e-6 * turn):
-        lin = np.zeros(m.n)
-        lin[cols] = P * v[cols]
-        qn, conv, _, _ = br.solve((q0 + lin)[None], (u0 + P)[None], max_iter=DISTANT)
-        if not conv[0] or not np.all(br.signs(qn, (u0 + P)[None])[0] == s0):
-            continue
-        d = qn[0] - q0
+    Ps = np.array(list(dict.fromkeys(float(x) for x in cands if np.isfinite(x) and x > 1e-6 * turn)))
+    if not Ps.size:
+        return None
+    lins = np.zeros((Ps.size, m.n))
+    lins[:, cols] = Ps[:, None] * v[cols]
+    U = u0[None] + Ps[:, None]
+    # (the candidates in one batch, then taken in turn)
+    Q, conv, _, _ = br.solve(q0[None] + lins, U, max_iter=DISTANT)
+    ok = np.flatnonzero(conv)
+    same = np.zeros(Ps.size, bool)
+    if ok.size:
+        same[ok] = np.all(br.signs(Q[ok], U[ok]) == s0, axis=1)
+    for P, lin, q in zip(Ps[same], lins[same], Q[same]):
+        P = float(P)
+        d = q - q0
         D = _turns(br, d)
         if D is None:
             near = np.abs(d - lin) / m.col_scale <= SAME * (1.0 + np.abs(lin) / m.col_scale)
