@@ -559,6 +559,20 @@ def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
     assert np.sum(res.status == Status.NOT_ASSEMBLABLE) == 166 and not np.any(res.status == Status.NOT_CONVERGED)
 
 
+def test_a_walk_into_a_limit_hands_it_to_the_tracer_without_creeping_up_on_it():
+    # a geared five-bar of no period meets a limit pair at 1.42-1.43: the walk's steps that
+    # passed at half the size failed again at the full one, a batch and two steps per halving
+    # of the distance to the limit, and the period was looked for one candidate at a time
+    # (1,066 evaluations for two values; 333 now)
+    m = geared_five_bar(9.560566048385189, 6.226203063916225, 1.0506911088020563, 10.865965728760559, crossed=True,
+                        start=0.8106588260535199)
+    with Evaluations() as count:
+        res = m.sweep([0.81, 1.8])
+    assert count.calls <= 500, count.calls
+    assert res.status.tolist() == [Status.SOLVED, Status.JUMPED]
+    assert sorted(round(float(e.input), 4) for e in res.events if e.kind == "limit") == [1.4209, 1.432]
+
+
 @pytest.mark.parametrize("backwards", [False, True])
 def test_values_past_a_limit_at_the_sketch_whose_images_a_period_back_the_branch_reaches_are_solved(backwards):
     # (found by a fuzz campaign) a Stephenson six-bar whose crank rocks over [-1.8662, 1.8662],
