@@ -178,8 +178,8 @@ class Walker:
 
     def _steps(self, q, u, signs, target, index, total):
         br = self.br
-        h = min(1.0, self.max_step / total)
-        t = 0.0
+        full = min(1.0, self.max_step / total)
+        h, t = full, 0.0
         u0 = u
         halvings = 0
         wave = WAVE
@@ -202,11 +202,11 @@ class Walker:
             sn, sg = br.modes(qn, u_next[None])
             if br.accept(qn, q_pred, lambda k: q[None], conv, sn, signs[None], sg)[0]:
                 q, u, t = qn[0], u_next, t + dt
-                h = min(2 * h, self.max_step / total)
+                h = min(2 * h, full)
                 # the count starts again at a full step only: towards a turning point steps
                 # that pass at half the size fail again at the full one, and the walk would
                 # creep up on the limit, a batch and two steps per halving of its distance
-                halvings = 0 if h == self.max_step / total else halvings
+                halvings = 0 if h == full else halvings
                 continue
             flipped = bool(conv[0]) and not np.all(sn[0] == signs)
             halvings += 1
@@ -354,15 +354,14 @@ class Walker:
             # (undamped: its first step puts the coordinates the rows read linearly, the driven
             # angle and those geared to it, where the target has them)
             qn, conv, _, _ = newton(br.m, poses, T, tol=br.tol, max_iter=REENTRY, plan=br.p)
-            if conv.any():
-                ours = np.flatnonzero(conv)[np.all(br.signs(qn[conv], T[conv]) == signs, axis=1)]
-                if ours.size:
-                    # the one that moved least from its guess: an undamped step from afar may
-                    # count an angle hundreds of turns on (a pose as valid, and as arbitrary)
-                    c = br.p.cols
-                    move = np.max(np.abs(qn[ours][:, c] - poses[ours][:, c]) / br.m.col_scale[c], axis=1)
-                    k = ours[np.argmin(move)]
-                    return self.near_turns(qn[k], target, signs, poses[k])
+            ours = np.flatnonzero(_in_modes(br, qn, T, conv, signs))
+            if ours.size:
+                # the one that moved least from its guess: an undamped step from afar may
+                # count an angle hundreds of turns on (a pose as valid, and as arbitrary)
+                c = br.p.cols
+                move = np.max(np.abs(qn[ours][:, c] - poses[ours][:, c]) / br.m.col_scale[c], axis=1)
+                k = ours[np.argmin(move)]
+                return self.near_turns(qn[k], target, signs, poses[k])
         for qn, found in other:
             # another mode of the same circuit: go round through a limit to ours; not again in
             # modes and inputs a tracing that did not come back to ours has covered (the same
@@ -452,11 +451,7 @@ def _symmetry(br):
         Phi, _ = p.system.evaluate(G, U)
     G[:, col] -= Phi[:, p.rows[p.drivers[0]]] / row[col]
     qn, conv, _, _ = br.solve(G, U, max_iter=DISTANT)
-    ok = np.flatnonzero(conv)
-    same = np.zeros(PERIODS, bool)
-    if ok.size:  # (the modes of no pose are not asked: an empty batch)
-        same[ok] = np.all(br.signs(qn[ok], U[ok]) == s0, axis=1)
-    for k in np.flatnonzero(same):
+    for k in np.flatnonzero(_in_modes(br, qn, U, conv, s0)):
         D = _turns(br, qn[k] - q0)
         if D is not None:
             return float(P[k]), D
@@ -493,10 +488,7 @@ def _linear_symmetry(br, s0):
     U = u0[None] + Ps[:, None]
     # (the candidates in one batch, then taken in turn)
     Q, conv, _, _ = br.solve(q0[None] + lins, U, max_iter=DISTANT)
-    ok = np.flatnonzero(conv)
-    same = np.zeros(Ps.size, bool)
-    if ok.size:
-        same[ok] = np.all(br.signs(Q[ok], U[ok]) == s0, axis=1)
+    same = _in_modes(br, Q, U, conv, s0)
     for P, lin, q in zip(Ps[same], lins[same], Q[same]):
         P = float(P)
         d = q - q0
@@ -508,6 +500,16 @@ def _linear_symmetry(br, s0):
         if D is not None and _invariant(br, P, D):
             return P, D
     return None
+
+
+def _in_modes(br, Q, U, conv, signs):
+    """(N,) whether each pose Q (N, n) at inputs U converged (``conv``) in the modes ``signs``
+    (the modes asked only of the converged: a diverged pose reads non-finite)."""
+    out = np.zeros(len(Q), bool)
+    ok = np.flatnonzero(conv)
+    if ok.size:
+        out[ok] = np.all(br.signs(Q[ok], U[ok]) == signs, axis=1)
+    return out
 
 
 def _invariant(br, P, D):
