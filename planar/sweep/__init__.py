@@ -4,9 +4,11 @@
    order, in steps no longer than ``max_step`` (scaled input units). Anchors are tried in
    batched waves (each solved from the Taylor predictor at the wave's start, then checked as
    one walk step from the anchor before it; one that stops part way is followed by a new wave
-   from its last anchor); where a wave accepts none, the walk goes step by step, halving a
-   step whose solution changes assembly mode (the sign of a block det) or lands far from its
-   predictor. Where that fails a singular position lies ahead:
+   from its last anchor). Values further apart than a wave reaches are reached through
+   stations ``max_step`` apart between them, solved in the same waves, many gaps a batch.
+   Where a wave accepts none, the walk goes step by step, halving a step whose solution
+   changes assembly mode (the sign of a block det) or lands far from its predictor. Where that
+   fails a singular position lies ahead:
    :func:`planar.events.crossing.cross` follows the branch by arclength, locates it and says
    what it is (a limit stops the branch; at a bifurcation the sweep goes on along the smooth
    branch, or the other one if asked).

@@ -8,7 +8,7 @@ import numpy as np
 
 from planar.events import NEAR
 from planar.progress import Progress
-from planar.sweep.branch import final_step, input_scale
+from planar.sweep.branch import final_step, input_scale, scaled_norm
 
 CHUNK = 16384  # values solved in one batch of the bulk pass
 WAVE, MAX_WAVE = 16, 256  # anchors tried in one batch: first, and at most (doubled while all pass)
@@ -248,3 +248,43 @@ def _horner(PL, k, t):
         q *= t
         q += np.repeat(PL[j][:, at], runs, axis=1)
     return q.T
+
+
+def solve_stations(br, state, U, idx, max_step, coef=None):
+    """Anchors ``idx`` (consecutive, each within half a turn of the one before, the first of
+    them beyond a wave's reach of ``state``) reached through stations at most ``max_step``
+    apart (scaled) between them, solved in waves from ``state`` as the walk solves its own
+    steps: the stations of many gaps in a batch, where walking to each anchor costs a batch a
+    gap. Returns (b, poses, kin, last): the anchors idx[:b] reached, their poses and (one
+    input) kinematic coefficients (as :func:`solve_wave`'s), and ``last`` the last station
+    solved ((q, u), with its coefficients), None if none was. Where a wave stops (a limit,
+    a singular position, another branch near), the walk goes on from ``last``."""
+    if idx.size == 0:
+        return 0, None, None, None
+    P = np.vstack((state[1][None], U[idx]))
+    d = P[1:] - P[:-1]
+    parts = np.maximum(1, np.ceil(scaled_norm(br.m, d) / max_step)).astype(int)
+    gap = np.repeat(np.arange(idx.size), parts)
+    frac = (np.arange(gap.size) - np.repeat(np.cumsum(parts) - parts, parts) + 1) / np.repeat(parts, parts)
+    S = P[gap] + d[gap] * frac[:, None]
+    real = np.cumsum(parts) - 1  # the anchors' stations
+    S[real] = U[idx]  # (each value as given)
+    Q, K = [], []
+    at, wave = 0, WAVE
+    while at < S.shape[0]:
+        run = np.arange(at, min(at + wave, S.shape[0]))
+        a, qa, ka = solve_wave(br, state, S, run, coef)
+        if a:
+            Q.append(qa)
+            K.append(ka)
+            state, at = (qa[-1], S[at + a - 1], state[2]), at + a
+            coef = None if ka is None else (ka[0][-1], ka[1][-1])
+        if a < run.size:
+            break
+        wave = min(2 * wave, MAX_WAVE)
+    if not Q:
+        return 0, None, None, None
+    b = int(np.searchsorted(real, at))  # anchors whose station was reached
+    Q = np.concatenate(Q)
+    kin = None if K[0] is None else tuple(np.concatenate(part)[real[:b]] for part in zip(*K))
+    return b, Q[real[:b]], kin, (state[0], state[1], coef)

@@ -10,7 +10,8 @@ import numpy as np
 from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
 from planar.events import SINGULAR
-from planar.sweep.anchors import MAX_WAVE, WAVE, Kin, from_anchors, solve_wave, sweep_anchors, walk_anchors
+from planar.sweep.anchors import (MAX_WAVE, WAVE, Kin, from_anchors, solve_stations, solve_wave, sweep_anchors,
+                                  walk_anchors)
 from planar.sweep.branch import Branch, input_scale, scaled_norm
 from planar.sweep.finish import Out, finish
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
@@ -240,6 +241,22 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
                                  > SPARSE * max_step)
             tried = far[0] if far.size else tried
+            if tried == 0 and far.size:
+                # sparse values: the stations between them in waves, many gaps a batch (each
+                # within half a turn: the walk goes the direct way there)
+                near = idx[: stop[0] if stop.size else idx.size]
+                d = np.diff(U[near], axis=0, prepend=state[1][None])
+                ok = (scaled_norm(model, d) < TURN) & np.all(np.abs(d) <= np.pi, axis=1)
+                near = near[: int(np.argmin(ok)) if not ok.all() else near.size]
+                b, qb, kb, last = solve_stations(br, state, U, near, max_step, coef)
+                if last is not None:
+                    if b:
+                        q[near[:b]], solved[near[:b]], signs[near[:b]] = qb, True, state[2]
+                        if kb is not None:
+                            kin.add(near[:b], *kb)
+                        lo, k = near[b - 1], k + b
+                    state, coef = (last[0], last[1], state[2]), last[2]
+                    continue
             a, qa, ka = solve_wave(br, state, U, idx[:tried], coef)
             if a:
                 q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
