@@ -7,12 +7,15 @@ positions in the input. The assembly gap of a triple rocker four-bar (4, 3, 3, 3
 limit is checked against the hand value where the geometry gives it.
 """
 
+from unittest import mock
+
 import numpy as np
 import pytest
 
 from planar import solver
 from planar.blocks import plan
 from planar.mechanisms import four_bar, geared_five_bar, slider_crank, watt_six_bar
+from planar.system import System
 
 MECHANISMS = {
     "four_bar": lambda: four_bar(4, 2, 3.5, 3),
@@ -187,6 +190,30 @@ def test_least_squares_gap_of_a_triple_rocker_past_its_limit():
     for _ in range(20):
         dq = 1e-4 * rng.normal(size=q.shape) * model.col_scale
         assert np.all(_cost(model, q + dq, u) >= cost * (1 - 1e-12))
+
+
+def test_least_squares_gap_that_only_decides_stops_once_the_side_of_the_threshold_is_plain():
+    # the searches past a gap ask only whether a point assembles (gap <= GAP): a point stops
+    # at a hundredth of it (Newton goes on from there) or, above it, once its steps barely
+    # lower the cost, where the full search drives assemblies to rounding and minima to 1e-10
+    model = four_bar(4, 3, 3, 3).compile()
+    u = np.radians([[0.0], [60.0], [117.0], [118.0], [150.0], [180.0]])  # limits at +-117.28 deg
+    q0 = np.tile(model.q0, (len(u), 1))
+    real, count = System.evaluate, []
+
+    def counted(system, q, *args, **kw):
+        count.append(q.shape[0])
+        return real(system, q, *args, **kw)
+
+    with mock.patch.object(System, "evaluate", counted):
+        _, full = solver.least_squares_gap(model, q0, u)
+        work = sum(count)
+        count.clear()
+        q, decided = solver.least_squares_gap(model, q0, u, decide=1e-8)
+    assert sum(count) < 0.8 * work, (sum(count), work)
+    np.testing.assert_array_equal(decided <= 1e-8, full <= 1e-8)
+    assert np.all(decided[:3] <= 1e-10) and np.all(residual(model, q[:3], u[:3]) <= 1e-10)
+    np.testing.assert_allclose(decided[3:], full[3:], rtol=1e-4)
 
 
 def test_least_squares_gap_is_zero_where_the_mechanism_assembles():

@@ -264,7 +264,7 @@ class Walker:
                 pick = pick[pick < best[0]]
                 if not pick.size:
                     break
-            ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick])
+            ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick], decide=GAP)
             near = np.flatnonzero(gap <= GAP)
             assembles |= near.size > 0
             # the first few, and a few spread over the rest: next to a limit's far side Newton
@@ -339,7 +339,7 @@ class Walker:
             qn, conv, _, _ = newton(br.m, g[None], target[None], tol=br.tol, max_iter=REENTRY, max_step=0.3, plan=br.p)
             if not conv[0]:
                 # far from the guess: least squares first, Newton from its minimum
-                ql, gap = least_squares_gap(br.m, g[None], target[None])
+                ql, gap = least_squares_gap(br.m, g[None], target[None], decide=GAP)
                 if gap[0] > GAP:
                     continue
                 qn, conv, _, _ = newton(br.m, ql, target[None], tol=br.tol, max_iter=REENTRY, plan=br.p)
