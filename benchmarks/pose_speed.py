@@ -12,7 +12,9 @@ kinematics (positions, velocities, accelerations). Prints, in one run and in int
 each beside the closed form on the same inputs, with the ratio planar / closed form, and beside
 pylinkage's ``step()`` on the same linkage (``peers.py``; when pylinkage is installed) moving its
 crank to the same inputs: one step per pose (from the last pose; one step from the sketch's
-angle for "from the sketch"), one step per value for the values over a turn. ``step()`` gives
+angle for "from the sketch"), one step per value for the values over a turn; and beside
+pylinkage's ``step_fast`` (its numba loop, compiled before the timing) over the values over a
+turn (two or more: its crank turns by one fixed step). ``step()`` and ``step_fast`` give
 positions only (planar gives velocities and accelerations too).
 
 The rows come for each engine (numpy, and numba where it is installed: its one-off compile is
@@ -33,7 +35,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from peers import LENGTHS, closed_form, pylinkage_linkage  # noqa: E402
+from peers import LENGTHS, closed_form, pylinkage_linkage, pylinkage_prepare  # noqa: E402
 from planar.mechanisms import four_bar  # noqa: E402
 
 
@@ -80,8 +82,9 @@ class Stepper:
 
 
 def cases(rng, engine):
-    """(label, planar calls, closed-form call, pylinkage calls or None, calls per round) for
-    each row of ``engine``: the planar and pylinkage calls made afresh each round."""
+    """(label, planar calls, closed-form call, pylinkage step() calls or None, pylinkage
+    step_fast call or None, calls per round) for each row of ``engine``: the planar and
+    pylinkage calls made afresh each round."""
     warm = build()
     warm.sweep(np.linspace(0, 2 * np.pi, 100), engine=engine)
     tracker = warm.track(engine=engine)
@@ -100,19 +103,22 @@ def cases(rng, engine):
 
     out = [
         ("1 pose, warm, near the last", lambda r: [lambda: tracker.move(next(near))] * r, one(1.0),
-         stepped(lambda: stepper.move(next(near_p))), 20),
+         stepped(lambda: stepper.move(next(near_p))), None, 20),
         ("1 pose, warm, far from the last", lambda r: [lambda: tracker.move(next(far))] * r, one(2.0),
-         stepped(lambda: stepper.move(next(far_p))), 20),
+         stepped(lambda: stepper.move(next(far_p))), None, 20),
         ("1 pose at pi, from the sketch", lambda r: _fresh(lambda m: m.sweep([np.pi], engine=engine), r), one(np.pi),
-         peer and (lambda r: [lambda s=Stepper(): s.move(np.pi) for _ in range(r)]), 3),
+         peer and (lambda r: [lambda s=Stepper(): s.move(np.pi) for _ in range(r)]), None, 3),
     ]
     for n in (1, 10, 100, 1000):
         U = np.linspace(0, 2 * np.pi, n)
         sweep = stepped(lambda U=U: stepper.sweep(U))
+        # (step_fast turns its crank by one fixed step: evenly spaced values, two or more)
+        fast = pylinkage_prepare(U, False) if peer and n > 1 else None
         out.append((f"{n} values over a turn, warm", lambda r, U=U: [lambda: warm.sweep(U, engine=engine)] * r,
-                    lambda U=U: closed_form(U), sweep, 5))
+                    lambda U=U: closed_form(U), sweep, fast, 5))
         out.append((f"{n} values over a turn, from the sketch",
-                    lambda r, U=U: _fresh(lambda m: m.sweep(U, engine=engine), r), lambda U=U: closed_form(U), sweep, 3))
+                    lambda r, U=U: _fresh(lambda m: m.sweep(U, engine=engine), r), lambda U=U: closed_form(U), sweep,
+                    fast, 3))
     return [(f"{engine}: {label}", *rest) for label, *rest in out]
 
 
@@ -122,19 +128,24 @@ def main(argv=None):
     args = ap.parse_args(argv)
     engines = ["numpy"] + (["numba"] if importlib.util.find_spec("numba") else [])
     rows = [row for e in engines for row in cases(np.random.default_rng(1), e)]
-    best = {label: [np.inf, np.inf, np.inf] for label, *_ in rows}
+    best = {label: [np.inf] * 4 for label, *_ in rows}
     for _ in range(args.rounds):
-        for label, fn, ref, peer, repeat in rows:
+        for label, fn, ref, peer, fast, repeat in rows:
             best[label][0] = min(best[label][0], _best(fn(repeat)))
             best[label][1] = min(best[label][1], _best([ref] * repeat))
             if peer:
                 best[label][2] = min(best[label][2], _best(peer(repeat)))
+            if fast:
+                best[label][3] = min(best[label][3], _best([fast] * repeat))
     print(f"four-bar {LENGTHS} + coupler point, best of {args.rounds} interleaved rounds")
-    print(f"| {'engine: work':<47} | planar ms | closed form ms | planar / closed | pylinkage step() ms | planar / step() |")
-    print(f"|{'-' * 49}|-----------|----------------|-----------------|---------------------|-----------------|")
-    for label, (t, tc, tp) in best.items():
+    print(f"| {'engine: work':<47} | planar ms | closed form ms | planar / closed | pylinkage step() ms | planar / step() "
+          "| step_fast ms | planar / step_fast |")
+    print(f"|{'-' * 49}|-----------|----------------|-----------------|---------------------|-----------------|"
+          "--------------|--------------------|")
+    for label, (t, tc, tp, tf) in best.items():
         peer = f"{tp * 1e3:19.4f} | {t / tp:15.1f}" if np.isfinite(tp) else f"{'-':>19} | {'-':>15}"
-        print(f"| {label:<47} | {t * 1e3:9.3f} | {tc * 1e3:14.4f} | {t / tc:15.0f} | {peer} |")
+        fast = f"{tf * 1e3:12.4f} | {t / tf:18.1f}" if np.isfinite(tf) else f"{'-':>12} | {'-':>18}"
+        print(f"| {label:<47} | {t * 1e3:9.3f} | {tc * 1e3:14.4f} | {t / tc:15.0f} | {peer} | {fast} |")
 
 
 if __name__ == "__main__":
