@@ -265,9 +265,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                     kin.add(idx[:a], *ka)
                     coef = ka[0][-1], ka[1][-1]
             wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
-            # a wave that stopped part way goes on as a new wave from its last anchor; the walk
-            # takes the anchor where one accepted none (or where an event was located)
-            if k >= end or a == idx.size or 0 < a < tried:
+            # a wave that stopped part way goes on as a new wave from its last anchor (or through
+            # stations, where it stopped short of a sparse one); the walk takes the anchor where
+            # one accepted none (or where an event was located)
+            if k >= end or a == idx.size or 0 < a < tried or (a and far.size):
                 continue
             coef = None
             i = anchors[k]
