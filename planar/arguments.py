@@ -74,7 +74,8 @@ def _options(run):
 
 def sweep_options(options, run):
     """The options of a sweep checked: names among ``run``'s keyword-only parameters, ``tol``,
-    ``max_step`` and ``rates`` of their kinds; the others are checked where they are used.
+    ``max_step``, ``rates``, ``branch`` and ``engine`` of their kinds; the others are checked
+    where they are used.
     Returns them with ``max_step`` filled in."""
     known = _options(run)
     unknown = sorted(set(options) - set(known))
@@ -89,6 +90,9 @@ def sweep_options(options, run):
     if "branch" in out and not (isinstance(out["branch"], str) and out["branch"] in ("smooth", "other")):
         # (here, not only where the sweep runs: the known poses are kept by branch)
         raise InputError(f"branch must be 'smooth' or 'other', got {out['branch']!r}")
+    if "engine" in out and not (isinstance(out["engine"], str) and out["engine"] in ("numpy", "numba")):
+        # (here too: a tracker's direct path asks for the engine before the sweep runs)
+        raise InputError(f"engine must be 'numpy' or 'numba', got {out['engine']!r}")
     return out
 
 

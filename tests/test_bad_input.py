@@ -39,6 +39,7 @@ SWEEP_CALLS = [
     ([0.1], {"rates": "no"}, InputError, "rates must be True or False"),
     ([0.1], {"branch": "left"}, InputError, "branch must be 'smooth' or 'other'"),
     ([0.1], {"engine": "fortran"}, InputError, "engine must be 'numpy' or 'numba'"),
+    ([0.1], {"engine": np.zeros(3)}, InputError, "engine must be 'numpy' or 'numba'"),  # (a numpy ValueError)
     ([0.1], {"outputs": ["nope"]}, InputError, "unknown output 'nope'"),
     ([0.1], {"outputs": 3}, InputError, "outputs must be a name or a list of names of bodies, points or joints, got 3"),
     ([0.1], {"outputs": ["rocker", None]}, InputError, "outputs must be a name or a list of names"),
@@ -162,6 +163,10 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
     (lambda m: m.drive(), "drive needs exactly one of joint=, body= or point="),
     (lambda m: m.drive("nope"), "unknown joint 'nope'"),
     (lambda m: m.add_revolute("J", ["ground"], "b", at=(0, 0)), r"unknown body \['ground'\]"),
+    # (an unhashable name was a TypeError, an array a numpy ValueError)
+    (lambda m: m.distance(["O"], "P", 1.0), r"a joint or point is named by a string, got \['O'\]"),
+    (lambda m: m.restate(np.zeros(2), 1.0), r"restate takes a stated distance 'a-b' or a driver's name"),
+    (lambda m: m.drive(np.zeros(2)), r"drive joint= takes a joint's name, got array"),
     # (read by truthiness: "no" made an internal mesh)
     (lambda m: (m.add_body("b"), m.add_gear("G", m.ground, "b", 1.0, 2.0, internal="no")),
      "gear 'G' internal must be True or False, got 'no'"),
@@ -211,6 +216,9 @@ def test_bad_result_arguments(call, message):
     (lambda a: a.transmission_angle(four_bar(), "coupler", "rocker"), "transmission_angle needs a sweep result"),
     (lambda a: a.swept_ranges(four_bar()), "swept_ranges needs a sweep result"),
     (lambda a: a.motion_range(four_bar().sweep([0.1])), "motion_range needs a Mechanism or a Model, got Sweep"),
+    (lambda a: a.output(four_bar(), "angle:rocker"), "output needs a sweep result .* got Mechanism"),
+    (lambda a: a.stroke(3, "angle:rocker"), "stroke needs a Mechanism, a Model or a sweep result, got int"),
+    (lambda a: a.four_bar_links(four_bar()), r"four_bar_links needs a Model \(Mechanism.compile\(\)\), got Mechanism"),
 ])
 def test_an_analysis_of_the_wrong_object_is_an_input_error(call, message):
     # (each was an AttributeError)

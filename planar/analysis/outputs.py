@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.errors import InputError
+from planar.results import as_sweep
 from planar.units import Units
 
 
@@ -123,6 +124,7 @@ def output(res, spec, derivative=0):
     With the sweep's default unit input rate and zero input acceleration the derivatives are
     the first and second kinematic coefficients d(output)/du and d2(output)/du2.
     """
+    res = as_sweep(res, "output")
     if derivative not in (0, 1, 2):
         raise InputError(f"derivative must be 0, 1 or 2, got {derivative!r}")
     kind, name = parse(res.model, spec)

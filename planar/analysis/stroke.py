@@ -17,6 +17,7 @@ import numpy as np
 
 from planar.analysis.outputs import output
 from planar.errors import AssemblyError, InputError
+from planar.results import Sweep
 
 TURN = 2 * np.pi
 ROUNDING = 1e-12  # a Newton step may leave its bracket by this much (radians)
@@ -73,13 +74,17 @@ def _hermite_root(a, b, ga, gb, ha, hb):
 
 def _one_turn(source, samples, options):
     """A sweep over exactly one increasing turn of the one input angle."""
-    if hasattr(source, "status"):
+    from planar.model import Mechanism, Model
+
+    if isinstance(source, Sweep):
         res = source
-    else:
-        model = source.compile() if hasattr(source, "compile") else source
+    elif isinstance(source, (Mechanism, Model)):
+        model = source.compile() if isinstance(source, Mechanism) else source
         _check_input(model)
         u0 = model.u0[0]
         res = model.sweep(np.linspace(u0, u0 + TURN, samples + 1), **options)
+    else:
+        raise InputError(f"stroke needs a Mechanism, a Model or a sweep result, got {type(source).__name__}")
     _check_input(res.model)
     u = res.inputs[:, 0]
     if u.size < 3 or np.any(np.diff(u) <= 0) or abs(u[-1] - u[0] - TURN) > 1e-9 * TURN:

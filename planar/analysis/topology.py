@@ -9,12 +9,17 @@ True
 
 import numpy as np
 
+from planar.errors import InputError
 
 
 def four_bar_links(model):
     """(ground, crank, coupler, rocker) lengths and the input link ("crank", "coupler",
     "rocker" or None) when the model is one loop of four revolutes, read from its sketch; else
     None. The crank is the driven link next to the ground (either, when the coupler is driven)."""
+    from planar.model import Model
+
+    if not isinstance(model, Model):
+        raise InputError(f"four_bar_links needs a Model (Mechanism.compile()), got {type(model).__name__}")
     joints = model.joints
     if len(joints) != 4 or len(model.body_names) != 4 or not all(j.pin for j in joints):
         return None

@@ -229,6 +229,8 @@ class Mechanism:
             self._sides.append((name, dyad.a, dyad.b, dyad.side))
 
     def _position(self, name):
+        if not isinstance(name, str):
+            raise ModelError(f"a joint or point is named by a string, got {name!r}")
         if name not in self._points:
             raise ModelError(f"unknown joint or point {name!r}: the named positions are {sorted(self._points)}")
         return self._points[name][1]
@@ -280,6 +282,8 @@ class Mechanism:
         >>> m.compile().sketch.position("P").round(12).tolist()
         [1.755165123781, 0.958851077208]
         """
+        if not isinstance(name, str):
+            raise ModelError(f"restate takes a stated distance 'a-b' or a driver's name, got {name!r}")
         for k, d in enumerate(self._dimensions):
             if f"{d.a}-{d.b}" == name:
                 self._dimensions[k] = Dimension(d.a, d.b, checks.positive(value, f"distance {name}"))
@@ -445,6 +449,9 @@ class Mechanism:
         given = [k for k, v in (("joint", joint), ("body", body), ("point", point)) if v is not None]
         if len(given) != 1:
             raise ModelError("drive needs exactly one of joint=, body= or point=")
+        for k, v in (("joint", joint), ("point", point)):
+            if v is not None and not isinstance(v, str):
+                raise ModelError(f"drive {k}= takes a {k}'s name, got {v!r}")
         if joint is not None:
             target = next((j for j in self._joints if j.name == joint), None)
             if target is None:
