@@ -24,7 +24,7 @@ import numpy as np
 import zarr
 from dask.distributed import Client, LocalCluster, as_completed
 
-from planar.designs import BATCH, design_table, join, study_options, sweep_part
+from planar.designs import BATCH, check_fixed, design_table, join, study_options, sweep_part
 from planar.errors import InputError
 from planar.progress import Progress
 from planar.results import Status
@@ -46,6 +46,7 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
     """
     table = design_table(designs)
     options = study_options(batch, options)
+    check_fixed(fixed)
     points = tuple(points)
     D = len(table)
     study = dict(D=D, batch=int(batch), points=list(points))

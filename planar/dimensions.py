@@ -185,7 +185,12 @@ class _Problem:
             r = self.residuals(z, targets)
             if np.max(np.abs(r), initial=0.0) <= 1e-14:
                 return z, True
-            dx = np.linalg.lstsq(self.jacobian(z), r, rcond=None)[0]
+            J = self.jacobian(z)
+            if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):  # (lengths whose squares overflow)
+                return z, False
+            dx = np.linalg.lstsq(J, r, rcond=None)[0]
+            if not np.all(np.isfinite(dx)):
+                return z, False
             dx *= min(1.0, 0.25 / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most L/4 a step
             z = z - dx * self.L
         return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12

@@ -11,7 +11,7 @@ import pytest
 
 import planar
 from planar import arguments, io, synthesis
-from planar.errors import FileFormatError, InputError, ModelError
+from planar.errors import AssemblyError, FileFormatError, InputError, ModelError
 from planar.analysis import motion_range
 from planar.mechanisms import four_bar, open_chain, slider_crank, watt_six_bar
 from tests.test_cli import run_or_exit
@@ -159,6 +159,8 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
     (lambda m: m.add_revolute("J", m.ground, "nobody", at=(0, 0)), "unknown body 'nobody'"),
     (lambda m: m.add_revolute("J", m.ground, m.ground, at=(0, 0)), "joins body 'ground' to itself"),
     (lambda m: m.add_point("P", m.ground, at=(0, math.nan)), "'P' at must be finite"),
+    # (its square overflowed where compile assembles stated distances: an OverflowError)
+    (lambda m: m.add_point("P", m.ground, at=(0, 1e308)), r"'P' at = \[0.0, 1e\+308\] is beyond the numbers a sketch holds"),
     (lambda m: m.add_slot("S", m.ground, m.ground, at=(0, 0), direction=(1, 0)), "to itself"),
     (lambda m: m.drive(), "drive needs exactly one of joint=, body= or point="),
     (lambda m: m.drive("nope"), "unknown joint 'nope'"),
@@ -174,6 +176,14 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
 def test_bad_builder_arguments(call, message):
     with pytest.raises(ModelError, match=message):
         call(planar.Mechanism())
+
+
+def test_a_stated_distance_whose_square_overflows_cannot_hold():
+    # (a numpy LinAlgError from the assembly's least squares)
+    m = four_bar()
+    m.restate("A-B", 1e308)
+    with pytest.raises(AssemblyError, match="distance A-B = 1e\\+308 cannot hold with the others"):
+        m.compile()
 
 
 @pytest.mark.parametrize("call, message", [
@@ -368,6 +378,8 @@ def test_running_out_of_memory_is_one_line(tmp_path, capsys, monkeypatch):
      "design 1: O2-A must be a finite number, got nan"),
     (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{"O2-A": 10**400}], [0.1]), "O2-A must be a finite"),
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, [0.1], branch="x"), "branch must be 'smooth'"),
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, [0.1], fixed=True),  # (a TypeError)
+     "fixed must be a dict of the builder's parameters by name, got True"),
     # (the first two rows were taken without a word)
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, np.zeros((3, 4, 1))),
      "values of shape \\(3, 4, 1\\) give 3 designs their values .* but there are 2 designs"),
@@ -409,6 +421,8 @@ PATH = [(0.0, 0.0), (1.0, 0.6), (2.0, 0.4), (2.6, -0.5), (2.0, -1.2)]
     (lambda: synthesis.path_four_bar(PATH, timing="abcdef"), "timing must hold one finite crank angle per target"),
     (lambda: synthesis.path_four_bar(np.zeros((5000, 2))), "5000 target points, more than the limit of 100"),
     (lambda: synthesis.path_four_bar([[1, 2], [3]]), "targets must be an \\(N, 2\\) array of finite points"),
+    (lambda: synthesis.path_four_bar(-1), "targets must be an \\(N, 2\\) array of finite points"),  # (a TypeError)
+    (lambda: synthesis.dyad(["x"], [0.1]), "positions must be an \\(N, 3\\) array"),  # (a numpy ValueError)
 ])
 def test_bad_synthesis_arguments(call, message):
     with pytest.raises(InputError, match=message):

@@ -140,6 +140,7 @@ def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fix
     """
     table = design_table(designs)
     options = study_options(batch, options)
+    check_fixed(fixed)
     rows = np.shape(values)[0] if isinstance(values, np.ndarray) and values.ndim == 3 else None
     if rows is not None and rows != len(table):
         raise InputError(f"values of shape {np.shape(values)} give {rows} designs their values (one row each), but "
@@ -182,6 +183,12 @@ def join(designs, parts, first=0):
     return DesignSweep(tuple(designs), Models(kept[0].build, kept[0].fixed, tuple(designs), errors, known), errors,
                        np.concatenate([p.batched for p in kept]), sum((p.events for p in kept), ()), *rates,
                        points=points, template=template, **out.arrays())
+
+
+def check_fixed(fixed):
+    """Refuse ``fixed`` (the numbers every design shares) that is no dict of parameter names."""
+    if fixed is not None and not (isinstance(fixed, dict) and all(isinstance(k, str) for k in fixed)):
+        raise InputError(f"fixed must be a dict of the builder's parameters by name, got {fixed!r}")
 
 
 def study_options(batch, options):

@@ -5,7 +5,7 @@ import math
 from planar.errors import ModelError
 from planar.model import checks as model_checks
 
-SCALE = 1e100  # lengths and numbers of a catalogue mechanism within 1/SCALE..SCALE: their squares stay finite
+SCALE = model_checks.SCALE  # lengths and numbers of a catalogue mechanism within 1/SCALE..SCALE
 
 
 def lengths(**named):

@@ -5,6 +5,8 @@ import numpy as np
 
 from planar.errors import ModelError
 
+SCALE = 1e100  # sketch coordinates and lengths within +-SCALE: their squares stay finite
+
 
 def finite(value, what, shape=None):
     """``value`` as a float array, finite (and of ``shape`` if given), else a ModelError naming ``what``."""
@@ -20,8 +22,12 @@ def finite(value, what, shape=None):
 
 
 def point(value, what):
-    """``value`` as a finite world point (2,)."""
-    return finite(value, what, (2,))
+    """``value`` as a finite world point (2,), its coordinates within +-SCALE."""
+    p = finite(value, what, (2,))
+    if np.any(np.abs(p) > SCALE):
+        raise ModelError(f"{what} = {p.tolist()} is beyond the numbers a sketch holds (+-{SCALE:g}): give it in "
+                         f"another unit")
+    return p
 
 
 def flag(value, what):

@@ -33,7 +33,10 @@ from planar.synthesis.result import check
 
 def positions_array(positions, count=None):
     """The positions as an (N, 3) float array of x, y, angle (radians)."""
-    P = np.asarray(positions, float)
+    try:
+        P = np.asarray(positions, float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"positions must be an (N, 3) array of finite x, y, angle (radians), got {positions!r}") from None
     if P.ndim != 2 or P.shape[1] != 3 or not np.all(np.isfinite(P)) or (count is not None and len(P) != count):
         need = f"{count}" if count is not None else "N"
         raise InputError(f"positions must be a ({need}, 3) array of finite x, y, angle (radians), got shape {P.shape}")

@@ -211,7 +211,7 @@ def _targets(targets):
         T = np.asarray(targets, float)
     except (TypeError, ValueError, OverflowError):
         raise InputError(f"targets must be an (N, 2) array of finite points, got {targets!r}") from None
-    if len(T) > MAX_TARGETS:
+    if T.ndim and len(T) > MAX_TARGETS:
         raise InputError(f"{len(T)} target points, more than the limit of {MAX_TARGETS}: the search holds every "
                          f"design's error at every target")
     if T.ndim != 2 or T.shape[1] != 2 or len(T) < 2 or not np.all(np.isfinite(T)):
