@@ -236,14 +236,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             idx = anchors[k : min(k + wave, end)]
             stop = np.flatnonzero(past(state[1][None], U[idx]) | on_event(model, U[idx], events))
             tried = stop[0] if stop.size else idx.size
-            # an anchor several steps from the one before (sparse values) is walked to: a wave
-            # would not reach it
+            # an anchor several steps from the one before (sparse values) is not tried in a wave
+            # (it would not reach it): it is reached through stations, or walked to
             far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
                                  > SPARSE * max_step)
             tried = far[0] if far.size else tried
             if tried == 0 and far.size:
                 # sparse values: the stations between them in waves, many gaps a batch (each
-                # within half a turn: the walk goes the direct way there)
+                # within half a turn of the one before: the walk would go the direct way there)
                 near = idx[: stop[0] if stop.size else idx.size]
                 d = np.diff(U[near], axis=0, prepend=state[1][None])
                 ok = (scaled_norm(model, d) < TURN) & np.all(np.abs(d) <= np.pi, axis=1)
