@@ -20,7 +20,7 @@ from planar.sweep.walk import MODE_PERIODS, WALK_STEPS, Walker, _turns, less_per
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
-SPARSE = 4  # anchors further apart than SPARSE * max_step are walked to, not tried in a wave
+SPARSE = 4  # anchors further apart than SPARSE * max_step are reached through stations, not tried in a wave
 MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
 GUESSES = 64  # poses solved that a value too far to walk to is entered from, at most
 FAR = 100.0  # scaled input from the sketch beyond which a periodic input is solved periods back
