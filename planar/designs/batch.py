@@ -10,6 +10,7 @@ from planar.events import NEAR_CURVE
 from planar.results import Status
 from planar.solver import PREDICTED
 from planar.sweep import CHUNK, Branch, final_step, output_columns, sweep_anchors
+from planar.sweep.anchors import stations
 
 WALK_BYTES = 1 << 28  # the compiled walk's stations of a call (its designs' poses and rates), at most
 
@@ -158,20 +159,19 @@ def _walk(t, p, out, U, Ud, Udd, tol, max_step, fits):
     V = np.concatenate([t.u0[:, :1], U[:, :, 0]], axis=1)  # the sketch's input, then the values
     scale = 1.0 / t.L if ref.input_lengths[0] else np.ones(D)
     span = np.max(np.abs(np.diff(V, axis=1))[fits] * scale[fits, None], axis=0, initial=0.0)
-    parts = np.maximum(1, np.ceil(span / max_step)).astype(int)  # the steps to each value
-    gap, at = np.repeat(np.arange(N), parts), np.cumsum(parts)  # (at: each value's station)
-    frac = (np.arange(gap.size) - (at - parts)[gap] + 1) / parts[gap]
+    gap, frac, at = stations(np.ceil(span / max_step))  # the steps to each value
+    at = at + 1  # (each value's station, after the sketch's)
     plain = gap.size == N  # (no station between values: a value's is a slice)
     ok = np.zeros(D, bool)
     todo = np.flatnonzero(fits)
     per = max(1, WALK_BYTES // ((1 + gap.size) * 8 * (3 * ref.n + 8)))
     for lo in range(0, todo.size, per):
         d = todo[lo : lo + per]
-        stations = np.empty((d.size, 1 + gap.size, 2))
-        stations[:, 0, 0], stations[:, :, 1] = V[d, 0], d[:, None]
-        stations[:, 1:, 0] = V[d][:, gap] + (V[d][:, gap + 1] - V[d][:, gap]) * frac
-        stations[:, at, 0] = V[d, 1:]  # (each value as given)
-        w = compiled.walk(ref, p, stations, t.q0[d], tol, PREDICTED)
+        S = np.empty((d.size, 1 + gap.size, 2))  # each design's stations
+        S[:, 0, 0], S[:, :, 1] = V[d, 0], d[:, None]
+        S[:, 1:, 0] = V[d][:, gap] + (V[d][:, gap + 1] - V[d][:, gap]) * frac
+        S[:, at, 0] = V[d, 1:]  # (each value as given)
+        w = compiled.walk(ref, p, S, t.q0[d], tol, PREDICTED)
         ok[d] = w["ok"]
         k = np.flatnonzero(w["ok"])
         every = k.size == d.size and np.array_equal(d, np.arange(D))  # (most studies: views)

@@ -250,6 +250,20 @@ def _horner(PL, k, t):
     return q.T
 
 
+def stations(steps):
+    """The stations of K intervals each cut into ``steps`` (K,) equal parts (at least one):
+    (gap, frac, end), per station its interval and its fraction along it (1 / parts ... 1), and
+    per interval the index of its last station (its end).
+
+    >>> gap, frac, end = stations(np.array([2.0, 1.0]))
+    >>> gap.tolist(), frac.tolist(), end.tolist()
+    ([0, 0, 1], [0.5, 1.0, 1.0], [1, 2])
+    """
+    parts = np.maximum(1, steps).astype(int)
+    gap, end = np.repeat(np.arange(parts.size), parts), np.cumsum(parts) - 1
+    return gap, (np.arange(gap.size) - (end - parts)[gap]) / parts[gap], end
+
+
 def solve_stations(br, state, U, idx, max_step, coef=None):
     """Anchors ``idx`` (consecutive, each within half a turn of the one before, the first of
     them beyond a wave's reach of ``state``) reached through stations at most ``max_step``
@@ -263,11 +277,8 @@ def solve_stations(br, state, U, idx, max_step, coef=None):
         return 0, None, None, None
     P = np.vstack((state[1][None], U[idx]))
     d = P[1:] - P[:-1]
-    parts = np.maximum(1, np.ceil(scaled_norm(br.m, d) / max_step)).astype(int)
-    gap = np.repeat(np.arange(idx.size), parts)
-    frac = (np.arange(gap.size) - np.repeat(np.cumsum(parts) - parts, parts) + 1) / np.repeat(parts, parts)
+    gap, frac, real = stations(np.ceil(scaled_norm(br.m, d) / max_step))
     S = P[gap] + d[gap] * frac[:, None]
-    real = np.cumsum(parts) - 1  # the anchors' stations
     S[real] = U[idx]  # (each value as given)
     Q, K = [], []
     at, wave = 0, WAVE
