@@ -504,6 +504,21 @@ def test_a_narrow_interval_far_past_a_gap_is_found(backwards):
     assert_limits_named(res, ranges)
 
 
+@pytest.mark.parametrize("step", [0.02, -0.02, 0.035, -0.035])
+def test_an_interval_narrower_than_the_searchs_spacing_past_a_gap_is_found(step):
+    # a short coupler: two intervals of the crank a turn, each 0.062 rad wide; up or down a
+    # turn from the sketch's, the search past the gap tried values 0.2 rad apart and went on
+    # to the sketch's interval a turn on: the other one's 1-3 values were NOT_ASSEMBLABLE
+    r2, r3, e, start = 5.6708230560143775, 0.17493667644335884, 0.07391228681162543, 0.013040361466222998
+    m = slider_crank(r2, r3, offset=e, start=start)
+    res = m.sweep(start + np.arange(0.0, 2 * np.pi + 0.5, abs(step)) * np.sign(step))
+    ranges = oracles.slider_crank_limits(r2, r3, e, "crank")
+    o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e)
+    assert_no_lost_value(res, ranges, o["th3"])
+    assert_limits_named(res, ranges)
+    assert np.sum(in_range(res.inputs[:, 0], ranges[1:], 1e-6)[0]) >= 1  # (the other interval is asked)
+
+
 def test_a_watt_six_bar_comes_back_to_the_sketchs_interval_from_its_other_one():
     m = watt_six_bar(1.6202934626207093, 3.067590914397823, 4.785201881160209, 2.1956945791555653,
                      coupler_point=(-0.5890885839370759, 2.737501047719217),

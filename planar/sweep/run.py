@@ -307,10 +307,16 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 found = home(k)
             upto = end if found is None else k + found[0]
             guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
-            nearer, assembles = (walker.enter_any(guesses, chosen, U[anchors[k:upto]], poses=solved_poses()) if upto > k
+            # (one input: every value from anchor k on, not the anchors only: an interval of the
+            # range narrower than their spacing may hold values and no anchor)
+            seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
+            nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=solved_poses()) if upto > k
                                  else (None, False))
             if nearer is not None:
-                found, homed = (*nearer, chosen), False
+                c = int(np.searchsorted(anchors, seg[nearer[0]]))
+                if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
+                    anchors, end = np.insert(anchors, c, seg[nearer[0]]), end + 1
+                found, homed = (c - k, nearer[1], chosen), False
             if found is None and assembles and not _nested:
                 found = _enter_by_images(model, walker, U[anchors[k:end]], state[1], chosen, options)
             if found is None:

@@ -253,7 +253,7 @@ class Walker:
         br = self.br
         best, assembles = None, False
         # the first few targets and some spread over the rest, at most SPREAD walk steps apart
-        # along the input (an interval of the range narrower than that may be missed): a
+        # along the input, and every target next to those where the gap dips (_dips): a
         # least-squares search of each of hundreds of values would cost more than the walk
         along = np.r_[0.0, np.cumsum(scaled_norm(br.m, np.diff(targets, axis=0)))]
         marks = np.searchsorted(along, np.arange(0.0, along[-1], SPREAD * self.max_step)[:MAX_SPREAD])
@@ -265,6 +265,7 @@ class Walker:
                 if not pick.size:
                     break
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick], decide=GAP)
+            pick, ql, gap = _dips(br.m, g, targets, pick, ql, gap)
             near = np.flatnonzero(gap <= GAP)
             assembles |= near.size > 0
             # the first few, and a few spread over the rest: next to a limit's far side Newton
@@ -420,6 +421,42 @@ def less_periods(u, k, P):
     whole, turns, head = _split(P)
     t = k * turns
     return np.where(whole, ((u - t * TWO_PI_A1) - t * TWO_PI_A2) - t * TWO_PI_B, (u - k * head) - k * (P - head))
+
+
+def _dips(model, g, targets, pick, ql, gap):
+    """The search past a gap's values ``pick`` (indices into ``targets``), their least-squares
+    poses ``ql`` and gaps, with every target between the neighbours of each local minimum of
+    the gap, before the first value that assembles, searched from ``g`` too and merged in order.
+    An interval of the range narrower than the picks' spacing lies next to such a minimum:
+    the gap falls towards it from both sides (a slider-crank whose short coupler reaches two
+    intervals a turn, each 0.04-0.2 rad wide: the search at every fourth walk step missed one).
+
+    >>> from planar.mechanisms import slider_crank
+    >>> m = slider_crank(4.0, 0.15, offset=0.0, start=0.0).compile()
+    >>> targets = np.arange(0.05, 3.3, 0.05)[:, None]   # past the limit at 0.0375 up to pi
+    >>> pick = np.arange(0, targets.shape[0], 4)         # every fourth: none in [3.104, 3.179]
+    >>> ql, gap = least_squares_gap(m, np.repeat(m.q0[None], pick.size, 0), targets[pick], decide=GAP)
+    >>> bool(np.any(gap <= GAP))
+    False
+    >>> pick, ql, gap = _dips(m, m.q0, targets, pick, ql, gap)
+    >>> targets[pick[gap <= GAP], 0].round(2).tolist()
+    [3.15]
+    """
+    near = np.flatnonzero(gap <= GAP)
+    end = near[0] if near.size else pick.size
+    if end < 1 or pick.size < 2:
+        return pick, ql, gap
+    left, right = np.r_[np.inf, gap[:-1]], np.r_[gap[1:], np.inf]
+    dips = np.flatnonzero((gap <= left) & (gap <= right))
+    dips = dips[dips < end]
+    lo, hi = pick[np.maximum(dips - 1, 0)], pick[np.minimum(dips + 1, pick.size - 1)]
+    more = np.setdiff1d(np.concatenate([np.arange(a + 1, b) for a, b in zip(lo, hi)] + [np.zeros(0, int)]), pick)
+    if not more.size:
+        return pick, ql, gap
+    more = more[:MAX_SPREAD]
+    qm, gm = least_squares_gap(model, np.repeat(g[None], more.size, 0), targets[more], decide=GAP)
+    order = np.argsort(np.r_[pick, more], kind="stable")
+    return np.r_[pick, more][order], np.concatenate((ql, qm))[order], np.r_[gap, gm][order]
 
 
 def _split(P):
