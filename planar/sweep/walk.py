@@ -453,7 +453,7 @@ def _dips(model, g, targets, pick, ql, gap):
     more = np.setdiff1d(np.concatenate([np.arange(a + 1, b) for a, b in zip(lo, hi)] + [np.zeros(0, int)]), pick)
     if not more.size:
         return pick, ql, gap
-    more = more[:MAX_SPREAD]
+    more = more[np.unique(np.linspace(0, more.size - 1, min(more.size, MAX_SPREAD)).astype(int))]
     qm, gm = least_squares_gap(model, np.repeat(g[None], more.size, 0), targets[more], decide=GAP)
     order = np.argsort(np.r_[pick, more], kind="stable")
     return np.r_[pick, more][order], np.concatenate((ql, qm))[order], np.r_[gap, gm][order]
