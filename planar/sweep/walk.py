@@ -429,7 +429,7 @@ def _dips(model, g, targets, pick, ql, gap):
     the gap, before the first value that assembles, searched from ``g`` too and merged in order.
     An interval of the range narrower than the picks' spacing lies next to such a minimum:
     the gap falls towards it from both sides (a slider-crank whose short coupler reaches two
-    intervals a turn, each 0.04-0.2 rad wide: the search at every fourth walk step missed one).
+    intervals a turn, each 0.04-0.2 rad wide: values tried every fourth walk step miss them).
 
     >>> from planar.mechanisms import slider_crank
     >>> m = slider_crank(4.0, 0.15, offset=0.0, start=0.0).compile()
