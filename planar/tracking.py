@@ -56,13 +56,14 @@ class Poses:
     ``signs``: the blocks' modes on the branch (the sketch's), once the direct path has
     asked; ``refused``: the value it could not certify last, while no pose has been learned
     since (the sweep it goes to asks again); ``complete``: whether every known pose has its
-    coefficients."""
+    coefficients; ``broken``: whether a sweep learned from met a limit or an event that breaks
+    the branch."""
 
     def __init__(self, model):
         self.u0 = self.newest = float(model.u0[0])
         nan = np.full_like(model.q0[None], np.nan)
         self._keep(np.array([self.u0]), np.stack((model.q0[None], nan, nan), axis=1))
-        self.signs = None
+        self.signs, self.broken = None, False
 
     def _keep(self, u, rows):
         """Hold the known poses u (K,) and their rows (K, 3, n), with room for CAP more after them."""
@@ -107,6 +108,7 @@ class Poses:
         event that breaks the branch or its first value not reached on it, of those its walk
         ``reached`` (N,) by continuation from its start (no jump, no move by whole periods of a
         rocking input: values solved out of order may be asked before those)."""
+        self.broken = self.broken or not _clean(res)
         end = _clean_end(res)
         take = np.flatnonzero(reached[:end])
         if take.size == 0:
@@ -171,9 +173,12 @@ def sweep(model, U, Ud, Udd, **options):
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
     k = poses.nearest(U[:1, 0])[0]
     start = poses.q[k], poses.u[k : k + 1]
-    if start[1][0] == poses.u0 or np.max(np.abs(U[:, 0] - poses.u0)) * input_scale(model)[0] > ROCKING:
-        # the sketch itself (the sweep from it checks it), or values the sweep may solve whole
-        # periods back, from the sketch
+    known = poses.u
+    past = poses.broken and (U[:, 0].min() < known.min() or U[:, 0].max() > known.max())
+    if start[1][0] == poses.u0 or np.max(np.abs(U[:, 0] - poses.u0)) * input_scale(model)[0] > ROCKING or past:
+        # the sketch itself (the sweep from it checks it), values the sweep may solve whole
+        # periods back, from the sketch, or values past the known poses on a branch that meets
+        # limits (the sweep from a known pose would meet one and be done again from the sketch)
         start = None
     reached = []
     res = run_sweep(model, U, Ud, Udd, start, _reached=reached, **options)

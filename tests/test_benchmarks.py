@@ -2,6 +2,7 @@
 installed are skipped by the benchmark itself (the ``bench`` extra is optional)."""
 
 import importlib.util
+import json
 import re
 import sys
 from pathlib import Path
@@ -73,3 +74,20 @@ def test_targets_print_every_engine_against_the_closed_form_and_the_installed_pe
         for peer in sweep_speed.TARGET_PEERS.values():
             installed = sweep_speed.peers.installed(next(p for p in sweep_speed.peers.PEERS if p.label == peer))
             assert (f"/ {peer} = " in line[4]) == installed, (label, peer)
+
+
+def test_the_fuzz_campaign_writes_a_line_a_sweep_and_sums_them_up(capsys, tmp_path):
+    campaign = _load("fuzz_campaign")
+    campaign.main(["4", "5", "--kinds", "slider_crank"])  # (its crank rocks: a start next to a limit too)
+    lines = capsys.readouterr().out.splitlines()
+    recs = [json.loads(line) for line in lines]
+    assert [r["scenario"] for r in recs] == list("abcdef")
+    for r in recs:
+        assert r["seed"] == 4 and r["kind"] == "slider_crank" and r["error"] is None and r["cpu"] > 0
+        assert sum(r["status"].values()) in (30, 180, 181, 210) and "NOT_CONVERGED" not in r["status"]
+        assert (r["lost"], r["extra"], r["apart"]) == (0, 0, 0)
+    path = tmp_path / "camp.jsonl"
+    path.write_text("\n".join(lines) + "\n")
+    campaign.main(["--summary", str(path)])
+    out = capsys.readouterr().out
+    assert out.startswith("6 sweeps, 1 mechanisms") and "lost: 0 sweeps" in out

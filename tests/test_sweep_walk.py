@@ -14,9 +14,10 @@ from planar.blocks import Plan, plan as block_plan
 from planar.errors import PlanarError
 from planar.events.tracer import Tracer
 from planar.mechanisms import (four_bar, gear_train, geared_five_bar, planetary_gear_train, rack_and_pinion, rolling_wheel,
-                               slider_crank, stephenson_six_bar, watt_six_bar)
+                               slider_crank, stephenson_six_bar, two_loop_six_bar, watt_six_bar)
 from planar.results import POSED, VALID, Status
 from planar.solver import rounding
+from planar.sweep import walk as walk_module
 from planar.sweep.branch import Branch
 from tests import oracles
 
@@ -601,6 +602,65 @@ def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
     assert np.array_equal(POSED[res.status[order]], POSED[dense.status])  # (a jump is between values asked in turn)
     assert np.allclose(res.q[order][POSED[dense.status]], dense.q[POSED[dense.status]], atol=1e-9)
     assert np.sum(res.status == Status.NOT_ASSEMBLABLE) == 166 and not np.any(res.status == Status.NOT_CONVERGED)
+
+
+class Calls(Evaluations):
+    """Counts the calls of ``planar.sweep.walk``'s ``name`` in its block: its searches' least
+    squares (each a batch of values, up to 200 iterations) or its tracings round a circuit
+    (each ~100 tracer steps)."""
+
+    def __init__(self, name):
+        super().__init__()
+        self.name = name
+
+    def __enter__(self):
+        real = getattr(walk_module, self.name)
+
+        def counted(*args, **kw):
+            self.calls += 1
+            return real(*args, **kw)
+
+        self._patch = mock.patch.object(walk_module, self.name, counted)
+        self._patch.start()
+        return self
+
+
+def test_a_gap_searched_from_its_limit_is_not_searched_again_for_the_values_in_it():
+    # (found by benchmarks/fuzz_campaign.py) a crank that rocks over [2.0, 4.28], 181 values
+    # drawn over +-4 rad: the gap past each limit is searched once (from the limit's pose and
+    # the sketch's, and where the gap dips), and the sketch's own stretch is come back to by
+    # the walk from the sketch, not by a search past a limit it met the direct way (10
+    # searches before, the values below the range searched twice)
+    r = (3.6024766824564676, 3.4003318427679505, 1.5451971727659182, 7.436348865464706)
+    start = 1.0536061807635093 + 2.6004822959174714 - 2 * np.pi
+    m = four_bar(*r, crossed=True, start=start)
+    U = start + np.random.default_rng(2).uniform(-4, 4, 181)
+    with Calls("least_squares_gap") as count:
+        res = m.sweep(U)
+    assert count.calls <= 6, count.calls
+    o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1)
+    assert_no_lost_value(res, oracles.four_bar_input_limits(*r), o["th3"])
+    assert sorted(e.kind for e in res.events) == ["limit", "limit"]
+
+
+def test_a_circuit_traced_round_is_not_traced_again_whole_periods_on():
+    # (found by benchmarks/fuzz_campaign.py) a two-loop six-bar whose crank reaches [0.281,
+    # 0.324] and [1.081, 3.198] a turn, 60 values over +-3 rad asked three times each: past the
+    # limit at 0.281 least squares finds only other modes, and the tracing round from there
+    # (0.4 s) does not come back to the branch's; the sweep of the values' images a period on
+    # then traced the same circuit a turn on again (4 tracings before, 2 after)
+    m = two_loop_six_bar((3.7241086415196696, 3.521626096754349, 6.349303661027999, 5.001675931394739,
+                          9.622399160856425, 1.2380605853546698, 5.757440868377968, 3.6388399284965374),
+                         frame_angle=0.6938550937791534, frame_angle_2=-1.7279331802441251, phase=-2.8438273054641607,
+                         start=1.724989098190794)
+    rng = np.random.default_rng(0)
+    U = rng.permutation(np.repeat(1.724989098190794 + rng.uniform(-3, 3, 60), 3))
+    with Calls("around") as count:
+        res = m.sweep(U)
+    assert count.calls <= 2, count.calls
+    dense = m.sweep(np.sort(U))
+    order = np.argsort(U)
+    assert np.array_equal(POSED[res.status[order]], POSED[dense.status])
 
 
 def test_a_walk_into_a_limit_hands_it_to_the_tracer_without_creeping_up_on_it():

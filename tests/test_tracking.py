@@ -60,6 +60,33 @@ def test_warm_sweeps_equal_sweeps_from_the_sketch(name):
         _same(model.sweep(U), _from_sketch(name, U))
 
 
+def test_a_sweep_past_the_known_poses_of_a_branch_with_limits_is_made_once(monkeypatch):
+    # a warm sweep that meets a limit is made again from the sketch (past a limit the way on
+    # depends on the whole walk); once a sweep of the branch has met one, sweeps past the known
+    # poses start from the sketch: each of them was made twice, for 1.5-2x the cost
+    import functools
+
+    import planar.sweep
+
+    model = MECHANISMS["triple rocker"]().compile()
+    model.sweep(np.linspace(0.0, 2.5, 30))  # (past the limit at 1.7913)
+    runs = []
+    real = planar.sweep.run_sweep
+
+    @functools.wraps(real)  # (its signature names the sweep's options)
+    def counted(*args, **kw):
+        runs.append(1)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(planar.sweep, "run_sweep", counted)
+    # (the first value's nearest known pose is not the sketch's)
+    for U in (np.linspace(1.6, 2.4, 41), np.r_[1.5, np.random.default_rng(0).permutation(np.linspace(-3.0, 3.0, 61))]):
+        runs.clear()
+        res = model.sweep(U)
+        assert len(runs) == 1
+        _same(res, _from_sketch("triple rocker", U))
+
+
 def test_beyond_a_limit_stays_unassemblable_and_moving_back_works():
     model = MECHANISMS["crank-rocker by its rocker"]().compile()
     tracker = model.track()

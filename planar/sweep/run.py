@@ -149,9 +149,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         the origin with no limit it met between, or None (a walk that meets a new limit on the
         way tries the next such anchor)."""
         for _ in range(tries):
-            # (within a turn, not a value on an event: a limit's pose is no pose to go on from)
+            # (within a turn, not a value on an event: a limit's pose is no pose to go on from;
+            # nor past a limit met the direct way, the way this walk goes)
             V = U[anchors[k:end]]
-            c = np.flatnonzero(~past(origin[1][None], V) & ~on_event(model, V, events)
+            c = np.flatnonzero(~past_limit(limits, origin[1][None], V) & ~on_event(model, V, events)
                                & (scaled_norm(model, V - origin[1]) <= TURN))
             if not c.size:
                 return None
@@ -289,12 +290,18 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             # assembles there) a period the other way round from the sketch
             known = np.flatnonzero(solved)
             found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
+            bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
             if found is None and got[0] == "limit" and entries < MAX_ENTRIES:
                 # the range past the gap entered at its far end, as a sweep with values all the way
                 # enters it: the first of the walk's steps past the limit where the branch can be
                 # entered, and walked on from there
                 grid = _past_gap(model, state[1], U[anchors[k]], max_step)
-                nearer = walker.enter_any([state[0], model.q0], chosen, grid, poses=solved_poses())[0] if grid.size else None
+                if grid.size and scaled_norm(model, U[anchors[k]] - state[1]) <= TURN:
+                    grid = np.vstack((grid, U[anchors[k]][None]))  # (and the value itself, a step or so on)
+                nearer, assembles = (walker.enter_any([state[0], model.q0], chosen, grid, poses=solved_poses())
+                                     if grid.size else (None, True))
+                if nearer is None and not assembles:  # (from the limit, past the pose before it, to the last step)
+                    bare = np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
                 if nearer is not None:
                     entries += 1
                     u_e = grid[nearer[0]]
@@ -310,7 +317,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             # (one input: every value from anchor k on, not the anchors only: an interval of the
             # range narrower than their spacing may hold values and no anchor)
             seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
-            nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=solved_poses()) if upto > k
+            if bare is not None:  # (not again where the search from the limit, from the same guesses, found none)
+                seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
+            nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=solved_poses()) if seg.size
                                  else (None, False))
             if nearer is not None:
                 c = int(np.searchsorted(anchors, seg[nearer[0]]))
@@ -322,7 +331,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             if found is None:
                 break
             c, qe, se = found
-            if homed and c:
+            passed = U[anchors[k : k + c], 0]
+            if homed and c and (bare is None or np.any((passed < bare[0]) | (passed > bare[1]))):
+                # (not where the search from the limit found nothing assembling)
                 skipped.append((k, k + c, state[1]))
             k += c
             i = anchors[k]

@@ -34,7 +34,9 @@ class Walker:
         # the last walk moved by whole periods of an input that does not turn fully: past the
         # limits of those periods (its target not reached continuously: a jump)
         self.jumped, self.also = False, None
-        self._round = []  # (modes, inputs covered) of the tracings round a circuit that did not come back to ours
+        # (modes, inputs covered, the input's period where known) of the tracings round a
+        # circuit that did not come back to ours
+        self._round = []
         self._met = {}  # (input, modes, pose) a walk started from -> (direction, the limit it met there)
         self.images = []  # (values, sweep) of the sweeps of values' images a period back past a gap
 
@@ -365,15 +367,16 @@ class Walker:
                 return self.near_turns(qn[k], target, signs, poses[k])
         for qn, found in other:
             # another mode of the same circuit: go round through a limit to ours; not again in
-            # modes and inputs a tracing that did not come back to ours has covered (the same
-            # circuit, most likely: the tracings are few, each costs ~100s of solves)
-            covered = any(np.array_equal(found, f) and lo <= target[0] <= hi for f, (lo, hi) in self._round)
+            # modes and inputs a tracing that did not come back to ours has covered, or whole
+            # periods of the input from those (the same circuit, most likely: the tracings are
+            # few, each costs ~100s of solves)
+            covered = any(np.array_equal(found, f) and _within(target[0], lo, hi, P) for f, (lo, hi), P in self._round)
             if target.size == 1 and self.rounds > 0 and not covered:
                 self.rounds -= 1
                 got, span = around(br.m, br.p, qn, target, signs, self.max_step, np.pi)
                 if got is not None:
                     return got
-                self._round.append((found, span))
+                self._round.append((found, span, self._period[0] if self._period else None))
         return None
 
 
@@ -421,6 +424,15 @@ def less_periods(u, k, P):
     whole, turns, head = _split(P)
     t = k * turns
     return np.where(whole, ((u - t * TWO_PI_A1) - t * TWO_PI_A2) - t * TWO_PI_B, (u - k * head) - k * (P - head))
+
+
+def _within(u, lo, hi, P=None):
+    """Whether lo <= u <= hi, or, with a period P of the input, u lies whole periods from such a value.
+
+    >>> _within(7.0, 0.5, 1.0, 2 * np.pi), _within(7.0, 0.5, 1.0)
+    (True, False)
+    """
+    return lo <= u <= hi if P is None else (u - lo) % P <= hi - lo
 
 
 def _dips(model, g, targets, pick, ql, gap):
