@@ -1,6 +1,6 @@
 """A fuzz campaign of sweeps as users and scripts drive them (docs/hardening.md): each seed one
 random catalogue mechanism (dimensions 0.3-3 times the builder's defaults, random flags and
-start), swept on a fresh model in six scenarios
+start), swept in six scenarios
 
     a  181 values monotone over 3 rad up or down from the start
     b  181 values shuffled over +-4 rad
@@ -10,7 +10,8 @@ start), swept on a fresh model in six scenarios
     f  from a start 1e-9..1e-2 inside an end of the motion range, 181 values across it
 
 and each sweep's values within 25 rad of the start against a dense sweep of them (their sorted
-union with a 0.02 rad grid, on a fresh model). One JSON line a sweep: the seed, the mechanism,
+union with a 0.02 rad grid, on a fresh model; with --warm, every sweep of a mechanism on one
+model, which remembers the poses it solved). One JSON line a sweep: the seed, the mechanism,
 the scenario, its CPU seconds and count of each status, and the values it disagrees with the
 dense sweep on: ``lost`` (the dense sweep poses them, this one does not), ``extra`` (the
 other way) and ``apart`` (both posed, neither ``JUMPED``, a coordinate more than 1e-8 L apart,
@@ -18,6 +19,7 @@ an angle times L, up to whole turns).
 
     python3 benchmarks/fuzz_campaign.py 0 50 > camp.jsonl            # seeds 0-49, numpy
     python3 benchmarks/fuzz_campaign.py 0 50 --kinds watt_six_bar --engine numba
+    python3 benchmarks/fuzz_campaign.py 0 50 --warm                  # as a script sweeping one model
     python3 benchmarks/fuzz_campaign.py --summary camp.jsonl          # counts, slowest sweeps
 """
 
@@ -40,6 +42,7 @@ KINDS = ("four_bar", "slider_crank", "watt_six_bar", "stephenson_six_bar", "gear
          "planetary_gear_train", "inverted_slider_crank", "two_loop_six_bar")
 POSED = (Status.SOLVED, Status.NEAR_SINGULAR, Status.LIMIT, Status.JUMPED, Status.BRANCH_EVENT)
 NEAR = 25.0  # values this close to the start are checked against the dense sweep
+WARM = False
 
 
 def mechanism(kind, rng, start=None):
@@ -126,10 +129,18 @@ def compare(r, ref, values, L):
     return int(lost.sum()), int(extra.sum()), apart
 
 
+MODELS = {}  # with --warm: one model per mechanism, as a user's script sweeps it again and again
+
+
 def sweep(kind, kw, values, engine):
     """(the sweep or None, its CPU seconds, the error's class name or None) on a fresh model
-    (a Mechanism's compile() is kept, and a model remembers the poses it solved)."""
-    model = CATALOGUE[kind](**kw).compile()
+    (a Mechanism's compile() is kept, and a model remembers the poses it solved), or with
+    --warm on the mechanism's model of the sweeps before."""
+    key = json.dumps([kind, kw])
+    model = MODELS.get(key) or CATALOGUE[kind](**kw).compile()
+    if WARM:
+        MODELS.clear()
+        MODELS[key] = model
     t = time.process_time()
     try:
         r = model.sweep(values, engine=engine)
@@ -190,10 +201,13 @@ def main(argv=None):
     ap.add_argument("stop", type=int, nargs="?", default=20)
     ap.add_argument("--kinds", nargs="+", default=list(KINDS), choices=sorted(CATALOGUE))
     ap.add_argument("--engine", default="numpy", choices=("numpy", "numba"))
+    ap.add_argument("--warm", action="store_true", help="each mechanism's sweeps on one model (it remembers poses)")
     ap.add_argument("--summary", metavar="JSONL")
     args = ap.parse_args(argv)
     if args.summary:
         return summary(args.summary)
+    global WARM
+    WARM = args.warm
     # (the modules a sweep imports on first use, outside the CPU times: a search past a gap)
     CATALOGUE["four_bar"](4.0, 2.0, 3.0, 4.0).compile().sweep([0.0, 3.0, 1e3], engine=args.engine)
     for seed in range(args.first, args.stop):

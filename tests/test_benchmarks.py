@@ -86,6 +86,10 @@ def test_the_fuzz_campaign_writes_a_line_a_sweep_and_sums_them_up(capsys, tmp_pa
         assert r["seed"] == 4 and r["kind"] == "slider_crank" and r["error"] is None and r["cpu"] > 0
         assert sum(r["status"].values()) in (30, 180, 181, 210) and "NOT_CONVERGED" not in r["status"]
         assert (r["lost"], r["extra"], r["apart"]) == (0, 0, 0)
+    # each mechanism's sweeps on one model (it remembers poses): the same statuses
+    campaign.main(["4", "5", "--kinds", "slider_crank", "--warm"])
+    warm = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert [r["status"] for r in warm] == [r["status"] for r in recs]
     path = tmp_path / "camp.jsonl"
     path.write_text("\n".join(lines) + "\n")
     campaign.main(["--summary", str(path)])
