@@ -24,6 +24,7 @@ an angle times L, up to whole turns).
 """
 
 import argparse
+import inspect
 import json
 import sys
 import time
@@ -37,19 +38,18 @@ import planar  # noqa: E402
 from planar.analysis import motion_range  # noqa: E402
 from planar import Status  # noqa: E402
 from planar.mechanisms import CATALOGUE  # noqa: E402
+from planar.results import POSED  # noqa: E402
 
 KINDS = ("four_bar", "slider_crank", "watt_six_bar", "stephenson_six_bar", "geared_five_bar", "gear_train",
          "planetary_gear_train", "inverted_slider_crank", "two_loop_six_bar")
-POSED = (Status.SOLVED, Status.NEAR_SINGULAR, Status.LIMIT, Status.JUMPED, Status.BRANCH_EVENT)
 NEAR = 25.0  # values this close to the start are checked against the dense sweep
 WARM = False
 
 
-def mechanism(kind, rng, start=None):
-    """One random mechanism of ``kind``: its builder's numeric defaults each scaled by 0.3-3,
-    booleans drawn, a random start (or ``start``); None where the builder refuses the draw."""
-    import inspect
-
+def mechanism(kind, rng):
+    """(one random mechanism of ``kind``, its builder's arguments): the builder's numeric
+    defaults each scaled by 0.3-3, booleans drawn, a random start; None where the builder
+    refuses the draw."""
     build = CATALOGUE[kind]
     kw = {}
     for name, p in inspect.signature(build).parameters.items():
@@ -60,12 +60,10 @@ def mechanism(kind, rng, start=None):
             kw[name] = bool(rng.integers(2))
         elif name in ("start", "frame_angle", "frame_angle_2", "slide_angle", "rack_angle", "phase"):
             kw[name] = float(rng.uniform(-np.pi, np.pi))
-        elif isinstance(d, (int, float)) and d is not None:
+        elif isinstance(d, (int, float)):
             kw[name] = float(d * rng.uniform(0.3, 3.0)) if d else float(rng.uniform(-1, 1))
         elif isinstance(d, tuple):
             kw[name] = tuple(float(v * rng.uniform(0.3, 3.0)) for v in d)
-    if start is not None:
-        kw["start"] = start
     try:
         return build(**kw), kw
     except planar.PlanarError:
@@ -108,12 +106,12 @@ def near_end(kind, kw, rng):
 
 def compare(r, ref, values, L):
     """Lost, extra and apart values of sweep r against the dense sweep ref (values: ref's)."""
-    posed = np.isin(np.asarray(r.status), POSED)
+    posed = POSED[np.asarray(r.status)]
     u = np.asarray(r.inputs)[:, 0]
     k = np.searchsorted(values, u)
     ok = (k < values.size) & (np.abs(values[np.minimum(k, values.size - 1)] - u) == 0)
     k = np.minimum(k, values.size - 1)
-    ref_posed = np.isin(np.asarray(ref.status), POSED)[k] & ok
+    ref_posed = POSED[np.asarray(ref.status)][k] & ok
     lost = ok & ref_posed & ~posed
     extra = ok & ~ref_posed & posed
     # (a value JUMPED to is on the branch but not shown continuous with the one before: its

@@ -331,10 +331,11 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             if found is None:
                 break
             c, qe, se = found
-            passed = U[anchors[k : k + c], 0]
-            if homed and c and (bare is None or np.any((passed < bare[0]) | (passed > bare[1]))):
+            if homed and c:
                 # (not where the search from the limit found nothing assembling)
-                skipped.append((k, k + c, state[1]))
+                passed = U[anchors[k : k + c], 0]
+                if bare is None or np.any((passed < bare[0]) | (passed > bare[1])):
+                    skipped.append((k, k + c, state[1]))
             k += c
             i = anchors[k]
             qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
