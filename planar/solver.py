@@ -22,9 +22,14 @@ REENTRY = 40  # a guess across a gap of the motion range, or a least-squares min
 # Newton's steps at a pose solved to the rounding of its coordinates (:func:`rounding`), over
 # that rounding: they solve the rows' rounding noise through the Jacobian's inverse
 WANDER = 10.0
+GAP = 1e-8  # scaled residual above which a least-squares minimum is not an assembly
 # a least-squares search that only decides whether a point assembles (its gap above or below
 # a threshold) stops a point above it whose step lowers its cost by less than this fraction
 DECIDED = 1e-7
+# a least-squares point whose cost fell by less than this fraction over its last STALL_STEPS
+# steps, at a gap, is at its minimum to that fraction: the crawl along a nearly flat valley of
+# minima (a loop that cannot close shares out its gap among the joints in a continuum of ways)
+STALL, STALL_STEPS = 1e-4, 10
 
 
 def _solve(J, b):
@@ -134,8 +139,9 @@ def least_squares_gap(model, q, u, *, iterations=200, decide=None):
 
     For inputs the mechanism cannot reach this is the assembly gap; returns (q, gap). Each
     point stops once assembled, stuck (over ten rejected steps in a row) or no longer
-    improving (a non-zero minimum: the gap); the others go on, so the iteration budget is
-    spent on the few that converge slowly (next to a limit, where the solution is singular
+    improving (a non-zero minimum: the gap, once a step lowers the cost by less than 1e-10 of
+    it, or STALL_STEPS steps by less than STALL); the others go on, so the iteration budget
+    is spent on the few that converge slowly (next to a limit, where the solution is singular
     and Gauss-Newton converges only linearly). ``decide``: a gap that only needs to be told
     above or below this (the searches past a gap): a point stops once its gap is a hundredth
     of it (Newton takes it on from there), or, its gap above it, once a step lowers its cost
@@ -151,7 +157,8 @@ def least_squares_gap(model, q, u, *, iterations=200, decide=None):
         r = Phi * rs
         cost = np.sum(r**2, axis=1)
         act = np.arange(N)
-        for _ in range(iterations):
+        last = cost.copy()  # each point's cost STALL_STEPS steps ago
+        for it in range(1, iterations + 1):
             if act.size == 0:
                 break
             Js = J[act] * rs[None, :, None] * cs[None, None, :]
@@ -171,6 +178,9 @@ def least_squares_gap(model, q, u, *, iterations=200, decide=None):
             q[b], J[b], r[b], cost[b] = q_new[better], J_n[better], r_n[better], cost_n[better]
             lam[act] = np.where(better, lam[act] * 0.3, lam[act] * 10.0)
             done = (cost[act] <= 1e-32) | (lam[act] > 1e8) | flat
+            if it % STALL_STEPS == 0:
+                done |= (cost[act] > r.shape[1] * (decide or GAP) ** 2) & (cost[act] > last[act] * (1 - STALL))
+                last[act] = cost[act]
             if decide is not None:
                 # (a cost over m decide^2 has a row over decide)
                 done |= (cost[act] <= (0.01 * decide) ** 2) | (better & (cost_n > r.shape[1] * decide**2) &

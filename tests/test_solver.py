@@ -216,6 +216,33 @@ def test_least_squares_gap_that_only_decides_stops_once_the_side_of_the_threshol
     np.testing.assert_allclose(decided[3:], full[3:], rtol=1e-4)
 
 
+def test_least_squares_gap_stops_a_point_crawling_along_a_valley_of_minima():
+    # a geared five-bar 5.7 rad into the gap of its crank's range: the loop cannot close and
+    # shares out its gap among the joints in a continuum of ways; damped Gauss-Newton crawls
+    # along that valley, each step lowering the cost by ~1e-6 of it, up to the iteration cap
+    model = geared_five_bar(ground=22.77, gear_radius_2=5.04, gear_radius_4=10.28, link_5=3.11,
+                            start=-0.78).compile()
+    q0, u = model.q0[None], np.array([[9.1]])
+    real, count = System.evaluate, []
+
+    def counted(system, q, *args, **kw):
+        count.append(q.shape[0])
+        return real(system, q, *args, **kw)
+
+    with mock.patch.object(System, "evaluate", counted):
+        with mock.patch.object(solver, "STALL", 0.0):
+            _, crawled = solver.least_squares_gap(model, q0, u)
+        crawl = len(count)
+        count.clear()
+        _, gap = solver.least_squares_gap(model, q0, u)
+        stopped = len(count)
+        count.clear()
+        _, decided = solver.least_squares_gap(model, q0, u, decide=1e-8)
+    assert crawl > 150 and stopped < 0.6 * crawl and len(count) <= stopped, (crawl, stopped, len(count))
+    # the gap of a valley is its height to the percent: the crawl's 150 more steps move it less
+    assert gap[0] == pytest.approx(crawled[0], rel=1e-2) and decided[0] > 0.1
+
+
 def test_least_squares_gap_is_zero_where_the_mechanism_assembles():
     model = four_bar(4, 3, 3, 3).compile()
     u = np.radians([[0.0], [60.0], [-110.0]])

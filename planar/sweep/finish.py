@@ -10,11 +10,11 @@ from planar.events import NEAR_CURVE, Event, status_of
 from planar.results import POSED as POSED_MASK
 from planar.results import VALID as VALID_MASK
 from planar.results import Status, Sweep
-from planar.solver import ALONG_TANGENT, least_squares_gap
+from planar.solver import ALONG_TANGENT, GAP, least_squares_gap
 from planar.sweep.anchors import CHUNK
 from planar.sweep.branch import final_step, input_scale
 from planar.sweep.located import EVENT_TOL
-from planar.sweep.walk import GAP, add_periods
+from planar.sweep.walk import add_periods
 
 BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
 

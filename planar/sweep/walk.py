@@ -4,11 +4,10 @@ past a gap, the input's period and whole turns of angles; one class with the hel
 import numpy as np
 
 from planar.events.crossing import around, cross
-from planar.solver import DISTANT, REENTRY, least_squares_gap, newton, rounding
+from planar.solver import DISTANT, GAP, REENTRY, least_squares_gap, newton, rounding
 from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
 from planar.sweep.branch import input_scale, scaled_norm
 
-GAP = 1e-8  # scaled residual above which a least-squares minimum is not an assembly
 HALVINGS = 5  # natural-parameter step halvings before the arclength tracer takes over
 # tracings round a circuit one sweep may make to re-enter its branch: next to a limit's far
 # side the first tries may fail where a value further on enters
