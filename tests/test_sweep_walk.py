@@ -643,6 +643,44 @@ def test_a_gap_searched_from_its_limit_is_not_searched_again_for_the_values_in_i
     assert sorted(e.kind for e in res.events) == ["limit", "limit"]
 
 
+def test_values_past_a_limit_met_after_far_values_are_entered_past_the_gap():
+    # (found by benchmarks/fuzz_campaign.py) a geared five-bar whose crank meets limits at
+    # -2.018 and -1.935 (its sketch at -2.245), 20 values within a radian of the sketch then 10
+    # far ones: the values above -1.935, left to the walk from the value solved before each, met
+    # the limit, and 9 read NOT_ASSEMBLABLE where a sweep of the near values alone poses them;
+    # the gap past it is now searched as the main walk searches it
+    m = geared_five_bar(ground=7.395831623175523, gear_radius_2=6.275429819503751,
+                        gear_radius_4=2.7298681392054993, link_5=10.311398190199988, crossed=True,
+                        start=-2.245117402569223)
+    near = np.array([-3.0880182962600022, -1.2919221882717649, -1.3268299803574892, -2.8308025210212673,
+                     -2.6275269533494416, -3.1549046609779103, -2.7492772341823537, -2.666486291463325,
+                     -1.6596132384337667, -2.7590739866137137, -2.444684852857771, -1.9743205352928574,
+                     -1.5014249263190877, -1.911111303675771, -1.5522033965583142, -1.5361579153499152,
+                     -3.1503927168817034, -1.6804836759397532, -1.3453927683493743, -2.469394905988816])
+    far = [10018.402960061527, -32252.163510287308, 191.90656234299277, 725.1911551722717, -150021.7665695149,
+           441.0095958736054, -7045.8499164685545, 30839.009586349846, -719.7249114038162, 12601.167163699198]
+    res = m.sweep(np.r_[near, far])
+    alone = m.compile().sweep(np.sort(near))
+    assert POSED[alone.status].all()
+    assert POSED[res.status[:20]].all(), [Status(s).name for s in res.status[:20]]
+    k = np.searchsorted(np.sort(near), near)
+    d = res.q[:20] - alone.q[k]
+    d[:, 2::3] = np.angle(np.exp(1j * d[:, 2::3]))  # (angles up to whole turns)
+    assert np.abs(d).max() < 1e-9
+
+
+def test_a_far_value_where_the_search_finds_only_other_modes_is_out_of_reach():
+    # the geared five-bar above (no period: its gears' ratio is not rational), a value 1000 rad
+    # off: entered directly, where least squares and Newton land only in the other modes and
+    # no tracing round comes back to the sketch's, it came back NOT_CONVERGED (gap 3e-11)
+    m = geared_five_bar(ground=7.395831623175523, gear_radius_2=6.275429819503751,
+                        gear_radius_4=2.7298681392054993, link_5=10.311398190199988, crossed=True,
+                        start=-2.245117402569223)
+    res = m.sweep([-2.6, -1.6, -1000.0])
+    assert [Status(s).name for s in res.status] == ["SOLVED", "NOT_ASSEMBLABLE", "NOT_ASSEMBLABLE"]
+    assert res.gap[2] < 1e-8  # (it assembles, in modes the branch does not reach)
+
+
 def test_a_circuit_traced_round_is_not_traced_again_whole_periods_on():
     # (found by benchmarks/fuzz_campaign.py) a two-loop six-bar whose crank reaches [0.281,
     # 0.324] and [1.081, 3.198] a turn, 60 values over +-3 rad asked three times each: past the

@@ -127,9 +127,39 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         # (its angles counted as the sketch's first; then from up to GUESSES poses solved)
         qe = walker.enter([model.q0, snapped(start[0])], chosen, U[i], solved_poses())
         if qe is None:
+            unentered.append(i)
             return ("far",)
         direct.append(i)  # (not reached continuously from the value before it: JUMPED)
         return "ok", qe, chosen
+
+    def enter_past(limit, i, lo):
+        """Value i past the limit ``limit`` (its pose and input) the walk to it met: the range
+        past the gap entered where a sweep with values all the way would enter it (the walk's
+        steps past the limit, and the value), and walked to i from there; i is not reached
+        continuously (JUMPED). ("limit",) where the search finds no entry."""
+        nonlocal entries
+        if not first_search(limit[1], U[i]):
+            return ("limit",)
+        grid = np.vstack((_past_gap(model, limit[1], U[i], max_step), U[i][None]))
+        nearer, _ = walker.enter_any([limit[0], model.q0], chosen, grid, poses=solved_poses())
+        if nearer is None:
+            return ("limit",)
+        entries += 1
+        c, qe = nearer
+        got = ("ok", qe, chosen) if c == len(grid) - 1 else walk((qe, grid[c], chosen), i, lo)
+        if got[0] == "ok":
+            direct.append(i)
+        return got
+
+    def first_search(u_limit, u):
+        """Whether the gap past the limit at ``u_limit`` towards u is searched for the first
+        time (it then counts as searched): each limit's gap each way once a sweep, the main
+        walk's search past it having found what there is to enter."""
+        way = float(np.sign(u[0] - u_limit[0]))
+        if any(w == way and abs(v - u_limit[0]) <= 1e-9 / input_scale(model)[0] for v, w in searched):
+            return False
+        searched.append((float(u_limit[0]), way))
+        return True
 
     def solved_poses():
         """Up to GUESSES of the poses solved, spread over them: where a search's guesses land
@@ -223,8 +253,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     limits = []  # (limit event, direction of the input that hit it)
     round_limits = []  # the same, met only by the walk the other way round a period on
     entries = 0  # ranges entered at a gap's far end
+    searched = []  # (input, direction) of the limits the gaps past which were searched
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
     direct = []  # values entered directly, too far to walk
+    unentered = []  # values too far to walk where the branch's modes were not found
     periods = []  # values walked to moved by whole periods of a rocking input, past their limits
     anchors = sweep_anchors(model, U, max_step)
     kin = Kin()  # the anchors' kinematic coefficients where known (one input)
@@ -295,6 +327,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 # the range past the gap entered at its far end, as a sweep with values all the way
                 # enters it: the first of the walk's steps past the limit where the branch can be
                 # entered, and walked on from there
+                first_search(state[1], U[anchors[k]])
                 grid = _past_gap(model, state[1], U[anchors[k]], max_step)
                 if grid.size and scaled_norm(model, U[anchors[k]] - state[1]) <= TURN:
                     grid = np.vstack((grid, U[anchors[k]][None]))  # (and the value itself, a step or so on)
@@ -408,6 +441,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         got = walk(start, i, -1 if j is None else j)
         if got[0] == "far":
             got = enter_far(start, i)
+        if got[0] == "limit" and entries < MAX_ENTRIES:
+            got = enter_past(got[2], i, -1 if j is None else j)
         if got[0] != "ok":
             failed = (j, U[i])
             continue
@@ -457,6 +492,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         walked[direct] = False
         last = np.maximum.accumulate(np.where(walked, np.arange(N), -1))
         beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss], limits + round_limits)
+    # (and those too far to walk where the search found other modes or nothing: out of the
+    # branch's reach as far as it knows, whatever their least-squares gap)
+    beyond[np.intersect1d(miss, unentered).astype(int)] = True
     jumps = (stops + direct + periods, None)
     if order is not None:
         # values asked one after the other with a limit the walk met between them (the direct
