@@ -145,7 +145,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         if nearer is None:
             return ("limit",)
         entries += 1
-        c, qe = nearer
+        c, qe = nearer[0], walker.near_turns(nearer[1], grid[nearer[0]], chosen, limit[0])
         got = ("ok", qe, chosen) if c == len(grid) - 1 else walk((qe, grid[c], chosen), i, lo)
         if got[0] == "ok":
             direct.append(i)
