@@ -630,14 +630,15 @@ def test_a_gap_searched_from_its_limit_is_not_searched_again_for_the_values_in_i
     # drawn over +-4 rad: the gap past each limit is searched once (from the limit's pose and
     # the sketch's, and where the gap dips), and the sketch's own stretch is come back to by
     # the walk from the sketch, not by a search past a limit it met the direct way (10
-    # searches before, the values below the range searched twice)
+    # searches before, the values below the range searched twice); 2 more search the walk
+    # steps between two values below it 0.25 rad apart, more than the search's spacing
     r = (3.6024766824564676, 3.4003318427679505, 1.5451971727659182, 7.436348865464706)
     start = 1.0536061807635093 + 2.6004822959174714 - 2 * np.pi
     m = four_bar(*r, crossed=True, start=start)
     U = start + np.random.default_rng(2).uniform(-4, 4, 181)
     with Calls("least_squares_gap") as count:
         res = m.sweep(U)
-    assert count.calls <= 6, count.calls
+    assert count.calls <= 8, count.calls
     o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1)
     assert_no_lost_value(res, oracles.four_bar_input_limits(*r), o["th3"])
     assert sorted(e.kind for e in res.events) == ["limit", "limit"]
@@ -667,6 +668,36 @@ def test_values_past_a_limit_met_after_far_values_are_entered_past_the_gap():
     d = res.q[:20] - alone.q[k]
     d[:, 2::3] = np.angle(np.exp(1j * d[:, 2::3]))  # (angles up to whole turns)
     assert np.abs(d).max() < 1e-9
+
+
+def test_the_range_past_a_gap_is_entered_between_values_where_the_first_lies_in_the_gap():
+    # (found by benchmarks/fuzz_campaign.py) a two-loop six-bar whose crank meets a limit at
+    # -2.102 going down and comes back at -3.649: the walk to -2.135, a step on, met the limit,
+    # and the search among the values past it (least squares from the limit's pose and the
+    # sketch's, 1.7 rad away at -3.83) found no assembly, so -3.83 read NOT_ASSEMBLABLE; the
+    # search now tries the walk steps between the values too, as a sweep with values all the
+    # way does (it enters at -3.65)
+    m = two_loop_six_bar(lengths=(3.590647792847906, 3.5698318415474217, 8.334499515324916, 8.568966352698824,
+                                  3.2754272033689373, 3.819896170757685, 8.800969476176805, 6.3651193369680445),
+                         frame_angle=2.699796055630693, frame_angle_2=1.1161768033546124, phase=1.8346718839053908,
+                         crossed=True, crossed_2=False, start=-1.394735546717167)
+    res = m.sweep([-1.94, -2.135, -3.83])
+    dense = m.compile().sweep(np.arange(-1.94, -3.84, -0.01))
+    assert [Status(s).name for s in res.status] == ["SOLVED", "NOT_ASSEMBLABLE", "SOLVED"]
+    assert sorted(round(float(np.ravel(e.input)[0]), 3) for e in res.events) == [-3.649, -2.102]
+    assert POSED[dense.status[-1]] and np.allclose(res.q[2], dense.q[-1], atol=1e-9)
+
+
+def test_a_value_between_a_walk_step_entered_past_a_gap_and_the_next_limit_is_solved():
+    # a narrow interval [-0.0078, 0.0286] of the crank holding one value, 0.0098, and a walk
+    # step past the gap from 3.113, 0.013: entered there, the walk on to the next anchor met
+    # the limit at -0.0078, and the value between (no anchor) was left NOT_ASSEMBLABLE
+    r2, r3, e, start = 3.0, 0.0546875, 0.03125, 3.125
+    res = slider_crank(r2, r3, offset=e, start=start).sweep(start - np.arange(0.0, 3 * np.pi, 0.021484375))
+    ranges = oracles.slider_crank_limits(r2, r3, e, "crank")
+    o = oracles.slider_crank(r2, r3, res.inputs[:, 0], offset=e)
+    assert_no_lost_value(res, ranges, o["th3"])
+    assert_limits_named(res, ranges)
 
 
 def test_a_far_value_where_the_search_finds_only_other_modes_is_out_of_reach():

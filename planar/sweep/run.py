@@ -15,7 +15,7 @@ from planar.sweep.anchors import (MAX_WAVE, WAVE, Kin, from_anchors, solve_stati
 from planar.sweep.branch import Branch, input_scale, scaled_norm
 from planar.sweep.finish import Out, finish
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
-from planar.sweep.walk import MODE_PERIODS, WALK_STEPS, Walker, _turns, less_periods
+from planar.sweep.walk import MODE_PERIODS, SPREAD, WALK_STEPS, Walker, _turns, less_periods
 
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
@@ -354,6 +354,27 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
             nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=solved_poses()) if seg.size
                                  else (None, False))
+            steps = (_steps_out(model, state[1], U[seg], max_step, bare)
+                     if seg.size and nearer is None and not assembles and got[0] == "limit" and entries < MAX_ENTRIES
+                     else None)
+            # where no value asked assembles at all (the first in the gap, least squares from
+            # there lands nowhere beyond it), the walk steps from the limit out to the values: a
+            # sweep with values all the way enters the range between them
+            ahead = walker.enter_any(guesses, chosen, steps, poses=solved_poses())[0] if steps is not None else None
+            if ahead is not None:
+                entries += 1
+                u_e = steps[ahead[0]]
+                # the first value on from it an anchor (the walk from the entry solves it, and the
+                # stretch's values from it); the anchors before it, in the gap or reached back
+                # from it, are left to the walk back from the values after them
+                d = np.sign(u_e[0] - state[1][0])
+                v = seg[d * (U[seg, 0] - u_e[0]) >= 0][:1]
+                c = int(np.searchsorted(anchors, v[0])) if v.size else end
+                if v.size and anchors[c] != v[0]:
+                    anchors, end, upto = np.insert(anchors, c, v[0]), end + 1, upto + 1
+                k += int(np.argmin(np.r_[d * (U[anchors[k:upto], 0] - u_e[0]) < 0, False]))
+                state, coef = (walker.near_turns(ahead[1], u_e, chosen, state[0]), u_e, chosen), None
+                continue
             if nearer is not None:
                 c = int(np.searchsorted(anchors, seg[nearer[0]]))
                 if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
@@ -586,6 +607,33 @@ def _images(model, walker, targets, u):
     k = np.sign(targets[0, 0] - u[0])
     n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
     return targets[::-1] - n * P, n
+
+
+def _steps_out(model, u_limit, V, max_step, bare=None):
+    """(M, 1) walk steps from a limit at ``u_limit`` (1,) (:func:`_past_gap`) out to the last
+    of the first values ``V`` (K, 1) past it that lie each no nearer to it than the one before
+    (within a turn, scaled): those between values (or the limit and the first) more than SPREAD
+    steps apart, where the search of the values is coarser than a sweep with values all the
+    way, half a step or more from both, and not inside ``bare`` (lo, hi); None where none are.
+
+    >>> from planar.mechanisms import four_bar
+    >>> V = np.array([[1.01], [1.05], [1.5], [0.9]])
+    >>> _steps_out(four_bar().compile(), np.array([1.0]), V, 0.1)[:, 0].round(3).tolist()
+    [1.1, 1.2, 1.3, 1.4]
+    """
+    if u_limit.size != 1:
+        return None
+    on = np.diff((V[:, 0] - u_limit[0]) * np.sign(V[0, 0] - u_limit[0])) >= 0
+    r = int(np.argmin(on)) + 1 if not on.all() else len(V)
+    steps = _past_gap(model, u_limit, V[r - 1], max_step)[:, 0]
+    ends = np.sort(np.r_[u_limit[0], V[:r, 0]])
+    k = np.clip(np.searchsorted(ends, steps), 1, ends.size - 1)
+    lo, hi = ends[k - 1], ends[k]
+    scale = float(input_scale(model)[0])
+    keep = ((hi - lo) * scale > SPREAD * max_step) & (np.minimum(steps - lo, hi - steps) * scale >= 0.5 * max_step)
+    if bare is not None:
+        keep &= (steps < bare[0]) | (steps > bare[1])
+    return steps[keep][:, None] if keep.any() else None
 
 
 def _past_gap(model, u_limit, u_next, max_step):
