@@ -23,6 +23,7 @@ from numbers import Integral, Real
 import numpy as np
 
 from planar.errors import InputError
+from planar.model.checks import MAX_ANGLE
 
 TOL_RANGE = (1e-15, 1e-3)  # scaled residual: below 1e-15 rounding cannot meet it; above 1e-3 a pose is off
 MAX_STEPS = 1e8  # continuation steps of max_step through the sweep's values
@@ -160,4 +161,11 @@ def values(model, U, step):
         raise InputError(f"the walk through these sweep values is {steps:.3g} continuation steps of max_step = "
                          f"{step:g}, more than the limit of {MAX_STEPS:g}: sweep a shorter span of the input, "
                          f"with fewer jumps between far values")
+    with np.errstate(invalid="ignore"):
+        far = ~model.input_lengths & np.any(np.abs(U) > MAX_ANGLE, axis=0)
+    if far.any():
+        k = int(np.argmax(far))
+        raise InputError(f"sweep values of input {model.input_names[k]!r} reach {np.abs(U[:, k]).max():.6g} rad, beyond "
+                         f"+-{MAX_ANGLE:.6g} rad (float64 rounds them by more than the rows' tolerance): sweep "
+                         f"within a few turns of the start")
 

@@ -363,6 +363,8 @@ class Tracker:
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             try:
+                if np.iscomplexobj(value):  # (numpy would take the real parts)
+                    raise TypeError(value)
                 value = np.asarray(value, dtype=float)
             except (TypeError, ValueError, OverflowError):
                 raise InputError(f"move takes a number (one per input), got {value!r}") from None

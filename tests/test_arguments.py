@@ -47,14 +47,15 @@ def test_the_walk_is_counted_from_the_sketch_in_steps_of_max_step(crank):
     """Steps are the input the walk covers through the values in the order the sweep solves
     them (one input's turning back: in the order of the input, from the end nearer the
     sketch's), over max_step: at MAX_STEPS the sweep is allowed, past it refused."""
-    step = 1.0
-    ok = crank.u0 + np.array([[arguments.MAX_STEPS / 2], [0.0]])  # out and back: MAX_STEPS
+    R = 1e6  # (angles within MAX_ANGLE)
+    step = 2 * R / arguments.MAX_STEPS
+    ok = crank.u0 + np.array([[R], [0.0]])  # out and back: MAX_STEPS
     arguments.values(crank, ok, step)
-    with pytest.raises(InputError, match=r"is 2e\+08 continuation steps of max_step = 0.5, more than the limit"):
+    with pytest.raises(InputError, match=r"is 2e\+08 continuation steps of max_step = 0.01, more than the limit"):
         arguments.values(crank, ok, step / 2)
     # jumping back and forth: solved as the values sorted, so counted once across
-    jumping = crank.u0 + np.array([[arguments.MAX_STEPS], [0.0], [arguments.MAX_STEPS / 2], [-1.0]])
-    arguments.values(crank, jumping, step * (arguments.MAX_STEPS + 2) / arguments.MAX_STEPS)
+    jumping = crank.u0 + np.array([[2 * R], [0.0], [R], [-1.0]])
+    arguments.values(crank, jumping, step * (2 * R + 2) / (2 * R))
     with pytest.raises(InputError, match="no values"):
         arguments.values(crank, np.zeros((0, 1)), step)
 

@@ -58,6 +58,7 @@ SWEEP_CALLS = [
     (np.array(["2020-01-01"], dtype="datetime64[D]"), {}, InputError, "sweep values must be real numbers"),
     (np.array([True, False]), {}, InputError, "sweep values must be real numbers, got an array of bool"),
     (np.array([0.1 + 1j]), {}, InputError, "sweep values must be real numbers, got an array of complex128"),
+    ([np.complex128(1 + 2j)], {}, InputError, "sweep values must be real numbers, got complex ones"),
     (np.ma.masked_array([0.1, 0.2], mask=[0, 1]), {}, InputError, "with masked values"),
 ]
 
@@ -101,7 +102,7 @@ def test_bad_circuit_arguments(kwargs, message):
         four_bar().circuit(**kwargs)
 
 
-@pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]], 10**400])
+@pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]], 10**400, np.complex128(1 + 2j)])
 def test_a_tracker_move_to_no_number_is_an_input_error(value):
     with pytest.raises(InputError, match="move takes a number|sweep values"):
         four_bar().compile().track().move(value)
@@ -153,6 +154,7 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
 @pytest.mark.parametrize("call, message", [
     (lambda m: m.add_body("b", angle="x"), r"angle of body 'b' \(a number, or a line \(p, q\) of two point names\) must be numeric"),
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
+    (lambda m: m.add_body("b", angle=np.complex128(1j)), "angle of body 'b' .* must be a real number"),
     (lambda m: planar.Mechanism(name=None), "a mechanism's name must be a string, got None"),
     (lambda m: setattr(m, "name", 3), "a mechanism's name must be a string, got 3"),
     (lambda m: four_bar(name=("four", "bar")), r"a mechanism's name must be a string, got \('four', 'bar'\)"),
@@ -189,6 +191,7 @@ def test_a_stated_distance_whose_square_overflows_cannot_hold():
 @pytest.mark.parametrize("call, message", [
     (lambda: four_bar(ground=10**400), "ground must be a positive length"),
     (lambda: four_bar(start=10**400), "start must be finite"),
+    (lambda: four_bar(ground=np.complex128(4 + 3j)), r"ground must be a number, got np.complex128\(4\+3j\)"),  # (ground 4)
     (lambda: four_bar(crossed="no"), "crossed must be True or False, got 'no'"),  # (it built the crossed one)
     (lambda: four_bar(crossed=2), "crossed must be True or False"),
     (lambda: slider_crank(crossed="False"), "crossed must be True or False"),
@@ -202,6 +205,21 @@ def test_a_stated_distance_whose_square_overflows_cannot_hold():
 def test_bad_catalogue_arguments(call, message):
     with pytest.raises(ModelError, match=message):
         call()
+
+
+def test_angles_float64_rounds_coarser_than_the_tolerance_are_refused():
+    # (a start of 1e15 was SOLVED with a residual of 2e-5, one of 3e15 walked for minutes; a
+    # body drawn at 1e20 rad SOLVED with 4e-4)
+    with pytest.raises(ModelError, match=r"body 'crank' is drawn at the angle 3e\+15 rad, beyond \+-8.38861e\+06"):
+        four_bar(start=3e15).compile()
+    with pytest.raises(ModelError, match=r"body 'slider' is drawn at the angle 1e\+16 rad"):
+        slider_crank(slide_angle=1e16).compile()
+    m = four_bar(start=8e6)
+    assert m.sweep([8e6 + 0.5]).status[0] == planar.Status.SOLVED
+    with pytest.raises(InputError, match=r"sweep values of input 'crank' reach 8.5e\+06 rad, beyond"):
+        m.sweep([8.5e6])
+    with pytest.raises(InputError, match=r"reach 8.5e\+06 rad"):
+        m.track().move(8.5e6)
 
 
 def test_a_six_bar_takes_its_numbers_as_four_bar_does():
@@ -377,6 +395,8 @@ def test_running_out_of_memory_is_one_line(tmp_path, capsys, monkeypatch):
     (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{"O2-A": 1.0}, {"O2-A": math.nan}], [0.1]),
      "design 1: O2-A must be a finite number, got nan"),
     (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{"O2-A": 10**400}], [0.1]), "O2-A must be a finite"),
+    (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{"O2-A": 0}], [0.1]),  # (an IndexError)
+     "no design could be built: design 0 {'O2-A': 0}: distance O2-A must be positive, got 0"),
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, [0.1], branch="x"), "branch must be 'smooth'"),
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 2.0]}, [0.1], fixed=True),  # (a TypeError)
      "fixed must be a dict of the builder's parameters by name, got True"),

@@ -154,6 +154,7 @@ def test_info(here, capsys):
     (["run", "ok.json", "--speed", "fast"], 2, "cannot read the speed 'fast'"),
     (["run", "ok.json", "--num", "1"], 2, "--num: 1 is not from 2 to"),
     (["run", "ok.json", "--tables", "xls", "--no-plot", "--no-animation"], 2, "unknown table format 'xls'"),
+    (["run", "ok.json", "--tables", ",", "--no-plot", "--no-animation"], 2, "--tables ',' names no table format"),
     (["run", "ok.json", "--start", "0", "1"], 2, "sweep.start: has 2 values but the mechanism has 1 input"),
     (["example", "five_bar"], 2, "no catalogue mechanism 'five_bar'"),
     (["run"], 2, "the following arguments are required: file"),

@@ -30,6 +30,8 @@ def run_file(doc, source, args, out):
         raise UsageError(f"--points: no point or joint {unknown[0]!r} in {model.name!r}: the names are "
                          f"{', '.join(sorted(model.points))}")
     formats = [f.strip() for f in (args.tables or "csv").split(",") if f.strip()]
+    if not formats:
+        raise UsageError(f"--tables {args.tables!r} names no table format: use csv, json or csv,json")
     for fmt in formats:
         if fmt not in ("csv", "json"):
             raise UsageError(f"--tables: unknown table format {fmt!r}: use csv, json or csv,json")

@@ -269,8 +269,11 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
         left = [d for d in rest if alone(d) is not None]
         if t is not None:
             same = [d for d in left if _structure(models[d]) == _structure(build.model)]
-            groups.append(design_tables.join([t] + ([design_tables.from_models([models[d] for d in same], same)]
-                                                    if same else [])))
+            # (t holds no design where every design's numbers were refused or left to be built)
+            parts = ([t] if t.index.size else []) + ([design_tables.from_models([models[d] for d in same], same)]
+                                                     if same else [])
+            if parts:
+                groups.append(design_tables.join(parts))
             left = [d for d in left if d not in same]
     else:
         left = [d for d in range(D) if mechanism(d) is not None]

@@ -8,12 +8,20 @@ from planar.model import checks as model_checks
 SCALE = model_checks.SCALE  # lengths and numbers of a catalogue mechanism within 1/SCALE..SCALE
 
 
+def _real(value):
+    """float(value), a TypeError for a complex number (numpy's complex128 is one, and float()
+    would take its real part)."""
+    if isinstance(value, complex):
+        raise TypeError(value)
+    return float(value)
+
+
 def lengths(**named):
     """Check that every named length is a finite positive number; return them as floats."""
     out = []
     for key, value in named.items():
         try:
-            v = float(value)
+            v = _real(value)
         except (TypeError, ValueError):
             raise ModelError(f"{key} must be a number, got {value!r}") from None
         except OverflowError:  # (an integer beyond any float)
@@ -30,7 +38,7 @@ def lengths(**named):
 def number(value, what):
     """A finite float (an angle, an offset, a travel)."""
     try:
-        v = float(value)
+        v = _real(value)
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be a number, got {value!r}") from None
     except OverflowError:  # (an integer beyond any float)

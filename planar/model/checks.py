@@ -1,17 +1,26 @@
 """The builder's argument checks: numbers, points, directions, each refused with a
 :class:`planar.errors.ModelError` that names the argument."""
 
+import warnings
+
 import numpy as np
 
 from planar.errors import ModelError
 
 SCALE = 1e100  # sketch coordinates and lengths within +-SCALE: their squares stay finite
+# angles (bodies', angle drivers' starts and inputs) within +-MAX_ANGLE radians: float64's
+# spacing there (1.9e-9 rad) is the most rounding an angle may add to the rows' 1e-9 tolerance
+MAX_ANGLE = 2.0**23
 
 
 def finite(value, what, shape=None):
     """``value`` as a float array, finite (and of ``shape`` if given), else a ModelError naming ``what``."""
     try:
-        a = np.asarray(value, dtype=float)
+        with warnings.catch_warnings():  # (a numpy complex scalar: read as its real part)
+            warnings.simplefilter("error", np.exceptions.ComplexWarning)
+            a = np.asarray(value, dtype=float)
+    except np.exceptions.ComplexWarning:
+        raise ModelError(f"{what} must be a real number, got {value!r}") from None
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be numeric, got {value!r}") from None
     if shape is not None and a.shape != shape:

@@ -5,9 +5,10 @@ of them are redundant, the sketch assembled on the independent rows, the drivers
 import numpy as np
 
 from planar.blocks import plan as block_plan
-from planar.errors import AssemblyError, MobilityError, RedundancyError
+from planar.errors import AssemblyError, MobilityError, ModelError, RedundancyError
 from planar.joints.base import SketchFrames
 from planar.mass import compile_mass
+from planar.model.checks import MAX_ANGLE
 from planar.model.frozen import Model
 from planar.model.resolve import char_length, frame_origins
 from planar.system import build_system
@@ -29,6 +30,10 @@ def compile_sketch(name, sk, plan=True):
     inputs = [-1] * len(joints) + list(range(len(drivers)))
     system, row_adr = build_system(constraints, params, body_index, len(bodies), inputs)
     n, m = system.n, system.m
+    for b in bodies[1:]:
+        if not abs(sk.bodies[b]) <= MAX_ANGLE:
+            raise ModelError(f"body {b!r} is drawn at the angle {sk.bodies[b]:.6g} rad, beyond +-{MAX_ANGLE:.6g} rad "
+                             f"(float64 rounds it by more than the rows' tolerance): give it within a turn")
     q0 = np.concatenate([np.r_[origins[b], sk.bodies[b]] for b in bodies[1:]]) if n else np.zeros(0)
 
     L = char_length(sk.points, joints)
@@ -52,6 +57,10 @@ def compile_sketch(name, sk, plan=True):
             for r in constraints[i].sketch_rows:
                 g.P["c"][k, r] = Phi[0, row_adr[i] + r]
     u0 = Phi[0, driver_rows].copy()
+    for d, u in zip(drivers, u0):
+        if not d.length_rows[0] and not abs(u) <= MAX_ANGLE:
+            raise ModelError(f"driver {d.name!r} starts at {u:.6g} rad, beyond +-{MAX_ANGLE:.6g} rad (float64 rounds "
+                             f"it by more than the rows' tolerance): give its start within a turn")
     Phi, _ = system.evaluate(q0[None], u0[None], jacobian=False)
     r = np.abs(Phi[0, redundant] * row_scale[redundant])
     if redundant.size and r.max() > 1e-9:
