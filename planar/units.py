@@ -41,7 +41,14 @@ def convert_length(value, source, target):
         if unit not in LENGTH_UNITS:
             raise InputError(f"cannot convert lengths from {source or 'no unit'!r} to {target or 'no unit'!r}: "
                              f"lengths convert between {', '.join(LENGTH_UNITS)}; name the length unit as one of them")
-    return np.multiply(value, LENGTH_UNITS[source]) / LENGTH_UNITS[target]
+    a = np.asarray(value)
+    if a.dtype.kind not in "iuf":
+        raise InputError(f"lengths to convert must be real numbers, got {repr(value)[:40]}")
+    with np.errstate(over="ignore"):
+        out = np.multiply(a, LENGTH_UNITS[source]) / LENGTH_UNITS[target]
+    if np.any(np.isinf(out) & np.isfinite(a)):
+        raise InputError(f"{value!r} {source} is beyond float64 in {target}: give it in another unit")
+    return out
 
 
 def _check(unit, table, what):

@@ -13,7 +13,7 @@ import planar
 from planar import arguments, io, synthesis
 from planar.errors import AssemblyError, FileFormatError, InputError, ModelError
 from planar.analysis import motion_range
-from planar.mechanisms import four_bar, open_chain, slider_crank, watt_six_bar
+from planar.mechanisms import four_bar, open_chain, planetary_gear_train, slider_crank, watt_six_bar
 from tests.test_cli import run_or_exit
 
 SWEEP_CALLS = [
@@ -96,6 +96,7 @@ def test_bad_rates(kwargs, message):
     ({"velocity": 10**400}, "velocity must be one finite number"),
     ({"velocity": 1e200}, "velocity reaches 1e\\+200"),  # (the accelerations would be NaN, the values SOLVED)
     ({"max_step": 1e-9}, "more than the limit of 100000: give max_step of at least"),  # (it hung)
+    ({"bogus": 1}, "unknown circuit option 'bogus': the options are tol, max_step"),  # (a TypeError)
 ])
 def test_bad_circuit_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):
@@ -155,6 +156,7 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
     (lambda m: m.add_body("b", angle="x"), r"angle of body 'b' \(a number, or a line \(p, q\) of two point names\) must be numeric"),
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
     (lambda m: m.add_body("b", angle=np.complex128(1j)), "angle of body 'b' .* must be a real number"),
+    (lambda m: (m.add_body("b"), m.set_mass("b", 1e308, (0, 0))), r"mass 1e\+308 or inertia 0 is beyond"),  # (inf forces)
     (lambda m: planar.Mechanism(name=None), "a mechanism's name must be a string, got None"),
     (lambda m: setattr(m, "name", 3), "a mechanism's name must be a string, got 3"),
     (lambda m: four_bar(name=("four", "bar")), r"a mechanism's name must be a string, got \('four', 'bar'\)"),
@@ -191,6 +193,7 @@ def test_a_stated_distance_whose_square_overflows_cannot_hold():
 @pytest.mark.parametrize("call, message", [
     (lambda: four_bar(ground=10**400), "ground must be a positive length"),
     (lambda: four_bar(start=10**400), "start must be finite"),
+    (lambda: planetary_gear_train(planets=10**40), "planets must be a whole number from 1 to 128"),  # (for ever)
     (lambda: four_bar(ground=np.complex128(4 + 3j)), r"ground must be a number, got np.complex128\(4\+3j\)"),  # (ground 4)
     (lambda: four_bar(crossed="no"), "crossed must be True or False, got 'no'"),  # (it built the crossed one)
     (lambda: four_bar(crossed=2), "crossed must be True or False"),
@@ -205,6 +208,18 @@ def test_a_stated_distance_whose_square_overflows_cannot_hold():
 def test_bad_catalogue_arguments(call, message):
     with pytest.raises(ModelError, match=message):
         call()
+
+
+@pytest.mark.parametrize("value, message", [
+    (1e308, r"1e\+308 m is beyond float64 in mm"),  # (inf)
+    ("1", "lengths to convert must be real numbers, got '1'"),  # (a numpy TypeError)
+    (10**400, "lengths to convert must be real numbers, got 1000"),  # (an OverflowError)
+])
+def test_a_length_that_cannot_be_converted_is_an_input_error(value, message):
+    from planar.units import convert_length
+
+    with pytest.raises(InputError, match=message):
+        convert_length(value, "m", "mm")
 
 
 def test_angles_float64_rounds_coarser_than_the_tolerance_are_refused():

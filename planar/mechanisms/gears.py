@@ -185,6 +185,9 @@ def gear_train(radii: Sequence[float] = (1.0, 2.0, 1.5), *, start: float = 0.0,
 MEMBERS = ("sun", "carrier", "ring")
 
 
+MAX_PLANETS = 128  # (a set of 10**40 planets was built planet by planet, for ever)
+
+
 def planetary_gear_train(sun: float = 1.0, planet: float = 0.5, *, planets: int = 3, fixed: str = "ring",
                          driver: str = "sun", start: float = 0.0,
                          name: str = "planetary_gear_train") -> Mechanism:
@@ -201,7 +204,7 @@ def planetary_gear_train(sun: float = 1.0, planet: float = 0.5, *, planets: int 
     sun, planet : float
         Pitch radii Rs and Rp.
     planets : int
-        Number of planets (1 or more).
+        Number of planets (1 to MAX_PLANETS, 128).
     fixed : {"ring", "carrier", "sun"}
         The member held to the ground (it is not a body then).
     driver : {"sun", "carrier", "ring"}
@@ -223,8 +226,8 @@ def planetary_gear_train(sun: float = 1.0, planet: float = 0.5, *, planets: int 
     [-0.5, -0.5]
     """
     Rs, Rp = checks.lengths(sun=sun, planet=planet)
-    if not isinstance(planets, (int, np.integer)) or planets < 1:
-        raise ModelError(f"planets must be a positive whole number, got {planets!r}")
+    if not isinstance(planets, (int, np.integer)) or not 1 <= planets <= MAX_PLANETS:
+        raise ModelError(f"planets must be a whole number from 1 to {MAX_PLANETS}, got {planets!r}")
     checks.choice(fixed, MEMBERS, "fixed")
     checks.choice(driver, MEMBERS, "driver")
     if driver == fixed:

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from planar.dimensions import Dimension, Dyad
-from planar.errors import ModelError
+from planar.errors import InputError, ModelError
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic, RackPinion, Revolute,
                            RollingContact, Slot)
 import planar.model.checks as checks
@@ -164,6 +164,9 @@ class Mechanism:
         mass, inertia = checks.finite(mass, f"mass of body {b!r}", ()), checks.finite(inertia, f"inertia of body {b!r}", ())
         if mass < 0 or inertia < 0:
             raise ModelError(f"body {b!r}: mass and inertia must be >= 0, got {float(mass)!r} and {float(inertia)!r}")
+        if max(mass, inertia) > checks.SCALE:  # (its forces overflowed to inf)
+            raise ModelError(f"body {b!r}: mass {float(mass):g} or inertia {float(inertia):g} is beyond the numbers "
+                             f"a sketch holds (+-{checks.SCALE:g}): give it in another unit")
         if com is None:
             raise ModelError(f"body {b!r}: give com, the sketch point of its centre of mass")
         self._mass[b] = (float(mass), checks.point(com, f"com of body {b!r}"), float(inertia))
@@ -517,6 +520,9 @@ class Mechanism:
                 **options: Any) -> "Sweep":
         """The whole circuit through the sketch, the input reversing at each limit; see
         :meth:`Model.circuit`."""
+        unknown = sorted(set(options) - {"tol", "max_step"})
+        if unknown:
+            raise InputError(f"unknown circuit option {unknown[0]!r}: the options are tol, max_step")
         return self.compile().circuit(samples, velocity, acceleration, **options)
 
 
