@@ -12,7 +12,7 @@ import pytest
 import planar
 from planar import arguments, io, synthesis
 from planar.errors import AssemblyError, FileFormatError, InputError, ModelError
-from planar.analysis import motion_range
+from planar.analysis import grashof, motion_range, stroke
 from planar.mechanisms import four_bar, open_chain, planetary_gear_train, slider_crank, watt_six_bar
 from tests.test_cli import run_or_exit
 
@@ -156,6 +156,8 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
     (lambda m: m.add_body("b", angle="x"), r"angle of body 'b' \(a number, or a line \(p, q\) of two point names\) must be numeric"),
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
     (lambda m: m.add_body("b", angle=np.complex128(1j)), "angle of body 'b' .* must be a real number"),
+    (lambda m: m.add_point("P", m.ground, at=(10**400, 0)), "'P' at must be finite, got an integer beyond"),  # (Overflow)
+    (lambda m: m.drive("O", name=["a"]), r"a driver's name must be a string, got \['a'\]"),  # (TypeError at compile)
     (lambda m: (m.add_body("b"), m.set_mass("b", 1e308, (0, 0))), r"mass 1e\+308 or inertia 0 is beyond"),  # (inf forces)
     (lambda m: planar.Mechanism(name=None), "a mechanism's name must be a string, got None"),
     (lambda m: setattr(m, "name", 3), "a mechanism's name must be a string, got 3"),
@@ -220,6 +222,30 @@ def test_a_length_that_cannot_be_converted_is_an_input_error(value, message):
 
     with pytest.raises(InputError, match=message):
         convert_length(value, "m", "mm")
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: grashof(4, 2, 3, 4, rtol=-1), "rtol must be a number from 0 to 1"),  # (an IndexError)
+    (lambda: grashof(4, 2, 3, 4, rtol=None), "rtol must be a number from 0 to 1"),  # (a TypeError)
+    (lambda: stroke(four_bar(), "angle:rocker", samples=10.0), "stroke samples must be a whole number"),  # (TypeError)
+    (lambda: stroke(four_bar(), "angle:rocker", samples=10**30), "stroke samples must be a whole number from 2"),
+])
+def test_bad_analysis_options(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda p: io.save(four_bar(), None), "a mechanism file is named by a path, got None"),  # (a TypeError)
+    (lambda p: io.save(four_bar(), p, "mm"), "units must be a planar.units.Units, got 'mm'"),  # (AttributeError)
+    (lambda p: io.to_dict(four_bar(), sweep="x"), "sweep must be a SweepSettings or a dict"),  # (AttributeError)
+    (lambda p: io.loads(None), "a mechanism document is JSON text, got NoneType"),  # (a TypeError)
+    (lambda p: io.load(io.save(four_bar(), p), length_unit=["mm"]), r"a length unit is a name .* got \['mm'\]"),
+    (lambda p: io.convert_lengths(None, "mm"), "a mechanism document is a JSON object, got NoneType"),
+])
+def test_bad_file_calls_are_file_format_errors(tmp_path, call, message):
+    with pytest.raises(FileFormatError, match=message):
+        call(tmp_path / "m.json")
 
 
 def test_angles_float64_rounds_coarser_than_the_tolerance_are_refused():

@@ -5,7 +5,9 @@ Grashof(kind='crank-rocker', excess=-1.0, input_turns=True)
 """
 
 from dataclasses import dataclass
+from numbers import Real
 
+from planar.errors import InputError
 from planar.mechanisms import checks
 
 KINDS = ("drag-link", "crank-rocker", "double-rocker", "rocker-crank")  # by the shortest link
@@ -42,6 +44,8 @@ def grashof(ground, crank, coupler, rocker, *, driver="crank", rtol=1e-12):
     """
     r = checks.lengths(ground=ground, crank=crank, coupler=coupler, rocker=rocker)
     checks.choice(driver, LINKS[1:], "driver")
+    if isinstance(rtol, bool) or not isinstance(rtol, Real) or not 0 <= rtol < 1:
+        raise InputError(f"rtol must be a number from 0 to 1 (of the longest link), got {rtol!r}")
     s, p, q, l = sorted(r)
     excess = (s + l) - (p + q)
     tied = abs(excess) <= rtol * l

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.analysis.outputs import output
+from planar.analysis.ranges import MAX_SAMPLES
 from planar.errors import AssemblyError, InputError
 from planar.results import Sweep
 
@@ -81,6 +82,9 @@ def _one_turn(source, samples, options):
     elif isinstance(source, (Mechanism, Model)):
         model = source.compile() if isinstance(source, Mechanism) else source
         _check_input(model)
+        if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 2 <= samples <= MAX_SAMPLES:
+            raise InputError(f"stroke samples must be a whole number from 2 to {MAX_SAMPLES:g} (values over the "
+                             f"turn; the default is 360), got {samples!r}")
         u0 = model.u0[0]
         res = model.sweep(np.linspace(u0, u0 + TURN, samples + 1), **options)
     else:

@@ -162,6 +162,10 @@ def convert_lengths(data, unit, source="<mechanism file>"):
     >>> new["joints"][0]["at"], new["sweep"], new["units"]
     ([20.0, 0.0], {'start': 0.0, 'stop': 25.0}, {'length': 'mm'})
     """
+    if not isinstance(data, dict):
+        raise FileFormatError(f"{source}: a mechanism document is a JSON object, got {type(data).__name__}")
+    if not isinstance(unit, str):
+        raise FileFormatError(f"{source}: a length unit is a name ('m', 'cm', 'mm' or 'in'), got {unit!r}")
     have = data.get("units", {}).get("length", "")
     try:
         convert_length(1.0, have, unit)
@@ -229,6 +233,8 @@ def _canonical(data):
 def loads(text, source="<string>", length_unit=None):
     """Read a mechanism document from JSON text: a :class:`MechanismFile` (its lengths in
     ``length_unit`` when given)."""
+    if not isinstance(text, (str, bytes, bytearray)):
+        raise FileFormatError(f"{source}: a mechanism document is JSON text, got {type(text).__name__}")
     try:
         data = json.loads(text)
     except json.JSONDecodeError as e:

@@ -4,10 +4,11 @@ to JSON text, one line per body, point, joint or driver; never a file that canno
 import inspect
 import json
 import math
+import os
 from pathlib import Path
 
 from planar.errors import FileFormatError
-from planar.io.document import MechanismFile
+from planar.io.document import MechanismFile, SweepSettings
 from planar.io.read import from_dict
 from planar.io.schema import VERSION
 from planar.joints import FILE_TYPES
@@ -81,6 +82,10 @@ def to_dict(obj, units=None, sweep=None):
         return json.loads(json.dumps(obj.data))
     if not isinstance(obj, Mechanism):
         raise FileFormatError(f"can only save a planar.Mechanism or a MechanismFile, got {type(obj).__name__}")
+    if units is not None and not isinstance(units, Units):
+        raise FileFormatError(f"units must be a planar.units.Units, got {units!r}")
+    if sweep is not None and not isinstance(sweep, (dict, SweepSettings)):
+        raise FileFormatError(f"sweep must be a SweepSettings or a dict of sweep fields, got {sweep!r}")
     units = units or Units()
     sk = obj.sketch()
     joint_names = {j.name for j in sk.joints}
@@ -132,6 +137,8 @@ def _format(data):
 
 def save(obj, path, units=None, sweep=None):
     """Write a mechanism (or a loaded :class:`MechanismFile`) to ``path`` as JSON; returns the path."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise FileFormatError(f"a mechanism file is named by a path, got {path!r}")
     path = Path(path)
     path.write_text(dumps(obj, units, sweep), encoding="utf-8")
     return path

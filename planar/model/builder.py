@@ -449,6 +449,8 @@ class Mechanism:
         ``start`` is the input's value in the sketch (radians or length): with stated
         distances, compile assembles the sketch there; without, it must be the value drawn,
         and picks the turn an angle starts on (420 degrees rather than 60)."""
+        if name is not None and not isinstance(name, str):
+            raise ModelError(f"a driver's name must be a string, got {name!r}")
         given = [k for k, v in (("joint", joint), ("body", body), ("point", point)) if v is not None]
         if len(given) != 1:
             raise ModelError("drive needs exactly one of joint=, body= or point=")

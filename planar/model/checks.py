@@ -23,6 +23,8 @@ def finite(value, what, shape=None):
         raise ModelError(f"{what} must be a real number, got {value!r}") from None
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be numeric, got {value!r}") from None
+    except OverflowError:  # (an integer beyond any float)
+        raise ModelError(f"{what} must be finite, got an integer beyond any float") from None
     if shape is not None and a.shape != shape:
         raise ModelError(f"{what} must have shape {shape}, got {value!r}")
     if not np.all(np.isfinite(a)):
