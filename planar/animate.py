@@ -10,6 +10,8 @@ installed; the paths of chosen points are traced as the mechanism moves.
 True
 """
 
+import os
+from numbers import Real
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +21,9 @@ from planar.draw.scene import Scene
 from planar.draw.style import PATH_COLOURS, SAME, TINY, finish, thinned
 from planar.errors import InputError
 from planar.units import Units
+
+
+MAX_FRAMES, DPI, FPS = 2000, (20, 1200), (1, 100)  # the bounds of max_frames, dpi and fps
 
 
 def ffmpeg_available():
@@ -81,6 +86,18 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
     import matplotlib.pyplot as plt
     from matplotlib import animation
 
+    for name, v, (lo, hi) in (("fps", fps, FPS), ("dpi", dpi, DPI), ("max_frames", max_frames, (2, MAX_FRAMES))):
+        whole = isinstance(v, (int, np.integer)) or name != "max_frames"
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, Real) or not whole or not lo <= v <= hi:
+            raise InputError(f"animate {name} must be a {'whole ' if name == 'max_frames' else ''}number from {lo} "
+                             f"to {hi}, got {v!r}")
+    if not (isinstance(size, (tuple, list)) and len(size) == 2
+            and all(isinstance(x, Real) and not isinstance(x, bool) and 0.5 <= x <= 50 for x in size)):
+        raise InputError(f"animate size must be (width, height) in inches, each from 0.5 to 50, got {size!r}")
+    if progress is not None and not callable(progress):
+        raise InputError(f"animate progress must be a function progress(done, total), got {progress!r}")
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"animate writes to a file path (.gif or .mp4), got {path!r}")
     path = Path(path)
     kind = path.suffix.lower()
     if kind not in (".gif", ".mp4"):

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import planar
-from planar import arguments, io, synthesis
+from planar import arguments, draw, io, synthesis
+from planar.animate import animate
 from planar.errors import AssemblyError, FileFormatError, InputError, ModelError
 from planar.analysis import grashof, motion_range, stroke
 from planar.mechanisms import four_bar, open_chain, planetary_gear_train, slider_crank, watt_six_bar
@@ -246,6 +247,23 @@ def test_bad_analysis_options(call, message):
 def test_bad_file_calls_are_file_format_errors(tmp_path, call, message):
     with pytest.raises(FileFormatError, match=message):
         call(tmp_path / "m.json")
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda r, p: draw.draw(r, 12), r"pose index 12: a whole number from 0 to 11"),  # (an IndexError)
+    (lambda r, p: draw.draw(r, 1.5), r"pose index 1.5"),
+    (lambda r, p: draw.plot_outputs(r, ["nope"]), "unknown output 'nope'"),  # (a KeyError)
+    (lambda r, p: draw.plot_outputs(r, []), "needs at least one output"),  # (a matplotlib ValueError)
+    (lambda r, p: draw.figure(r, 0, points=[]), r"points to trace: name one or more of"),  # (an IndexError)
+    (lambda r, p: animate(r, p, fps=0), "animate fps must be a number from 1 to 100, got 0"),  # (ZeroDivisionError)
+    (lambda r, p: animate(r, p, dpi=0), "animate dpi must be a number from 20 to 1200"),  # (an IndexError)
+    (lambda r, p: animate(r, p, size=None), r"animate size must be \(width, height\)"),  # (a TypeError)
+    (lambda r, p: animate(r, p, progress="x"), "animate progress must be a function"),  # (a TypeError)
+])
+def test_bad_drawing_arguments(tmp_path, call, message):
+    res = four_bar().sweep(np.linspace(0.0, 1.0, 12))
+    with pytest.raises(InputError, match=message):
+        call(res, tmp_path / "a.gif")
 
 
 def test_angles_float64_rounds_coarser_than_the_tolerance_are_refused():

@@ -4,12 +4,12 @@ import argparse
 import math
 import sys
 
+from planar.animate import DPI, FPS, MAX_FRAMES
 from planar.errors import InputError, PlanarError
 from planar.units import LENGTH_UNITS, RATE_UNITS
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_OUTPUT = 0, 1, 2, 3
 MAX_ROWS = 10_000_000  # table rows a run writes: beyond, the CSV alone takes many minutes and gigabytes
-MAX_FRAMES, DPI, FPS = 2000, (20, 1200), (1, 100)
 DEFAULT_NUM = 73  # sweep values of a turn when neither the file nor the command line says: every 5 degrees
 
 

@@ -41,9 +41,15 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     Returns the list of axes, one per panel.
     """
     units = units or Units()
+    if isinstance(outputs, str):  # (one output: not its letters)
+        outputs = [outputs]
     outputs = list(outputs) if outputs is not None else default_outputs(res.model)
+    if not outputs:
+        raise InputError("plot_outputs needs at least one output 'kind:name'")
     panels = {}
     for spec in outputs:
+        if not isinstance(spec, str) or spec.partition(":")[0] not in OUTPUTS:
+            raise InputError(f"unknown output {spec!r}: outputs are 'kind:name', the kinds {', '.join(OUTPUTS)}")
         panels.setdefault(spec.partition(":")[0], []).append(spec)
     if ax is None:
         # at most 9 inches tall, to fit a screen whatever the number of panels

@@ -6,6 +6,7 @@ import numpy as np
 from planar.draw.scene import Scene, world
 from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, drawn, finish,
                                new_axes, pyplot)
+from planar.errors import InputError
 from planar.units import Units
 
 
@@ -69,7 +70,11 @@ def path_points(res, points):
     """The points to trace: as given, else the user-named points, else every labelled joint
     point that moves over the sweep."""
     if points is not None:
-        return list(points)
+        points = [points] if isinstance(points, str) else list(points)
+        unknown = [p for p in points if not isinstance(p, str) or p not in res.model.points]
+        if not points or unknown:
+            raise InputError(f"points to trace: name one or more of {sorted(res.model.points)}, got {points!r}")
+        return points
     model = res.model
     joint_names = {j.name for j in model.joints}
     own = [n for n in model.points if n not in joint_names]

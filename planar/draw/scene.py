@@ -107,6 +107,10 @@ class Scene:
     def pose(self, i):
         if self.sweep is None:
             return self.model.q0
+        N = len(self.sweep.q)
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) or not -N <= i < N:
+            raise InputError(f"pose index {i!r}: a whole number from 0 to {N - 1} (the sweep's values; from the end "
+                             f"-1 to -{N})")
         q = np.asarray(self.sweep.q[i])
         if not np.all(np.isfinite(q)):
             raise InputError(f"pose {i} did not solve (status {Status(self.sweep.status[i]).name}): "
