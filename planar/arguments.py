@@ -133,10 +133,10 @@ def size(model, N, what="the sweep"):
     not an integer is refused where it is read)."""
     if isinstance(N, bool) or not isinstance(N, Integral):
         return
-    need = float(N) * max(model.n, 1) * BYTES_PER_COORDINATE
+    need = (float(N) if N < 2**1000 else math.inf) * max(model.n, 1) * BYTES_PER_COORDINATE
     have = _memory()
     if have is not None and need > have:
-        raise InputError(f"{what} of {N} values needs about {need / 2**30:.3g} GiB for its results, more than "
+        raise InputError(f"{what} of {N if N < 10**15 else f'~1e{len(str(N)) - 1}'} values needs about {need / 2**30:.3g} GiB for its results, more than "
                          f"the {have / 2**30:.3g} GiB of memory this process may have: sweep fewer values, or in chunks")
 
 

@@ -84,7 +84,8 @@ class Dyad:
                              f"got {self.side!r}")
         for key in ("length_a", "length_b"):
             v = getattr(self, key)
-            if not (isinstance(v, (int, float, np.floating, np.integer)) and np.isfinite(v) and v > 0):
+            if not (isinstance(v, (int, float, np.floating, np.integer)) and -1e308 < v < 1e308 and np.isfinite(v)
+                    and v > 0):  # (an integer beyond any float fails the bounds before isfinite)
                 raise ModelError(f"a dyad's {key} must be a positive number, got {v!r}")
 
     def place(self, pa, pb, what="the dyad"):

@@ -356,7 +356,8 @@ class Tracker:
         of one value, as ``model.sweep([value], velocity, acceleration)`` gives it."""
         res = None
         if self.model.u0.size == 1 and type(value) in NUMBER and type(velocity) in NUMBER and \
-                type(acceleration) in NUMBER:
+                type(acceleration) in NUMBER and arguments.finite_number(velocity) and \
+                arguments.finite_number(acceleration):
             v, a = float(velocity), float(acceleration)
             if arguments.finite_number(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
                 res = self._direct(np.array([[float(value)]]), np.array([[v]]), np.array([[a]]))

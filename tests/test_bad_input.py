@@ -98,6 +98,7 @@ def test_bad_rates(kwargs, message):
     ({"velocity": 1e200}, "velocity reaches 1e\\+200"),  # (the accelerations would be NaN, the values SOLVED)
     ({"max_step": 1e-9}, "more than the limit of 100000: give max_step of at least"),  # (it hung)
     ({"bogus": 1}, "unknown circuit option 'bogus': the options are tol, max_step"),  # (a TypeError)
+    ({"samples": 10**400}, "the circuit of ~1e400 values needs about inf GiB"),  # (an OverflowError)
 ])
 def test_bad_circuit_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):
@@ -197,6 +198,8 @@ def test_a_stated_distance_whose_square_overflows_cannot_hold():
     (lambda: four_bar(ground=10**400), "ground must be a positive length"),
     (lambda: four_bar(start=10**400), "start must be finite"),
     (lambda: planetary_gear_train(planets=10**40), "planets must be a whole number from 1 to 128"),  # (for ever)
+    (lambda: four_bar(driver=np.array(["crank", "x"])), "driver must be one of"),  # (a numpy ValueError)
+    (lambda: planar.Dyad("A", 10**400, "B", 1.0, side="left"), "a dyad's length_a must be a positive number"),
     (lambda: four_bar(ground=np.complex128(4 + 3j)), r"ground must be a number, got np.complex128\(4\+3j\)"),  # (ground 4)
     (lambda: four_bar(crossed="no"), "crossed must be True or False, got 'no'"),  # (it built the crossed one)
     (lambda: four_bar(crossed=2), "crossed must be True or False"),
@@ -266,6 +269,14 @@ def test_bad_drawing_arguments(tmp_path, call, message):
         call(res, tmp_path / "a.gif")
 
 
+def test_numbers_of_numpy_types_and_huge_integers_are_read_or_refused_as_numbers():
+    # (motion_range's walk overflowed numpy's uint8 max_step; a move's velocity 10**400 was an
+    # OverflowError)
+    assert motion_range(four_bar(4, 3, 3, 3), max_step=np.uint8(3)) == motion_range(four_bar(4, 3, 3, 3), max_step=3.0)
+    with pytest.raises(InputError, match="sweep velocity must be finite"):
+        four_bar().track().move(0.1, velocity=10**400)
+
+
 def test_angles_float64_rounds_coarser_than_the_tolerance_are_refused():
     # (a start of 1e15 was SOLVED with a residual of 2e-5, one of 3e15 walked for minutes; a
     # body drawn at 1e20 rad SOLVED with 4e-4)
@@ -317,6 +328,7 @@ def test_an_analysis_of_the_wrong_object_is_an_input_error(call, message):
     ({"samples": 1}, "samples must be a whole number from 2"),  # (a triple rocker came back a full turn)
     ({"samples": 10**9}, "samples must be a whole number from 2 to 1e\\+06"),
     ({"samples": 7.5}, "samples must be a whole number"),
+    ({"max_step": -1}, "max_step must be a positive number"),
 ])
 def test_bad_motion_range_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):

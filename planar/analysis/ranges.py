@@ -53,6 +53,7 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 2 <= samples <= MAX_SAMPLES:
         raise InputError(f"motion_range samples must be a whole number from 2 to {MAX_SAMPLES:g} (values per turn "
                          f"or per travel; the default is 720), got {samples!r}")
+    tol, max_step = arguments.tolerance(tol), arguments.max_step(max_step)  # (numpy's uint8 overflowed in the walk)
     u0 = float(model.u0[0])
     if model.input_lengths[0]:
         R = _travel(travel) if travel is not None else 2.0 * model.L * len(model.body_names)

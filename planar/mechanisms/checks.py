@@ -55,7 +55,7 @@ flag = model_checks.flag  # the catalogue's flags as the builder's
 
 def choice(value, choices, what):
     """``value`` if it is one of ``choices``."""
-    if value not in choices:
+    if not isinstance(value, str) or value not in choices:  # (an array compared element by element)
         raise ModelError(f"{what} must be one of {list(choices)}, got {value!r}")
     return value
 
