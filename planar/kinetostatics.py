@@ -36,8 +36,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.blocks import plan as block_plan
-from planar.errors import IndeterminateWarning, ModelError
+from planar.errors import IndeterminateWarning, InputError, ModelError
 from planar.geometry import cross, perp, rotate
+from planar.model import checks
 from planar.results import Status
 from planar.system import chunks
 
@@ -84,10 +85,10 @@ class Forces:
         axes, or a component (N,) the joint carries: ``"normal"`` (slot, prismatic, rack,
         rolling), ``"moment"`` (prismatic), ``"tangential"``, ``"radial"`` and ``"contact"``
         (gears, racks: the tooth force along the pressure line), ``"friction"`` (rolling)."""
-        comps = self.reactions.get(joint)
+        comps = self.reactions.get(joint) if isinstance(joint, str) else None
         if comps is None:
             raise ModelError(f"unknown joint {joint!r}: the joints are {list(self.reactions)}")
-        if component not in comps:
+        if not isinstance(component, str) or component not in comps:
             raise ModelError(f"joint {joint!r} has no reaction component {component!r}: it has {list(comps)}")
         return comps[component]
 
@@ -107,7 +108,11 @@ class Forces:
     def shaking_moment(self, about=(0.0, 0.0)):
         """(N,) the moment of the inertia forces and torques about the world point ``about``
         (the frame's moment, weights and external loads left out)."""
-        arm = self.centres - np.asarray(about, dtype=float)
+        try:
+            about = checks.point(about, "shaking_moment about")
+        except ModelError as e:
+            raise InputError(str(e)) from None
+        arm = self.centres - about
         return (cross(arm, self.inertia_forces) + self.inertia_torques).sum(axis=1)
 
     def mechanical_advantage(self, output):
@@ -117,6 +122,8 @@ class Forces:
         res, model = self.sweep, self.sweep.model
         if len(model.drivers) != 1:
             raise ModelError(f"mechanical advantage needs one input; the model has {list(model.input_names)}")
+        if not isinstance(output, str):
+            raise ModelError(f"mechanical advantage: output is a joint's or a body's name, got {output!r}")
         rate = res.coordinate(output, 1) if output in model.coordinates else res.omega(output)
         with np.errstate(divide="ignore", invalid="ignore"):
             return res.input_rates[:, 0] / rate

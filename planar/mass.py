@@ -21,23 +21,49 @@ from planar.errors import ModelError
 from planar.geometry import rotate
 
 
+def _body_mass(mass, com, inertia):
+    """The ``add_body`` keywords, each checked as :meth:`planar.Mechanism.set_mass` checks them."""
+    from planar.model import checks
+
+    if not 0 <= inertia <= checks.SCALE:  # (its square of a length overflowed)
+        raise ModelError(f"the inertia {inertia:g} is beyond the numbers a sketch holds (+-{checks.SCALE:g}): give the "
+                         f"body's sizes in another unit")
+    return {"mass": mass, "com": tuple(com.tolist()), "inertia": inertia}
+
+
+def _sizes(mass, points, lengths):
+    """mass, the points (each (2,)) and the lengths checked: finite, within a sketch's numbers."""
+    from planar.model import checks
+
+    m = float(checks.finite(mass, "mass", ()))
+    if m < 0:
+        raise ModelError(f"mass must be >= 0, got {mass!r}")
+    if m > checks.SCALE:
+        raise ModelError(f"mass {m:g} is beyond the numbers a sketch holds (+-{checks.SCALE:g}): give it in another unit")
+    P = [checks.point(p, what) for what, p in points]
+    L = [checks.positive(v, what) for what, v in lengths]
+    if any(v > checks.SCALE for v in L):
+        raise ModelError(f"a size beyond the numbers a sketch holds (+-{checks.SCALE:g}): give it in another unit")
+    return m, P, L
+
+
 def bar(mass, a, b):
     """A thin uniform bar from sketch point ``a`` to ``b``: centre at the middle, m L^2 / 12."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
+    m, (a, b), _ = _sizes(mass, (("bar end a", a), ("bar end b", b)), ())
     L2 = float(np.sum((b - a) ** 2))
-    return {"mass": float(mass), "com": tuple((0.5 * (a + b)).tolist()), "inertia": float(mass) * L2 / 12.0}
+    return _body_mass(m, 0.5 * (a + b), m * L2 / 12.0)
 
 
 def disc(mass, centre, radius):
     """A uniform disc of ``radius`` centred at sketch point ``centre``: m r^2 / 2."""
-    return {"mass": float(mass), "com": tuple(np.asarray(centre, float).tolist()),
-            "inertia": float(mass) * float(radius) ** 2 / 2.0}
+    m, (c,), (r,) = _sizes(mass, (("disc centre", centre),), (("disc radius", radius),))
+    return _body_mass(m, c, m * r**2 / 2.0)
 
 
 def plate(mass, centre, width, height):
     """A uniform rectangular plate ``width`` x ``height`` centred at ``centre``: m (w^2 + h^2) / 12."""
-    return {"mass": float(mass), "com": tuple(np.asarray(centre, float).tolist()),
-            "inertia": float(mass) * (float(width) ** 2 + float(height) ** 2) / 12.0}
+    m, (c,), (w, h) = _sizes(mass, (("plate centre", centre),), (("plate width", width), ("plate height", height)))
+    return _body_mass(m, c, m * (w**2 + h**2) / 12.0)
 
 
 @dataclass(frozen=True, eq=False)

@@ -277,6 +277,31 @@ def test_numbers_of_numpy_types_and_huge_integers_are_read_or_refused_as_numbers
         four_bar().track().move(0.1, velocity=10**400)
 
 
+@pytest.mark.parametrize("call, message", [
+    (lambda f: f.reaction(["B"]), r"unknown joint \['B'\]"),  # (a TypeError: unhashable)
+    (lambda f: f.reaction("B", ["x"]), r"joint 'B' has no reaction component \['x'\]"),
+    (lambda f: f.mechanical_advantage(["a"]), "output is a joint's or a body's name"),
+    (lambda f: f.shaking_moment("ab"), "shaking_moment about must be numeric"),  # (a numpy ValueError)
+    (lambda f: f.shaking_moment((0, 0, 0)), r"shaking_moment about must have shape \(2,\)"),
+])
+def test_bad_force_arguments(call, message):
+    m = four_bar()
+    m.set_mass("coupler", 1.0, (1, 1), 0.1)
+    with pytest.raises(planar.PlanarError, match=message):
+        call(m.sweep([0.1, 0.2]).forces())
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: planar.bar("x", (0, 0), (1, 0)), "mass must be numeric, got 'x'"),  # (a ValueError)
+    (lambda: planar.disc(1, (0, 0), 1e200), "a size beyond the numbers a sketch holds"),  # (an OverflowError)
+    (lambda: planar.plate(1, None, 1, 1), r"plate centre must have shape \(2,\), got None"),  # (a TypeError)
+    (lambda: planar.bar(1.0, (0, 0), (1e90, 0)), r"the inertia 8.33333e\+178 is beyond"),
+])
+def test_bad_mass_helper_arguments(call, message):
+    with pytest.raises(ModelError, match=message):
+        call()
+
+
 def test_angles_float64_rounds_coarser_than_the_tolerance_are_refused():
     # (a start of 1e15 was SOLVED with a residual of 2e-5, one of 3e15 walked for minutes; a
     # body drawn at 1e20 rad SOLVED with 4e-4)
