@@ -38,7 +38,7 @@ def convert_length(value, source, target):
     if source == target:
         return value
     for unit in (source, target):
-        if unit not in LENGTH_UNITS:
+        if not isinstance(unit, str) or unit not in LENGTH_UNITS:
             raise InputError(f"cannot convert lengths from {source or 'no unit'!r} to {target or 'no unit'!r}: "
                              f"lengths convert between {', '.join(LENGTH_UNITS)}; name the length unit as one of them")
     a = np.asarray(value)

@@ -226,6 +226,8 @@ def test_a_length_that_cannot_be_converted_is_an_input_error(value, message):
 
     with pytest.raises(InputError, match=message):
         convert_length(value, "m", "mm")
+    with pytest.raises(InputError, match="cannot convert lengths from 'm' to \\['mm'\\]"):  # (a TypeError)
+        convert_length(1.0, "m", ["mm"])
 
 
 @pytest.mark.parametrize("call, message", [
@@ -299,6 +301,18 @@ def test_bad_force_arguments(call, message):
 ])
 def test_bad_mass_helper_arguments(call, message):
     with pytest.raises(ModelError, match=message):
+        call()
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: synthesis.function_slider_crank(lambda x: x, (0, 1), (0, 1e8), (0, 1)),  # (a MemoryError: 9 GiB)
+     "input_range spans 1e\\+08 rad, more than a turn"),
+    (lambda: synthesis.function_four_bar(None, (0, 1), (0, 1), (0, 1)), "f must be a function of x, got None"),
+    (lambda: synthesis.function_four_bar(lambda x: "a", (0, 1), (0, 1), (0, 1)), "f must give one number for each x"),
+    (lambda: synthesis.function_four_bar(lambda x: np.array([x, x]), (0, 1), (0, 1), (0, 1)), "f must give one number"),
+])
+def test_bad_function_synthesis_arguments(call, message):
+    with pytest.raises(InputError, match=message):
         call()
 
 

@@ -150,14 +150,22 @@ def _checked(builder, design, th2, out, input_range, output_range, x_range, f, s
 
 
 def _mapped(f, x_range, input_range, output_range, points, spacing):
+    if not callable(f):
+        raise InputError(f"f must be a function of x, got {f!r}")
     x0, xf = _pair(x_range, "x_range")
     a0, af = _pair(input_range, "input_range")
+    if abs(af - a0) > 2 * np.pi:  # (the checking sweep held 2.9e9 values for 1e8 rad)
+        raise InputError(f"input_range spans {abs(af - a0):.6g} rad, more than a turn: a crank's positions repeat "
+                         f"each turn; give at most 2 pi")
     _pair(output_range, "output_range")
     x = precision_points((x0, xf), points, spacing) if np.ndim(points) == 0 else np.asarray(points, float)
     if x.ndim != 1 or len(x) < 3 or not np.all(np.isfinite(x)):
         raise InputError(f"function generation needs at least three finite precision points, got {points!r}")
     th2 = a0 + (x - x0) / (xf - x0) * (af - a0)
-    y = np.array([f(v) for v in x], float)
+    try:
+        y = np.array([f(v) for v in x], float)
+    except (TypeError, ValueError):
+        raise InputError("f must give one number for each x (a float)") from None
     if not np.all(np.isfinite(y)):
         raise InputError(f"f is not finite at the precision points {np.round(x[~np.isfinite(y)], 12).tolist()}: "
                          "give an f defined over all of x_range")
@@ -165,7 +173,10 @@ def _mapped(f, x_range, input_range, output_range, points, spacing):
 
 
 def _map(y, f, x_range, output_range):
-    y0, yf = float(f(x_range[0])), float(f(x_range[1]))
+    try:
+        y0, yf = float(f(x_range[0])), float(f(x_range[1]))
+    except (TypeError, ValueError):
+        raise InputError("f must give one number for each x (a float)") from None
     if not np.isfinite(y0) or not np.isfinite(yf) or y0 == yf:
         raise InputError(f"f must take different finite values at the ends of x_range {tuple(x_range)}, "
                          f"got {y0!r} and {yf!r}: the output range is mapped onto them")
