@@ -1,8 +1,6 @@
 """The builder's argument checks: numbers, points, directions, each refused with a
 :class:`planar.errors.ModelError` that names the argument."""
 
-import warnings
-
 import numpy as np
 
 from planar.errors import ModelError
@@ -15,12 +13,10 @@ MAX_ANGLE = 2.0**23
 
 def finite(value, what, shape=None):
     """``value`` as a float array, finite (and of ``shape`` if given), else a ModelError naming ``what``."""
+    if np.iscomplexobj(value):  # (numpy would read a complex scalar as its real part)
+        raise ModelError(f"{what} must be a real number, got {value!r}")
     try:
-        with warnings.catch_warnings():  # (a numpy complex scalar: read as its real part)
-            warnings.simplefilter("error", np.exceptions.ComplexWarning)
-            a = np.asarray(value, dtype=float)
-    except np.exceptions.ComplexWarning:
-        raise ModelError(f"{what} must be a real number, got {value!r}") from None
+        a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be numeric, got {value!r}") from None
     except OverflowError:  # (an integer beyond any float)

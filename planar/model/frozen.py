@@ -7,8 +7,6 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
-import warnings
-
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -253,12 +251,10 @@ class Model:
         if kind in "bcmMSU" or np.ma.is_masked(values):  # (read as numbers, they would be other numbers)
             raise InputError(f"sweep {what} must be real numbers, got an array of {getattr(values, 'dtype', '')}"
                              f"{' with masked values' if np.ma.is_masked(values) else ''}")
+        if np.iscomplexobj(values):  # (numpy would read complex scalars in a list as their real parts)
+            raise InputError(f"sweep {what} must be real numbers, got complex ones")
         try:
-            with warnings.catch_warnings():  # (numpy complex scalars in a list: read as their real parts)
-                warnings.simplefilter("error", np.exceptions.ComplexWarning)
-                a = np.array(values, dtype=float, order="C")
-        except np.exceptions.ComplexWarning:
-            raise InputError(f"sweep {what} must be real numbers, got complex ones") from None
+            a = np.array(values, dtype=float, order="C")
         except (TypeError, ValueError):
             raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
         except OverflowError:  # (an integer beyond any float)
