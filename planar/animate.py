@@ -20,7 +20,8 @@ from planar.draw.pose import path_points, pose_title
 from planar.draw.scene import Scene
 from planar.draw.style import PATH_COLOURS, SAME, TINY, finish, thinned
 from planar.errors import InputError
-from planar.units import Units
+from planar.results import as_sweep
+from planar.units import given
 
 
 MAX_FRAMES, DPI, FPS = 2000, (20, 1200), (1, 100)  # the bounds of max_frames, dpi and fps
@@ -86,6 +87,7 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
     import matplotlib.pyplot as plt
     from matplotlib import animation
 
+    res, units = as_sweep(res, "animate"), given(units)
     for name, v, (lo, hi) in (("fps", fps, FPS), ("dpi", dpi, DPI), ("max_frames", max_frames, (2, MAX_FRAMES))):
         whole = isinstance(v, (int, np.integer)) or name != "max_frames"
         if isinstance(v, (bool, np.bool_)) or not isinstance(v, Real) or not whole or not lo <= v <= hi:
@@ -104,7 +106,6 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
         raise InputError(f"cannot write an animation to {path.name!r}: use a .gif or .mp4 file name")
     if kind == ".mp4" and not ffmpeg_available():
         raise InputError("writing .mp4 needs ffmpeg, which was not found: install it, or write a .gif")
-    units = units or Units()
     frames = frame_indices(res, max_frames, rocking)
     scene = Scene(res)
     names = path_points(res, points) if trace else []

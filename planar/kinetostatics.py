@@ -129,6 +129,13 @@ class Forces:
             return res.input_rates[:, 0] / rate
 
 
+def as_forces(forces, who):
+    """``forces`` where it is a :class:`Forces`, else an InputError saying ``who`` needs one."""
+    if not isinstance(forces, Forces):
+        raise InputError(f"{who} needs the forces of a sweep (Sweep.forces()), got {type(forces).__name__}")
+    return forces
+
+
 def forces(res):
     """The :class:`Forces` of sweep ``res`` (see the module docstring); prefer
     :meth:`planar.Sweep.forces`."""

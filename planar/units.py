@@ -51,6 +51,15 @@ def convert_length(value, source, target):
     return out
 
 
+def given(units):
+    """``units`` where it is a :class:`Units`; ``Units()`` (radians, no length unit) for None."""
+    if units is None:
+        return Units()
+    if not isinstance(units, Units):
+        raise InputError(f"units must be a planar.units.Units, such as Units(length='mm', angle='deg'), got {units!r}")
+    return units
+
+
 def _check(unit, table, what):
     if not isinstance(unit, str) or unit not in table:
         raise InputError(f"unknown {what} unit {unit!r}: use one of {', '.join(table)}")

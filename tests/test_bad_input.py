@@ -12,7 +12,7 @@ import pytest
 import planar
 from planar import arguments, draw, io, synthesis
 from planar.animate import animate
-from planar.errors import AssemblyError, FileFormatError, InputError, ModelError
+from planar.errors import AssemblyError, FileFormatError, InputError, ModelError, SynthesisError
 from planar.analysis import grashof, motion_range, stroke
 from planar.mechanisms import four_bar, open_chain, planetary_gear_train, slider_crank, watt_six_bar
 from tests.test_cli import run_or_exit
@@ -264,6 +264,23 @@ def test_bad_file_calls_are_file_format_errors(tmp_path, call, message):
     (lambda r, p: animate(r, p, dpi=0), "animate dpi must be a number from 20 to 1200"),  # (an IndexError)
     (lambda r, p: animate(r, p, size=None), r"animate size must be \(width, height\)"),  # (a TypeError)
     (lambda r, p: animate(r, p, progress="x"), "animate progress must be a function"),  # (a TypeError)
+    (lambda r, p: animate(r, p, units="deg"), "units must be a planar.units.Units"),  # (each an AttributeError)
+    (lambda r, p: animate(four_bar(), p), "animate needs a sweep result .* got Mechanism"),
+    (lambda r, p: draw.draw(r, 0, ax="x"), "ax must be matplotlib axes"),
+    (lambda r, p: draw.draw(r, 0, units="mm"), "units must be a planar.units.Units"),
+    (lambda r, p: draw.draw_paths(r, ax=3), "ax must be matplotlib axes"),
+    (lambda r, p: draw.draw_paths(four_bar().compile()), "draw_paths needs a sweep result .* got Model"),
+    (lambda r, p: draw.draw_paths(None), "draw_paths needs a sweep result .* got NoneType"),
+    (lambda r, p: draw.draw_event_poses(four_bar()), "draw_event_poses needs a sweep result"),
+    (lambda r, p: draw.draw_instant_centres(r, 0, ax="x"), "ax must be matplotlib axes"),
+    (lambda r, p: draw.plot_outputs(four_bar(), ["angle:rocker"]), "plot_outputs needs a sweep result"),
+    (lambda r, p: draw.plot_outputs(r, ["angle:rocker"], ax=["x"]), "ax must be matplotlib axes"),
+    (lambda r, p: draw.plot_forces(r), "plot_forces needs the forces of a sweep .* got Sweep"),
+    (lambda r, p: draw.draw_forces(r), "draw_forces needs the forces of a sweep"),
+    (lambda r, p: draw.draw_forces(r.forces(), scale=0), "draw_forces scale must be a positive number"),
+    (lambda r, p: draw.draw_vectors(r, 0, scale=2.0), "draw_vectors scale must be \\(velocity scale, accel"),  # (TypeError)
+    (lambda r, p: draw.draw_vectors(r, 0, scale=(1, -1)), "draw_vectors scale must be"),  # (arrows reversed)
+    (lambda r, p: draw.draw_vectors(four_bar(), 0), "draw_vectors needs a sweep result"),
 ])
 def test_bad_drawing_arguments(tmp_path, call, message):
     res = four_bar().sweep(np.linspace(0.0, 1.0, 12))
@@ -531,6 +548,7 @@ def test_a_builder_that_refuses_a_design_fails_that_design_only():
 
 
 PATH = [(0.0, 0.0), (1.0, 0.6), (2.0, 0.4), (2.6, -0.5), (2.0, -1.2)]
+MOTION = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.3), (1.5, 0.5, 0.6)]
 
 
 @pytest.mark.parametrize("call, message", [
@@ -553,10 +571,35 @@ PATH = [(0.0, 0.0), (1.0, 0.6), (2.0, 0.4), (2.6, -0.5), (2.0, -1.2)]
     (lambda: synthesis.path_four_bar([[1, 2], [3]]), "targets must be an \\(N, 2\\) array of finite points"),
     (lambda: synthesis.path_four_bar(-1), "targets must be an \\(N, 2\\) array of finite points"),  # (a TypeError)
     (lambda: synthesis.dyad(["x"], [0.1]), "positions must be an \\(N, 3\\) array"),  # (a numpy ValueError)
+    (lambda: synthesis.path_four_bar(PATH, timing=[0.0] * len(PATH)), "crank angles 0 rad apart"),  # (a ValueError)
+    (lambda: synthesis.path_four_bar(PATH, timing=[0.0, 2 * math.pi] + [1, 2, 3, 4][:len(PATH) - 2]),
+     "crank angles 0 rad apart \\(modulo a turn\\)"),
+    (lambda: synthesis.four_bar_lengths((1, 1, 1), ground="x"), "ground must be a positive length"),  # (ValueError)
+    (lambda: synthesis.four_bar_lengths((1, 1, 1), ground=1e300), "ground must be a positive length up to"),
+    (lambda: synthesis.dyad(MOTION, "ab"), "rotations must be 2 finite angles"),  # (a numpy ValueError)
+    (lambda: synthesis.motion_four_bar(MOTION, beta="ab", gamma=[0.3, 0.7]), "rotations must be 2 finite angles"),
+    (lambda: synthesis.path_check(None, [0, 1], PATH[:2]), "design must be a dict of four_bar's"),  # (TypeError)
+    (lambda: synthesis.motion_four_bar(MOTION, beta=[0.5, 1.0], gamma=[0.3, 0.7]).save("m.json", "deg"),
+     "units must be a planar.units.Units"),  # (an AttributeError)
+    (lambda: synthesis.motion_four_bar(MOTION, beta=[0.5, 1.0], gamma=[0.3, 0.7]).draw(pose=3),
+     "pose 3: a target's index, a whole number from 0 to 2"),  # (an IndexError)
 ])
 def test_bad_synthesis_arguments(call, message):
     with pytest.raises(InputError, match=message):
         call()
+
+
+def test_freudenstein_constants_whose_links_overflow_are_a_synthesis_error():
+    with pytest.raises(SynthesisError, match="give links beyond float64"):  # (an OverflowError)
+        synthesis.four_bar_lengths((1e-300, 1, 1), ground=1e10)
+
+
+@pytest.mark.parametrize("tracer", [None, 3, "x"])
+def test_a_six_bar_tracer_that_is_no_point_is_a_model_error(tracer):
+    # (each a TypeError from unpacking it)
+    with pytest.raises(ModelError, match="tracer must"):
+        synthesis.stephenson_tracer(4, 2, 3, 4, coupler_point=(1, 1), link_5=3, link_6=3, pivot_6=(5, 3),
+                                    tracer=tracer)
 
 
 @pytest.mark.parametrize("option, message", [
@@ -583,6 +626,13 @@ def test_a_bad_targets_file_is_one_line(tmp_path, capsys, text, message):
     path.write_bytes(text)
     code, out, err = run_or_exit(capsys, "synth", "path", path)
     assert (code, err.count("\n")) == (1, 1) and message in err, err
+
+
+def test_a_targets_file_timing_one_crank_angle_twice_is_one_line(tmp_path, capsys):
+    path = tmp_path / "t.csv"
+    path.write_text("x,y,input\n0,0,10\n1,0,10\n1,1,20\n")
+    code, out, err = run_or_exit(capsys, "synth", "path", path, "--timing")  # (a 31-line traceback)
+    assert (code, err.count("\n")) == (1, 1) and "crank angles 0 rad apart" in err, err
 
 
 @pytest.mark.parametrize("d", [True, 2, -3, "0", slice(0, 1), 1.0])

@@ -21,7 +21,7 @@ import numpy as np
 
 from planar.errors import InputError
 from planar.results import as_sweep
-from planar.units import Units
+from planar.units import given
 
 
 @dataclass(frozen=True)
@@ -148,7 +148,7 @@ def output_values(res, spec, units=None):
     """(N,) values of the output ``spec`` in ``units`` (default :class:`planar.units.Units`:
     degrees, rad/s)."""
     kind, _ = parse(res.model, spec)
-    return to_display(output(res, spec), OUTPUTS[kind].unit, units or Units())
+    return to_display(output(res, spec), OUTPUTS[kind].unit, given(units))
 
 
 def label(spec, units):

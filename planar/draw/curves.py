@@ -5,10 +5,11 @@ import numpy as np
 
 from planar.analysis.outputs import OUTPUTS, output_values, specs
 from planar.analysis.ranges import runs
-from planar.draw.style import EVENT_MARK, PATH_COLOURS, drawn, pyplot
+from planar.draw.style import EVENT_MARK, PATH_COLOURS, as_axes, drawn, pyplot
 from planar.errors import InputError
-from planar.results import POSED
-from planar.units import Units
+from planar.kinetostatics import as_forces
+from planar.results import POSED, as_sweep
+from planar.units import given
 
 
 def default_outputs(model):
@@ -23,7 +24,7 @@ def default_outputs(model):
 
 def input_axis(res, units=None):
     """The first input over the sweep in display units, and its axis label."""
-    units = units or Units()
+    units = given(units)
     m = res.model
     is_len = bool(m.input_lengths[0])
     x = units.input_from_internal(np.asarray(res.inputs[:, 0]), is_len)
@@ -40,7 +41,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     shaded; the sweep's events (limit and singular positions) are marked with vertical lines.
     Returns the list of axes, one per panel.
     """
-    units = units or Units()
+    res, units = as_sweep(res, "plot_outputs"), given(units)
     if isinstance(outputs, str):  # (one output: not its letters)
         outputs = [outputs]
     outputs = list(outputs) if outputs is not None else default_outputs(res.model)
@@ -56,7 +57,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
         fig, ax = pyplot().subplots(len(panels), 1, sharex=True, figsize=(7, min(1.9 * len(panels) + 0.8, 9.0)),
                                      layout="constrained", squeeze=False)
         fig.suptitle(f"{res.model.name}: outputs against the input", fontsize=11)
-    axes = np.asarray(ax, dtype=object).ravel()
+    axes = np.array([as_axes(a) for a in np.asarray(ax, dtype=object).ravel()], dtype=object)
     if axes.size != len(panels):
         raise InputError(f"plot_outputs needs {len(panels)} axes (one per kind of output), got {axes.size}")
     x, xlabel = input_axis(res, units)
@@ -86,8 +87,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
 def plot_forces(forces, *, units=None):
     """Two panels against the first input: each driver's effort (torque or force), and the
     size of each joint's reaction force. Returns the array of the two axes."""
-    units = units or Units()
-    res = forces.sweep
+    res, units = as_forces(forces, "plot_forces").sweep, given(units)
     m = res.model
     fig, axes = pyplot().subplots(2, 1, sharex=True, figsize=(7, 5.0), layout="constrained")
     fig.suptitle(f"{m.name}: driving efforts and joint forces against the input", fontsize=11)

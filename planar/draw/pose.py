@@ -6,8 +6,11 @@ import numpy as np
 from planar.draw.scene import Scene, world
 from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, drawn, finish,
                                new_axes, pyplot)
+from planar.arguments import finite_number
 from planar.errors import InputError
-from planar.units import Units
+from planar.kinetostatics import as_forces
+from planar.results import as_sweep
+from planar.units import given
 
 
 # ---- public drawing functions -----------------------------------------------------------------
@@ -36,7 +39,7 @@ def draw(source, i=0, *, ax=None, labels=True, units=None, title=None):
     ax = new_axes(ax)
     scene = source if isinstance(source, Scene) else Scene(source, labels=labels)
     scene.draw(ax, i)
-    ax.set_title(title if title is not None else pose_title(scene, i, units or Units()))
+    ax.set_title(title if title is not None else pose_title(scene, i, given(units)))
     return finish(ax, units)
 
 
@@ -99,7 +102,7 @@ def draw_paths(res, points=None, *, ax=None, events=True, units=None):
     ``points`` defaults to the user-named points (or, when there are none, every point on a
     moving body). Unsolved stretches of the sweep leave gaps. Returns the axes.
     """
-    ax = new_axes(ax)
+    res, ax = as_sweep(res, "draw_paths"), new_axes(ax)
     for k, name in enumerate(path_points(res, points)):
         p = res.position(name)
         ax.plot(*drawn(res, p[:, 0], p[:, 1]), color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
@@ -141,7 +144,11 @@ def draw_vectors(res, i=0, points=None, *, ax=None, velocity=True, acceleration=
     scales. Returns the axes.
     """
     ax = new_axes(ax)
-    units = units or Units()
+    res, units = as_sweep(res, "draw_vectors"), given(units)
+    if scale is not None and not (isinstance(scale, (tuple, list)) and len(scale) == 2
+                                  and all(_scale(s) for s in scale)):
+        raise InputError(f"draw_vectors scale must be (velocity scale, acceleration scale), two positive numbers, "
+                         f"got {scale!r}")
     names = points if points is not None else [n for n, (b, _) in res.model.points.items() if b != 0]
     P = np.array([res.position(n)[i] for n in names])
     L = Scene(res, labels=False).L
@@ -159,6 +166,11 @@ def draw_vectors(res, i=0, points=None, *, ax=None, velocity=True, acceleration=
         ax.update_datalim(tips[np.all(np.isfinite(tips), axis=1)])
     _legend_below(ax)
     return finish(ax, units)
+
+
+def _scale(s):
+    """Whether ``s`` is an arrow scale: a positive finite number."""
+    return finite_number(s) and s > 0
 
 
 def _legend_below(ax):
@@ -215,7 +227,7 @@ def draw_instant_centres(source, i=0, *, ax=None, loci=False, units=None):
 def draw_event_poses(res, *, ax=None, units=None):
     """The mechanism drawn in dotted outline at each event of a sweep (limit positions,
     bifurcations, singular positions, in the colours of :data:`EVENT_MARK`). Returns the axes."""
-    ax = new_axes(ax)
+    res, ax = as_sweep(res, "draw_event_poses"), new_axes(ax)
     scene = Scene(res, labels=False)
     for e in _posed_events(res):
         q = np.asarray(e.q)
@@ -236,8 +248,9 @@ def draw_forces(forces, i=0, joints=None, *, ax=None, scale=None, units=None):
     force (by default the longest arrow is a quarter of the drawing); the legend states it.
     Returns the axes.
     """
-    res = forces.sweep
-    units = units or Units()
+    res, units = as_forces(forces, "draw_forces").sweep, given(units)
+    if scale is not None and not _scale(scale):
+        raise InputError(f"draw_forces scale must be a positive number (drawing lengths per unit of force), got {scale!r}")
     ax = draw(res, i, ax=ax, units=units)
     names = list(joints) if joints is not None else [j for j in forces.reactions if j in res.model.points]
     P = np.array([res.position(n)[i] for n in names]).reshape(-1, 2)

@@ -2,7 +2,9 @@
 
 import numpy as np
 
+from planar.errors import InputError
 from planar.results import Status
+from planar.units import given
 
 
 def _palette(first, total, saturations, value):
@@ -37,17 +39,28 @@ def pyplot():
 
 
 def new_axes(ax):
+    """``ax``, or a new figure's axes for None."""
     if ax is None:
         _, ax = pyplot().subplots(figsize=(7, 5), layout="constrained")
+    return as_axes(ax)
+
+
+def as_axes(ax):
+    """``ax`` where it is a matplotlib Axes, else an InputError."""
+    from matplotlib.axes import Axes
+
+    if not isinstance(ax, Axes):
+        raise InputError(f"ax must be matplotlib axes (such as plt.subplots()[1]) or None, got {ax!r}")
     return ax
 
 
 
 def finish(ax, units=None):
+    units = given(units)
     ax.set_aspect("equal", adjustable="datalim")
     ax.margins(0.08)
     ax.autoscale_view()
-    unit = f" [{units.length}]" if units is not None and units.length else ""
+    unit = f" [{units.length}]" if units.length else ""
     ax.set_xlabel(f"x{unit}")
     ax.set_ylabel(f"y{unit}")
     for side in ("top", "right"):

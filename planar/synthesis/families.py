@@ -30,6 +30,7 @@ import numpy as np
 from planar.mechanisms import four_bar
 from planar.mechanisms.six_bar import dyad
 from planar.mechanisms.sketch import along
+from planar.model import checks
 
 RATIO = (0.2, 4.0)  # range of the sampled lengths against the ground link's
 BOX = (-2.0, 2.0)  # range of the sampled points' coordinates (the ground link O2 -> O4 is (0, 0) -> (1, 0))
@@ -80,9 +81,10 @@ def stephenson_tracer(ground, crank, coupler, rocker, *, coupler_point, link_5, 
     q to its left)."""
     m = four_bar(ground, crank, coupler, rocker, frame_angle=frame_angle, crossed=crossed, start=start,
                  pivot=pivot, name=name)
+    coupler_point, tracer = checks.point(coupler_point, "coupler_point"), checks.point(tracer, "tracer")
     pts = {k: v[1] for k, v in m.sketch().points.items()}
     C = along(pts["A"], pts["B"], *coupler_point)
-    dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), C, np.asarray(pivot_6, float), link_5,
+    dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), C, checks.point(pivot_6, "pivot_6"), link_5,
           link_6, crossed_2, "the six-bar's dyad C-D-O6")
     m.add_point("P", "link5", at=along(C, m.sketch().points["D"][1], *tracer))
     return m

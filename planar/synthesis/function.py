@@ -25,9 +25,11 @@ from dataclasses import replace
 
 import numpy as np
 
+from planar.arguments import finite_number
 from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar, slider_crank
 from planar.mechanisms.sketch import left_of, polar
+from planar.model.checks import SCALE
 from planar.synthesis.result import check
 
 MAX_POINTS = 10_000  # precision points: a least-squares fit of three constants needs no more
@@ -73,9 +75,15 @@ def four_bar_lengths(K, ground=1.0):
     if K1 == 0 or K2 == 0:
         raise SynthesisError(f"Freudenstein's K1 = {K1:.6g}, K2 = {K2:.6g}: a crank or rocker of infinite "
                              "length; shift or widen the angle ranges")
+    if not (finite_number(ground) and 0 < ground <= SCALE):
+        raise InputError(f"ground must be a positive length up to {SCALE:g}, got {ground!r}")
     r1 = float(ground)
     r2, r4 = r1 / K1, r1 / K2
-    r3sq = r1**2 + r2**2 + r4**2 - 2 * r2 * r4 * K3
+    with np.errstate(over="ignore", invalid="ignore"):
+        r3sq = np.float64(r1)**2 + r2**2 + r4**2 - 2 * r2 * r4 * K3
+    if not np.isfinite(r3sq):
+        raise SynthesisError(f"Freudenstein's K1 = {K1:.6g}, K2 = {K2:.6g} with ground {r1:g} give links beyond "
+                             "float64: give a smaller ground length, or shift or widen the angle ranges")
     if r3sq <= 0:
         raise SynthesisError(f"Freudenstein's K3 = {K3:.6g} gives no real coupler (r3^2 = {r3sq:.6g}): "
                              "shift or widen the angle ranges")

@@ -59,7 +59,10 @@ def dyad(positions, rotations):
     P = positions_array(positions)
     if not 3 <= len(P) <= 5:
         raise InputError(f"motion generation takes 3, 4 or 5 positions, got {len(P)}")
-    b = np.asarray(rotations, float)
+    try:
+        b = np.asarray(rotations, float)
+    except (TypeError, ValueError, OverflowError):
+        b = np.array([np.nan])
     if b.shape != (len(P) - 1,) or not np.all(np.isfinite(b)):
         raise InputError(f"rotations must be {len(P) - 1} finite angles (beta_2 ... beta_{len(P)}) in radians, "
                          f"got {rotations!r}")

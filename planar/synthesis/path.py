@@ -65,6 +65,9 @@ def path_check(design, inputs, targets, min_transmission=None):
     (radians), a transmission angle (at B between coupler and rocker, and at D between links 5
     and 6) further than that from a straight line is one too. ``notes["transmission"]`` holds the worst transmission angle
     over the range (0 to pi/2)."""
+    if not isinstance(design, dict):
+        raise InputError(f"design must be a dict of four_bar's keyword arguments (with link_5, of "
+                         f"stephenson_tracer's), got {type(design).__name__}")
     family = STEPHENSON if "link_5" in design else FOUR_BAR
     T = _targets(targets)
     mech = family.build(**design)
@@ -177,6 +180,10 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
         # leaves the next its full chance
         X, sigma, th = _search(family, tz, tau, D, refine, cube, lambda b: report(base + b))
         base += -(-D // BATCH)
+        if not len(X):  # no design of the round reaches the targets at all
+            fits.append(np.inf)
+            base += ITERATIONS
+            continue
         X, th, fit = _refine(family, X, sigma, th, tz, tau, tol, lambda i: report(base + i))
         base += ITERATIONS
         fits.append(np.min(fit, initial=np.inf))
@@ -194,7 +201,8 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
                 return replace(s, notes={**s.notes, "candidates": tried})
             best = _better(best, (s.max_error / size if np.isfinite(s.max_error) else np.inf, s))
         report(base)
-    what = (f"the best refined design misses by {min(fits):.3g} of the targets' size" if best is None else
+    what = ("no sampled design reaches every target" if best is None and min(fits) == np.inf else
+            f"the best refined design misses by {min(fits):.3g} of the targets' size" if best is None else
             f"the best design misses by {best[0]:.3g} of the targets' size"
             + (f" with defects: {'; '.join(best[1].defects)}" if best[1].defects else ""))
     raise SynthesisError(f"path generation through {len(T)} targets found no defect-free {kind} within "
@@ -226,6 +234,11 @@ def _timing(timing, N):
         raise InputError(f"timing must hold one finite crank angle per target ({N}), got {timing!r}") from None
     if tau.shape != (N,) or not np.all(np.isfinite(tau)):
         raise InputError(f"timing must hold one finite crank angle per target ({N}), got shape {tau.shape}")
+    turn = np.sort(np.mod(tau - tau[0], 2 * np.pi))
+    gaps = np.diff(np.append(turn, 2 * np.pi))
+    if gaps.min() < SPACING:
+        raise InputError(f"timing gives two targets crank angles {gaps.min():.3g} rad apart (modulo a turn): "
+                         f"a crank angle places the coupler point once, so give angles at least {SPACING:g} rad apart")
     return tau - tau[0]
 
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from planar.errors import PlanarError
+from planar.errors import InputError, PlanarError
 from planar.results import VALID, Status
 
 STEP = np.radians(2.0)  # largest input step of the checking sweep between targets
@@ -68,9 +68,9 @@ class Synthesis:
         first target's input to the last (181 values), in ``units`` (default degrees); returns
         the path."""
         from planar import io
-        from planar.units import Units
+        from planar.units import given
 
-        units = Units() if units is None else units
+        units = given(units)
         ends = [float(units.angle_from_internal(self.inputs[k])) for k in (0, -1)]
         return io.save(self.mechanism, path, units, io.SweepSettings(start=(ends[0],), stop=(ends[1],), num=181))
 
@@ -80,6 +80,9 @@ class Synthesis:
         angles as short strokes). Returns the matplotlib axes."""
         from planar import draw
 
+        N = len(self.index)
+        if isinstance(pose, (bool, np.bool_)) or not isinstance(pose, (int, np.integer)) or not -N <= pose < N:
+            raise InputError(f"pose {pose!r}: a target's index, a whole number from 0 to {N - 1}")
         ax = draw.draw(self.sweep, int(self.index[pose]), ax=ax)
         if self.point is not None:
             draw.draw_paths(self.sweep, [self.point], ax=ax, events=False)
