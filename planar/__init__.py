@@ -8,7 +8,7 @@ velocities and accelerations from linear solves with the same Jacobian.
 from importlib.metadata import PackageNotFoundError, version as _dist_version
 
 from planar.errors import (AssemblyError, ConnectivityError, FileFormatError, IndeterminateWarning, InputError,
-                           MobilityError, ModelError, PlanarError, RedundancyError, SynthesisError)
+                           MobilityError, ModelError, PlanarError, RedundancyError, SynthesisError, WriteError)
 from planar.designs import DesignSweep, Vary, sweep_designs
 from planar.dimensions import Dyad
 from planar.mass import bar, disc, plate
@@ -30,5 +30,5 @@ __all__ = [
     "Mechanism", "Model", "Body", "Dyad", "Sweep", "Status", "sweep_designs", "DesignSweep", "Vary", "bar", "disc",
     "plate",
     "PlanarError", "ModelError", "ConnectivityError", "MobilityError", "RedundancyError",
-    "AssemblyError", "InputError", "FileFormatError", "SynthesisError", "IndeterminateWarning",
+    "AssemblyError", "InputError", "FileFormatError", "SynthesisError", "WriteError", "IndeterminateWarning",
 ]

@@ -19,7 +19,7 @@ import numpy as np
 from planar.draw.pose import path_points, pose_title
 from planar.draw.scene import Scene
 from planar.draw.style import PATH_COLOURS, SAME, TINY, finish, thinned
-from planar.errors import InputError
+from planar.errors import InputError, WriteError
 from planar.results import as_sweep
 from planar.units import given
 
@@ -151,6 +151,8 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
                     fig.set_layout_engine("none")
                 if progress:
                     progress(f + 1, len(frames))
+    except OSError as e:  # (a missing folder, no permission, a full disk)
+        raise WriteError(e.errno, e.strerror or str(e), str(path)) from None
     finally:
         plt.close(fig)
     return path

@@ -133,7 +133,7 @@ def size(model, N, what="the sweep"):
     not an integer is refused where it is read)."""
     if isinstance(N, bool) or not isinstance(N, Integral):
         return
-    need = (float(N) if N < 2**1000 else math.inf) * max(model.n, 1) * BYTES_PER_COORDINATE
+    need = (float(max(N, 0)) if N < 2**1000 else math.inf) * max(model.n, 1) * BYTES_PER_COORDINATE
     have = _memory()
     if have is not None and need > have:
         raise InputError(f"{what} of {N if N < 10**15 else f'~1e{len(str(N)) - 1}'} values needs about {need / 2**30:.3g} GiB for its results, more than "

@@ -39,6 +39,7 @@ from planar.blocks import plan as block_plan
 from planar.errors import AssemblyError, InputError
 from planar.events import HELD, Event, status_of
 from planar.events.tracer import Tracer
+from planar.model.checks import is_complex
 from planar.results import Status, Sweep
 from planar.solver import ALONG_TANGENT, PROJECTED, newton
 from planar.sweep import Branch, input_scale
@@ -111,7 +112,8 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
 def _rate(x, what):
     """One finite number: the input's rate (or acceleration) along its motion."""
     try:
-        ok = np.ndim(x) == 0 and not isinstance(x, (str, bool)) and np.isfinite(float(x))
+        ok = (np.ndim(x) == 0 and not isinstance(x, (str, bool)) and not is_complex(x)
+              and np.isfinite(float(x)))
     except (TypeError, ValueError, OverflowError):
         ok = False
     if not ok:

@@ -181,10 +181,12 @@ class _Problem:
         return J * self.L  # unknowns in units of L
 
     def newton(self, z, targets, iterations=30):
-        """Minimum-norm Gauss-Newton from z: (z, converged)."""
+        """Minimum-norm Gauss-Newton from z: (z, converged). Its tolerance and largest step
+        grow with the lengths asked for, where they outgrow the sketch's size L."""
+        size = max(1.0, np.max(np.abs(targets[self.scale != 1.0]), initial=0.0) / self.L)
         for _ in range(iterations):
             r = self.residuals(z, targets)
-            if np.max(np.abs(r), initial=0.0) <= 1e-14:
+            if np.max(np.abs(r), initial=0.0) <= 1e-14 * size:
                 return z, True
             J = self.jacobian(z)
             if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):  # (lengths whose squares overflow)
@@ -192,9 +194,9 @@ class _Problem:
             dx = np.linalg.lstsq(J, r, rcond=None)[0]
             if not np.all(np.isfinite(dx)):
                 return z, False
-            dx *= min(1.0, 0.25 / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most L/4 a step
+            dx *= min(1.0, 0.25 * size / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most size/4 a step
             z = z - dx * self.L
-        return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12
+        return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12 * size
 
 
 def assemble(X0, bases, rows, triangles, L):
@@ -226,10 +228,18 @@ def _path(rows, X):
 def _follow(p, z, a, b, smallest=1.0 / 4096):
     """Follow the row targets from a (held at z) to b in steps that halve where Newton fails,
     down to ``smallest``: (z, how far it got, 0 to 1)."""
+    # lengths change by equal ratios: a link stated 1e5 times its drawing takes tens of steps, not thousands
+    ratio = np.array([r.kind == "length" for r in p.rows]) & (a > 0) & (b > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log = np.where(ratio, np.log(b / a), 0.0)
+
+    def target(t):
+        return np.where(ratio, a * np.exp(t * log), a + t * (b - a))
+
     t, dt = 0.0, 0.125
     while t < 1.0:
         step = min(dt, 1.0 - t)
-        z_new, ok = p.newton(z, a + (t + step) * (b - a))
+        z_new, ok = p.newton(z, target(t + step))
         if ok:
             z, t, dt = z_new, t + step, min(2 * step, 0.25)
         elif step > smallest:

@@ -41,6 +41,11 @@ class FileFormatError(ModelError):
     """A mechanism file is malformed: its message names the file, the field and what is wrong."""
 
 
+class WriteError(PlanarError, OSError):
+    """A file could not be written (a missing folder, no permission, a full disk): an OSError
+    too, with the system's errno and reason and the file's name."""
+
+
 class SynthesisError(PlanarError):
     """No mechanism meets the synthesis targets: the message says which target or design
     failed, and what to change (other free choices, ranges, more designs or another seed)."""

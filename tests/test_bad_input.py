@@ -5,6 +5,7 @@ file; sizes that cannot fit in memory or time are refused with the limit named."
 import json
 import math
 import os
+import re
 
 import numpy as np
 import pytest
@@ -61,6 +62,7 @@ SWEEP_CALLS = [
     (np.array([0.1 + 1j]), {}, InputError, "sweep values must be real numbers, got an array of complex128"),
     ([np.complex128(1 + 2j)], {}, InputError, "sweep values must be real numbers, got complex ones"),
     (np.ma.masked_array([0.1, 0.2], mask=[0, 1]), {}, InputError, "with masked values"),
+    ([[1.0], 0.2], {}, InputError, "sweep values must be numbers, got list"),  # (a ValueError from the complex test)
 ]
 
 
@@ -99,6 +101,8 @@ def test_bad_rates(kwargs, message):
     ({"max_step": 1e-9}, "more than the limit of 100000: give max_step of at least"),  # (it hung)
     ({"bogus": 1}, "unknown circuit option 'bogus': the options are tol, max_step"),  # (a TypeError)
     ({"samples": 10**400}, "the circuit of ~1e400 values needs about inf GiB"),  # (an OverflowError)
+    ({"samples": -10**400}, "samples must be a whole number of at least 2"),  # (an OverflowError)
+    ({"velocity": np.complex128(1 + 0j)}, "velocity must be one finite number"),  # (its real part, with a warning)
 ])
 def test_bad_circuit_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):
@@ -159,6 +163,7 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
     (lambda m: m.add_body("b", angle=np.complex128(1j)), "angle of body 'b' .* must be a real number"),
     (lambda m: m.add_point("P", m.ground, at=(10**400, 0)), "'P' at must be finite, got an integer beyond"),  # (Overflow)
+    (lambda m: m.add_point("P", m.ground, at=(0, [1.0])), "'P' at must be numeric"),  # (a ValueError: ragged)
     (lambda m: m.drive("O", name=["a"]), r"a driver's name must be a string, got \['a'\]"),  # (TypeError at compile)
     (lambda m: (m.add_body("b"), m.set_mass("b", 1e308, (0, 0))), r"mass 1e\+308 or inertia 0 is beyond"),  # (inf forces)
     (lambda m: planar.Mechanism(name=None), "a mechanism's name must be a string, got None"),
@@ -198,6 +203,9 @@ def test_a_stated_distance_whose_square_overflows_cannot_hold():
     (lambda: four_bar(ground=10**400), "ground must be a positive length"),
     (lambda: four_bar(start=10**400), "start must be finite"),
     (lambda: planetary_gear_train(planets=10**40), "planets must be a whole number from 1 to 128"),  # (for ever)
+    (lambda: open_chain([1.0] * 1000), "lengths must hold from 1 to 256 lengths, got 1000"),  # (compile: 20 s)
+    (lambda: planar.mechanisms.gear_train([1.0] * 10**6), "radii must hold from 2 to 256 lengths"),
+    (lambda: open_chain([1.0, 1.0], start=[0, np.complex128(1 + 0j)]), "start must hold 2 finite angles"),
     (lambda: four_bar(driver=np.array(["crank", "x"])), "driver must be one of"),  # (a numpy ValueError)
     (lambda: planar.Dyad("A", 10**400, "B", 1.0, side="left"), "a dyad's length_a must be a positive number"),
     (lambda: four_bar(ground=np.complex128(4 + 3j)), r"ground must be a number, got np.complex128\(4\+3j\)"),  # (ground 4)
@@ -248,10 +256,27 @@ def test_bad_analysis_options(call, message):
     (lambda p: io.loads(None), "a mechanism document is JSON text, got NoneType"),  # (a TypeError)
     (lambda p: io.load(io.save(four_bar(), p), length_unit=["mm"]), r"a length unit is a name .* got \['mm'\]"),
     (lambda p: io.convert_lengths(None, "mm"), "a mechanism document is a JSON object, got NoneType"),
+    (lambda p: io.convert_lengths({"units": 3}, "mm"), r"units: must be a JSON object \{...\}, got 3"),  # (Attr.)
 ])
 def test_bad_file_calls_are_file_format_errors(tmp_path, call, message):
     with pytest.raises(FileFormatError, match=message):
         call(tmp_path / "m.json")
+
+
+@pytest.mark.parametrize("where", ["no folder/m", "."])
+@pytest.mark.parametrize("write", [lambda p: io.save(four_bar(), p.with_suffix(".json")),
+                                   lambda p: animate(four_bar().sweep([0.0, 0.1]), p.with_suffix(".gif"))],
+                         ids=["save", "animate"])
+def test_a_file_that_cannot_be_written_is_a_write_error_naming_it(tmp_path, where, write):
+    # (a FileNotFoundError or IsADirectoryError; a WriteError is an OSError still)
+    path = tmp_path / where
+    if where == ".":
+        (tmp_path / "m.json").mkdir()
+        (tmp_path / "m.gif").mkdir()
+        path = tmp_path / "m"
+    with pytest.raises(planar.WriteError, match=re.escape(str(path.name))) as e:
+        write(path)
+    assert isinstance(e.value, OSError) and e.value.errno is not None
 
 
 @pytest.mark.parametrize("call, message", [
@@ -281,6 +306,14 @@ def test_bad_file_calls_are_file_format_errors(tmp_path, call, message):
     (lambda r, p: draw.draw_vectors(r, 0, scale=2.0), "draw_vectors scale must be \\(velocity scale, accel"),  # (TypeError)
     (lambda r, p: draw.draw_vectors(r, 0, scale=(1, -1)), "draw_vectors scale must be"),  # (arrows reversed)
     (lambda r, p: draw.draw_vectors(four_bar(), 0), "draw_vectors needs a sweep result"),
+    (lambda r, p: draw.draw_vectors(r, 12), "pose index 12: a whole number from 0 to 11"),  # (an IndexError)
+    (lambda r, p: draw.draw_vectors(r, None), "pose index None"),  # (an IndexError)
+    (lambda r, p: draw.draw_instant_centres(r, 1.5), "pose index 1.5"),  # (an IndexError)
+    (lambda r, p: draw.draw_instant_centres(four_bar()), "draw_instant_centres .* needs a sweep result"),  # (Attr.)
+    (lambda r, p: draw.draw_instant_centres(None), "draw_instant_centres .* needs a sweep result"),
+    (lambda r, p: draw.draw_paths(r, points=3), "points to trace: name one or more of"),  # (a TypeError)
+    (lambda r, p: animate(r, p, points=3.5), "points to trace: name one or more of"),
+    (lambda r, p: draw.plot_outputs(r, outputs=3), "unknown output 3"),  # (a TypeError)
 ])
 def test_bad_drawing_arguments(tmp_path, call, message):
     res = four_bar().sweep(np.linspace(0.0, 1.0, 12))

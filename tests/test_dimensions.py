@@ -6,6 +6,7 @@ angle is the direction of its reference line (the textbook's theta2, theta3, the
 import importlib.util
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -342,3 +343,44 @@ def test_a_slider_stays_on_its_line_while_the_lengths_assemble():
     np.testing.assert_allclose(sk.position("B"), [5.0, 1.0], atol=1e-12)
     assert np.hypot(*(sk.position("B") - sk.position("A"))) == pytest.approx(5.0, abs=1e-12)
     assert np.hypot(*sk.position("A")) == pytest.approx(2.0, abs=1e-12)
+
+
+def test_a_length_restated_far_from_its_drawing_assembles_in_few_steps(monkeypatch):
+    # (a coupler restated 1e5 times its drawing followed its length in 4,100 steps of up to 30
+    # iterations each: 27 s; lengths now change by equal ratios, each step within the size asked)
+    from planar import dimensions
+    from planar.mechanisms import slider_crank
+
+    calls, newton = [], dimensions._Problem.newton
+    monkeypatch.setattr(dimensions._Problem, "newton", lambda p, *a, **k: calls.append(1) or newton(p, *a, **k))
+    m = slider_crank()
+    m.restate("A-B", 5e5)
+    sk = m.compile().sketch
+    assert np.hypot(*(sk.position("B") - sk.position("A"))) == pytest.approx(5e5, rel=1e-14)
+    assert sk.position("B")[1] == pytest.approx(1.0, abs=1e-9) and len(calls) < 100
+
+
+@pytest.mark.parametrize("length", [1e4, 1e308])
+def test_a_restated_distance_that_cannot_hold_is_the_one_named(length):
+    # (a restated distance is the last stated, the first suspect: 1e308 named O4-B, which
+    # "cannot hold" only because A-B had outgrown it, and 1e4 took 21 s to say so)
+    m = four_bar()
+    m.restate("A-B", length)
+    with pytest.raises(AssemblyError, match=re.escape(f"distance A-B = {length:.12g} cannot hold with the others")):
+        m.compile()
+
+
+def test_a_ground_line_counting_travel_from_far_away_leaves_the_mechanism_its_own_size():
+    # (the line's origin 1e7 away made the sketch's size 1e7: every pose NEAR_SINGULAR, and a
+    # sweep of five values took 88 s)
+    m = planar.Mechanism("slider-crank")
+    crank, coupler, slider = m.add_body("crank"), m.add_body("coupler"), m.add_body("slider")
+    m.add_revolute("O2", m.ground, crank, at=(0, 0))
+    m.add_revolute("A", crank, coupler, at=(2, 0))
+    m.add_revolute("B", coupler, slider, at=(6.898979485566356, 1))
+    m.add_prismatic("slide", m.ground, slider, at=(6.898979485566356, 1), direction=(1, 0), origin=(1e7, 1))
+    m.drive("O2", start=0.0)
+    model = m.compile()
+    res = model.sweep(np.linspace(0, 2 * np.pi, 5))
+    assert model.L < 10 and np.all(res.status == planar.Status.SOLVED)
+    np.testing.assert_allclose(res.coordinate("slide"), res.position("B")[:, 0] - 1e7, rtol=0, atol=1e-8)

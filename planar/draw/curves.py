@@ -44,7 +44,10 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     res, units = as_sweep(res, "plot_outputs"), given(units)
     if isinstance(outputs, str):  # (one output: not its letters)
         outputs = [outputs]
-    outputs = list(outputs) if outputs is not None else default_outputs(res.model)
+    try:
+        outputs = list(outputs) if outputs is not None else default_outputs(res.model)
+    except TypeError:  # (no list: refused below, by name)
+        outputs = [outputs]
     if not outputs:
         raise InputError("plot_outputs needs at least one output 'kind:name'")
     panels = {}

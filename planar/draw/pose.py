@@ -3,7 +3,7 @@ instant centres, and the poses of a sweep's events."""
 
 import numpy as np
 
-from planar.draw.scene import Scene, world
+from planar.draw.scene import Scene, pose_index, world
 from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, drawn, finish,
                                new_axes, pyplot)
 from planar.arguments import finite_number
@@ -73,7 +73,10 @@ def path_points(res, points):
     """The points to trace: as given, else the user-named points, else every labelled joint
     point that moves over the sweep."""
     if points is not None:
-        points = [points] if isinstance(points, str) else list(points)
+        try:
+            points = [points] if isinstance(points, str) else list(points)
+        except TypeError:
+            points = [points]
         unknown = [p for p in points if not isinstance(p, str) or p not in res.model.points]
         if not points or unknown:
             raise InputError(f"points to trace: name one or more of {sorted(res.model.points)}, got {points!r}")
@@ -145,6 +148,7 @@ def draw_vectors(res, i=0, points=None, *, ax=None, velocity=True, acceleration=
     """
     ax = new_axes(ax)
     res, units = as_sweep(res, "draw_vectors"), given(units)
+    i = pose_index(res, i)
     if scale is not None and not (isinstance(scale, (tuple, list)) and len(scale) == 2
                                   and all(_scale(s) for s in scale)):
         raise InputError(f"draw_vectors scale must be (velocity scale, acceleration scale), two positive numbers, "
@@ -191,9 +195,11 @@ def draw_instant_centres(source, i=0, *, ax=None, loci=False, units=None):
     """
     ax = new_axes(ax)
     paths = {}
-    if hasattr(source, "model"):
+    if not isinstance(source, dict):
         from planar.analysis import instant_centres
 
+        source = as_sweep(source, "draw_instant_centres (or a dict of labels to points)")
+        i = pose_index(source, i)
         names = source.model.body_names
         paths = {f"I{names.index(a) + 1}{names.index(b) + 1}": p for (a, b), p in instant_centres(source).items()}
         centres = {k: p[i] for k, p in paths.items()}

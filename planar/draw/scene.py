@@ -50,6 +50,15 @@ def joint_params(model):
 # ---- the scene: one mechanism, any pose ------------------------------------------------------
 
 
+def pose_index(sweep, i):
+    """``i`` where it indexes a value of ``sweep``, else an InputError."""
+    N = len(sweep.q)
+    if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) or not -N <= i < N:
+        raise InputError(f"pose index {i!r}: a whole number from 0 to {N - 1} (the sweep's values; from the end "
+                         f"-1 to -{N})")
+    return i
+
+
 def _source(source):
     """(model, sweep or None) from a Sweep, a Model or a Mechanism."""
     if hasattr(source, "status") and hasattr(source, "model"):
@@ -107,11 +116,7 @@ class Scene:
     def pose(self, i):
         if self.sweep is None:
             return self.model.q0
-        N = len(self.sweep.q)
-        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) or not -N <= i < N:
-            raise InputError(f"pose index {i!r}: a whole number from 0 to {N - 1} (the sweep's values; from the end "
-                             f"-1 to -{N})")
-        q = np.asarray(self.sweep.q[i])
+        q = np.asarray(self.sweep.q[pose_index(self.sweep, i)])
         if not np.all(np.isfinite(q)):
             raise InputError(f"pose {i} did not solve (status {Status(self.sweep.status[i]).name}): "
                              f"draw a pose where the sweep is valid")

@@ -166,7 +166,9 @@ def convert_lengths(data, unit, source="<mechanism file>"):
         raise FileFormatError(f"{source}: a mechanism document is a JSON object, got {type(data).__name__}")
     if not isinstance(unit, str):
         raise FileFormatError(f"{source}: a length unit is a name ('m', 'cm', 'mm' or 'in'), got {unit!r}")
-    have = data.get("units", {}).get("length", "")
+    units = data.get("units", {})
+    Checker(source).mapping(units, "units", ("length", "angle", "rate"))
+    have = units.get("length", "")
     try:
         convert_length(1.0, have, unit)
     except InputError as e:

@@ -7,7 +7,7 @@ import math
 import os
 from pathlib import Path
 
-from planar.errors import FileFormatError
+from planar.errors import FileFormatError, WriteError
 from planar.io.document import MechanismFile, SweepSettings
 from planar.io.read import from_dict
 from planar.io.schema import VERSION
@@ -140,5 +140,9 @@ def save(obj, path, units=None, sweep=None):
     if not isinstance(path, (str, os.PathLike)):
         raise FileFormatError(f"a mechanism file is named by a path, got {path!r}")
     path = Path(path)
-    path.write_text(dumps(obj, units, sweep), encoding="utf-8")
+    text = dumps(obj, units, sweep)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as e:
+        raise WriteError(e.errno, e.strerror or str(e), str(path)) from None
     return path

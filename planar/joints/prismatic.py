@@ -68,7 +68,12 @@ class Slot(Joint):
         return {"normal": -lam[0]}
 
     def touch_points(self):
-        return [(self.bodies[0], self.data["origin"]), (self.bodies[1], self.data["at"])]
+        from planar.model import GROUND  # (here: the model imports the joints)
+
+        # a ground line's origin only names where travel counts from: far off, it is no part of
+        # the drawing, and the sketch's size (the Jacobian's scale) must not take it in
+        line = [] if self.bodies[0] == GROUND else [(self.bodies[0], self.data["origin"])]
+        return line + [(self.bodies[1], self.data["at"])]
 
     def anchor(self):
         return self.bodies[1], self.data["at"]

@@ -6,6 +6,9 @@ from planar.errors import ModelError
 from planar.model import checks as model_checks
 
 SCALE = model_checks.SCALE  # lengths and numbers of a catalogue mechanism within 1/SCALE..SCALE
+# links of a chain or gears of a train: compile()'s rank test of the sketch grows with their cube
+# (256 links compile in about a second, 1000 in over 20)
+MAX_LINKS = 256
 
 
 def _real(value):
@@ -73,12 +76,12 @@ def point_pair(value, what, required=False):
 
 
 def length_list(values, what, count=None, at_least=1):
-    """A list of positive lengths: exactly ``count`` of them, or at least ``at_least``."""
+    """A list of positive lengths: exactly ``count`` of them, or ``at_least`` to MAX_LINKS."""
     try:
         values = list(values)
     except TypeError:
         raise ModelError(f"{what} must be a sequence of lengths, got {values!r}") from None
-    if (count is not None and len(values) != count) or len(values) < at_least:
-        need = f"exactly {count}" if count is not None else f"at least {at_least}"
-        raise ModelError(f"{what} must hold {need} lengths, got {len(values)}: {values!r}")
+    if (count is not None and len(values) != count) or not at_least <= len(values) <= MAX_LINKS:
+        need = f"exactly {count}" if count is not None else f"from {at_least} to {MAX_LINKS}"
+        raise ModelError(f"{what} must hold {need} lengths, got {len(values)}: {repr(values)[:80]}")
     return lengths(**{f"{what}[{k}]": v for k, v in enumerate(values)})

@@ -153,8 +153,8 @@ def gear_train(radii: Sequence[float] = (1.0, 2.0, 1.5), *, start: float = 0.0,
                name: str = "gear_train") -> Mechanism:
     """A simple train of external gears on fixed axes along the x axis, driven by the first.
 
-    Gear k has pitch radius ``radii[k-1]``; its centre ``Ok`` lies where it meshes with the gear
-    before it; gear k turns at (-1)^(k-1) R1 / Rk times gear 1's rate.
+    Gear k (2 to 256 of them) has pitch radius ``radii[k-1]``; its centre ``Ok`` lies where it
+    meshes with the gear before it; gear k turns at (-1)^(k-1) R1 / Rk times gear 1's rate.
 
     Returns
     -------

@@ -26,7 +26,7 @@ def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike |
     Parameters
     ----------
     lengths : sequence of float
-        Link lengths r1 ... rN.
+        Link lengths r1 ... rN (1 to 256).
     start : sequence of float, optional
         Input values of the sketch (radians; default all 0, the chain along +x).
     driver : {"absolute", "relative"}
@@ -50,6 +50,8 @@ def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike |
     r = checks.length_list(lengths, "lengths")
     checks.choice(driver, ("absolute", "relative"), "driver")
     try:
+        if start is not None and np.iscomplexobj(start):  # (numpy would take its real part)
+            raise TypeError(start)
         th0 = np.zeros(len(r)) if start is None else np.asarray(start, dtype=float)
     except (TypeError, ValueError, OverflowError):
         th0 = None

@@ -289,7 +289,10 @@ class Mechanism:
             raise ModelError(f"restate takes a stated distance 'a-b' or a driver's name, got {name!r}")
         for k, d in enumerate(self._dimensions):
             if f"{d.a}-{d.b}" == name:
-                self._dimensions[k] = Dimension(d.a, d.b, checks.positive(value, f"distance {name}"))
+                # stated anew, it is the last stated: the first an assembly that fails suspects
+                new = Dimension(d.a, d.b, checks.positive(value, f"distance {name}"))
+                del self._dimensions[k]
+                self._dimensions.append(new)
                 break
         else:
             if name not in self._starts:

@@ -11,9 +11,18 @@ SCALE = 1e100  # sketch coordinates and lengths within +-SCALE: their squares st
 MAX_ANGLE = 2.0**23
 
 
+def is_complex(value):
+    """Whether numpy reads ``value`` as complex numbers (a ragged list is read as no numbers
+    later, where it is converted)."""
+    try:
+        return np.iscomplexobj(value)
+    except ValueError:
+        return False
+
+
 def finite(value, what, shape=None):
     """``value`` as a float array, finite (and of ``shape`` if given), else a ModelError naming ``what``."""
-    if np.iscomplexobj(value):  # (numpy would read a complex scalar as its real part)
+    if is_complex(value):  # (numpy would read a complex scalar as its real part)
         raise ModelError(f"{what} must be a real number, got {value!r}")
     try:
         a = np.asarray(value, dtype=float)

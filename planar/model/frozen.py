@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from planar.errors import InputError, MobilityError, ModelError
+from planar.model.checks import is_complex
 
 if TYPE_CHECKING:
     from planar.results import Sweep
@@ -251,7 +252,7 @@ class Model:
         if kind in "bcmMSU" or np.ma.is_masked(values):  # (read as numbers, they would be other numbers)
             raise InputError(f"sweep {what} must be real numbers, got an array of {getattr(values, 'dtype', '')}"
                              f"{' with masked values' if np.ma.is_masked(values) else ''}")
-        if np.iscomplexobj(values):  # (numpy would read complex scalars in a list as their real parts)
+        if is_complex(values):  # (numpy would read complex scalars in a list as their real parts)
             raise InputError(f"sweep {what} must be real numbers, got complex ones")
         try:
             a = np.array(values, dtype=float, order="C")
