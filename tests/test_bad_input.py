@@ -591,6 +591,7 @@ MOTION = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.3), (1.5, 0.5, 0.6)]
     (lambda: synthesis.freudenstein("abc", [1, 2, 3]), "th2 must be a list of numbers"),
     (lambda: synthesis.freudenstein([1, 2], [1, 2, 3]), "th4 must be a list of finite numbers, one per"),
     (lambda: synthesis.slider_crank_dimensions([0.1, 0.5, 0.9], [1, math.inf, 2]), "s must be a list of finite"),
+    (lambda: synthesis.slider_crank_dimensions([0.1, 0.5, 0.9], [1, 2, 1e300]), "s must be slider travels within"),
     (lambda: synthesis.four_bar_lengths(None), "K must be Freudenstein's three constants"),
     (lambda: synthesis.four_bar_lengths((math.nan, 1, 1)), "Freudenstein's constants must be finite"),
     (lambda: synthesis.path_four_bar(PATH, seed=-1), "seed must be a whole number of at least 0"),

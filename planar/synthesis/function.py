@@ -95,6 +95,8 @@ def slider_crank_dimensions(th2, s):
     for three, least squares for more. A negative r2 is a crank pointing the other way."""
     th2 = _angles(th2, "th2")
     s = _angles(s, "s", th2.size)
+    if np.abs(s).max() > SCALE:  # (their squares overflowed)
+        raise InputError(f"s must be slider travels within +-{SCALE:g}, got {s.tolist()}: give them in another unit")
     M = np.stack((s * np.cos(th2), np.sin(th2), np.ones_like(th2)), axis=1)
     K1, K2, K3 = _solve(M, s**2, "crank angles and slider travels")
     if K1 == 0:
