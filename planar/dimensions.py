@@ -201,7 +201,7 @@ class _Problem:
 
 def assemble(X0, bases, rows, triangles, L):
     """Site positions X (S, 2) nearest X0 where every row holds, the lengths and angles
-    followed from their drawn values to the targets in steps; raises AssemblyError naming the
+    followed from their drawn values to the targets in steps (lengths by equal ratios); raises AssemblyError naming the
     row that cannot hold (drivers first, then the dimensions, the last stated first) and by
     how much, or the triangle (sites a, b, c, what) that would have to turn over."""
     p = _Problem(X0, bases, rows, L)

@@ -272,7 +272,8 @@ class Mechanism:
 
     def restate(self, name: str, value: float) -> None:
         """Change one of the mechanism's numbers: a stated distance, named "a-b" as
-        :meth:`distance` stated it, or a driver's start, named as the driver.
+        :meth:`distance` stated it (it becomes the last stated, the first an assembly that
+        fails names), or a driver's start, named as the driver.
 
         >>> m = Mechanism()
         >>> crank = m.add_body("crank")
