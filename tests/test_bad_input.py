@@ -457,7 +457,7 @@ def _set(path, value):
 FILES = [
     # (edit of a good document, or its text, message)
     (_set(["drivers"], []), "drivers: the mechanism has no driver to sweep: add 1 to drivers"),
-    (_set(["sweep", "num"], 10**12), "sweep values: a run writes at most 10,000,000 rows"),
+    (_set(["sweep", "num"], 10**12), "sweep values: a run writes at most 1,000,000 rows"),
     (_set(["sweep", "num"], 1.5), "sweep.num: must be an integer of at least 2"),
     (_set(["sweep", "num"], 1), "sweep.num: must be an integer of at least 2"),
     (_set(["sweep", "stop"], 1e300), "more than the limit of 1e+08"),
@@ -694,8 +694,9 @@ COMMAND_LINES = [
     (["--frames", "0"], "argument --frames: 0 is not from 2 to 2000"),
     (["--frames", "1000000"], "argument --frames: 1000000 is not from 2 to 2000"),
     (["--fps", "0"], "argument --fps: 0 is not from 1 to 100"),
-    (["--num", "1"], "argument --num: 1 is not from 2 to 10000000"),
-    (["--num", "1000000000"], "argument --num: 1000000000 is not from 2 to 10000000"),
+    (["--num", "1"], "argument --num: 1 is not from 2 to 1000000"),
+    (["--num", "1000000000"], "argument --num: 1000000000 is not from 2 to 1000000"),
+    (["--circuit", "--num", "10000000"], "argument --num: 10000000 is not from 2 to 1000000"),  # (10 min, 15 GB)
     (["--num", "1e9"], "argument --num: '1e9' is not an integer"),
     (["--stop", "1e300"], "--stop: the walk through these sweep values is"),
     (["--start=-1e300", "--stop", "1e300"], "more than the limit of 1e+08"),
