@@ -81,7 +81,7 @@ def run_file(doc, source, args, out):
             kind = "gif"
         p = out / f"{stem}.{kind}"
         write_output(p, lambda: animate.animate(res, p, points=args.points, fps=args.fps, max_frames=args.frames,
-                                          rocking=settings.rocking, dpi=args.dpi * 3 // 4, units=units,
+                                          rocking=settings.rocking, dpi=max(args.dpi * 3 // 4, animate.DPI[0]), units=units,
                                           progress=Progress(f"writing {p.name}: frames")))
         written.append(p)
     print("wrote " + ", ".join(str(p) for p in written))
