@@ -159,7 +159,8 @@ class _Problem:
         self.X0 = np.asarray(X0, float)
         self.bases, self.rows, self.L = bases, rows, L
         self.cols = np.cumsum([0] + [B.shape[1] for B in bases])
-        self.scale = np.array([1.0 / L if r.kind != "angle" else 1.0 for r in rows])
+        self.lengths = np.array([r.kind != "angle" for r in rows], bool)
+        self.scale = np.where(self.lengths, 1.0 / L, 1.0)
 
     def X(self, z):
         X = self.X0.copy()
@@ -183,20 +184,21 @@ class _Problem:
     def newton(self, z, targets, iterations=30):
         """Minimum-norm Gauss-Newton from z: (z, converged). Its tolerance and largest step
         grow with the lengths asked for, where they outgrow the sketch's size L."""
-        size = max(1.0, np.max(np.abs(targets[self.scale != 1.0]), initial=0.0) / self.L)
-        for _ in range(iterations):
-            r = self.residuals(z, targets)
-            if np.max(np.abs(r), initial=0.0) <= 1e-14 * size:
-                return z, True
-            J = self.jacobian(z)
-            if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):  # (lengths whose squares overflow)
-                return z, False
-            dx = np.linalg.lstsq(J, r, rcond=None)[0]
-            if not np.all(np.isfinite(dx)):
-                return z, False
-            dx *= min(1.0, 0.25 * size / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most size/4 a step
-            z = z - dx * self.L
-        return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12 * size
+        size = max(1.0, np.max(np.abs(targets[self.lengths]), initial=0.0) / self.L)
+        with np.errstate(over="ignore", invalid="ignore"):  # (lengths whose squares overflow: refused below)
+            for _ in range(iterations):
+                r = self.residuals(z, targets)
+                if np.max(np.abs(r), initial=0.0) <= 1e-14 * size:
+                    return z, True
+                J = self.jacobian(z)
+                if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):
+                    return z, False
+                dx = np.linalg.lstsq(J, r, rcond=None)[0]
+                if not np.all(np.isfinite(dx)):
+                    return z, False
+                dx *= min(1.0, 0.25 * size / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most size/4 a step
+                z = z - dx * self.L
+            return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12 * size
 
 
 def assemble(X0, bases, rows, triangles, L):

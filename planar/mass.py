@@ -41,10 +41,7 @@ def _sizes(mass, points, lengths):
     if m > checks.SCALE:
         raise ModelError(f"mass {m:g} is beyond the numbers a sketch holds (+-{checks.SCALE:g}): give it in another unit")
     P = [checks.point(p, what) for what, p in points]
-    L = [checks.positive(v, what) for what, v in lengths]
-    if any(v > checks.SCALE for v in L):
-        raise ModelError(f"a size beyond the numbers a sketch holds (+-{checks.SCALE:g}): give it in another unit")
-    return m, P, L
+    return m, P, [checks.length(v, what) for what, v in lengths]
 
 
 def bar(mass, a, b):

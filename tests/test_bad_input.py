@@ -13,7 +13,7 @@ import pytest
 import planar
 from planar import arguments, draw, io, synthesis
 from planar.animate import animate
-from planar.errors import AssemblyError, FileFormatError, InputError, ModelError, SynthesisError
+from planar.errors import FileFormatError, InputError, ModelError, SynthesisError
 from planar.analysis import grashof, motion_range, stroke
 from planar.mechanisms import four_bar, open_chain, planetary_gear_train, slider_crank, watt_six_bar
 from tests.test_cli import run_or_exit
@@ -191,12 +191,14 @@ def test_bad_builder_arguments(call, message):
         call(planar.Mechanism())
 
 
-def test_a_stated_distance_whose_square_overflows_cannot_hold():
-    # (a numpy LinAlgError from the assembly's least squares)
-    m = four_bar()
-    m.restate("A-B", 1e308)
-    with pytest.raises(AssemblyError, match="distance A-B = 1e\\+308 cannot hold with the others"):
-        m.compile()
+def test_a_stated_distance_whose_square_overflows_is_refused():
+    # (a numpy LinAlgError from the assembly's least squares; then, followed by equal ratios, a
+    # slider-crank's coupler of 1e308 assembled and the sketch's size overflowed)
+    for m in (four_bar(), slider_crank()):
+        with pytest.raises(ModelError, match="distance A-B = 1e\\+308 is beyond the lengths a sketch holds"):
+            m.restate("A-B", 1e308)
+    with pytest.raises(ModelError, match="distance O-P = 1e\\+101 is beyond the lengths"):
+        planar.Mechanism().distance("O", "P", 1e101)
 
 
 @pytest.mark.parametrize("call, message", [
@@ -345,7 +347,7 @@ def test_bad_force_arguments(call, message):
 
 @pytest.mark.parametrize("call, message", [
     (lambda: planar.bar("x", (0, 0), (1, 0)), "mass must be numeric, got 'x'"),  # (a ValueError)
-    (lambda: planar.disc(1, (0, 0), 1e200), "a size beyond the numbers a sketch holds"),  # (an OverflowError)
+    (lambda: planar.disc(1, (0, 0), 1e200), "disc radius = 1e\\+200 is beyond the lengths a sketch holds"),  # (Overflow)
     (lambda: planar.plate(1, None, 1, 1), r"plate centre must have shape \(2,\), got None"),  # (a TypeError)
     (lambda: planar.bar(1.0, (0, 0), (1e90, 0)), r"the inertia 8.33333e\+178 is beyond"),
 ])

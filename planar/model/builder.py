@@ -257,7 +257,7 @@ class Mechanism:
         >>> m.compile().sketch.position("P").round(12).tolist()
         [1.0, 0.0]
         """
-        length = checks.positive(length, f"distance {a}-{b}")
+        length = checks.length(length, f"distance {a}-{b}")
         shared = self._bodies_of(a) & self._bodies_of(b)
         if not shared:
             raise ModelError(f"distance {a}-{b}: {a!r} is on {sorted(self._bodies_of(a))} and {b!r} on "
@@ -291,7 +291,7 @@ class Mechanism:
         for k, d in enumerate(self._dimensions):
             if f"{d.a}-{d.b}" == name:
                 # stated anew, it is the last stated: the first an assembly that fails suspects
-                new = Dimension(d.a, d.b, checks.positive(value, f"distance {name}"))
+                new = Dimension(d.a, d.b, checks.length(value, f"distance {name}"))
                 del self._dimensions[k]
                 self._dimensions.append(new)
                 break
@@ -370,8 +370,8 @@ class Mechanism:
         a, b = self._pair(gear_a, gear_b, name)
         internal = checks.flag(internal, f"gear {name!r} internal")
         hold_distance = checks.flag(hold_distance, f"gear {name!r} hold_distance")
-        data = dict(radius_a=checks.positive(radius_a, f"gear {name!r} radius_a"),
-                    radius_b=checks.positive(radius_b, f"gear {name!r} radius_b"),
+        data = dict(radius_a=checks.length(radius_a, f"gear {name!r} radius_a"),
+                    radius_b=checks.length(radius_b, f"gear {name!r} radius_b"),
                     sign=-1.0 if internal else 1.0, pressure_angle=checks.pressure_angle(pressure_angle, name))
         if internal and data["radius_a"] == data["radius_b"]:
             raise ModelError(f"gear {name!r}: an internal mesh needs different radii")
@@ -424,7 +424,7 @@ class Mechanism:
         p, r = self._pair(pinion, rack, name)
         if side not in ("left", "right"):
             raise ModelError(f"joint {name!r}: side must be 'left' or 'right', got {side!r}")
-        data = dict(radius=checks.positive(radius, f"joint {name!r} radius"), centre=checks.point(centre, f"joint {name!r} centre"),
+        data = dict(radius=checks.length(radius, f"joint {name!r} radius"), centre=checks.point(centre, f"joint {name!r} centre"),
                     through=checks.point(through, f"joint {name!r} through"),
                     direction=checks.direction(direction, f"joint {name!r} direction"),
                     side=1.0 if side == "left" else -1.0, pressure_angle=checks.pressure_angle(pressure_angle, name))

@@ -54,11 +54,13 @@ def flag(value, what):
     return bool(value)
 
 
-def positive(value, what):
-    """``value`` as a positive float."""
+def length(value, what):
+    """``value`` as a positive length, at most SCALE."""
     v = float(finite(value, what, ()))
     if v <= 0:
         raise ModelError(f"{what} must be positive, got {value!r}")
+    if v > SCALE:  # (a distance of 1e308 assembled, and the sketch's size overflowed)
+        raise ModelError(f"{what} = {v:g} is beyond the lengths a sketch holds ({SCALE:g}): give it in another unit")
     return v
 
 
