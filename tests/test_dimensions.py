@@ -384,3 +384,32 @@ def test_a_ground_line_counting_travel_from_far_away_leaves_the_mechanism_its_ow
     res = model.sweep(np.linspace(0, 2 * np.pi, 5))
     assert model.L < 10 and np.all(res.status == planar.Status.SOLVED)
     np.testing.assert_allclose(res.coordinate("slide"), res.position("B")[:, 0] - 1e7, rtol=0, atol=1e-8)
+
+
+def test_a_named_point_far_away_leaves_the_mechanism_its_own_size():
+    # (a point named 1e7 away on the coupler made the model's size 1e7: a sweep of five values
+    # took over 25 s, every pose measured near a crossing at that scale)
+    m = planar.mechanisms.four_bar(2, 5, 4, 5)
+    m.add_point("far", "coupler", at=(1e7, 0))
+    model = m.compile()
+    res = model.sweep(np.linspace(0, 2 * np.pi, 5))
+    assert model.L < 10 and np.all(res.status == planar.Status.SOLVED)
+    A, B, far = res.position("A"), res.position("B"), res.position("far")
+    # the point rides on the coupler: fixed along and across the line A -> B
+    u = (B - A) / np.hypot(*(B - A).T)[:, None]
+    d = far - A
+    local = np.c_[u[:, 0] * d[:, 0] + u[:, 1] * d[:, 1], u[:, 0] * d[:, 1] - u[:, 1] * d[:, 0]]
+    assert np.hypot(*local[0]) > 9e6
+    np.testing.assert_allclose(local, np.tile(local[0], (5, 1)), rtol=0, atol=1e-6)
+
+
+def test_a_ground_line_drawn_through_a_point_far_along_it_leaves_the_mechanism_its_own_size():
+    m = planar.Mechanism("wheel")
+    wheel = m.add_body("wheel")
+    m.add_rolling("roll", wheel, m.ground, 1.0, centre=(0, 1), through=(1e7, 0), direction=(1, 0))
+    m.add_point("C", wheel, at=(0, 1))
+    m.drive(body="wheel", start=0.0)
+    model = m.compile()
+    res = model.sweep(np.linspace(0, 3, 5))
+    assert model.L < 10 and np.all(res.status == planar.Status.SOLVED)
+    np.testing.assert_allclose(res.position("C"), np.c_[-np.linspace(0, 3, 5), np.ones(5)], rtol=0, atol=1e-12)

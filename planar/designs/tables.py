@@ -293,6 +293,9 @@ def _build(t, P, data, spec, dims, starts, at, engine):
     q0 = np.stack([np.concatenate([np.broadcast_to(origins[b], (2, D)), angles[b][None]]) for b in bodies[1:]],
                   axis=1).T.reshape(D, -1) if len(bodies) > 1 else np.zeros((D, 0))
 
+    # the model's scale, as compiling takes it: the constraints' own points, not the named ones
+    L = _extent({}, cons, D)
+
     # 3. each constraint's body-fixed parameters, over the designs
     Ps = []
     for i, (c, cv) in enumerate(zip(t.cons, cons)):

@@ -121,6 +121,9 @@ class CoordinateDriver(Joint):
         (b,) = self.bodies
         return {"s": sketch.local_point(b, self.data["at"]), "e": np.asarray(self.data["axis"], float)}
 
+    def touch_points(self):
+        return [(self.bodies[0], self.data["at"])]
+
     @staticmethod
     def Phi(P, F):
         p, _ = F.point(0, P["s"])

@@ -83,7 +83,12 @@ class RackPinion(Joint):
         return {"normal": -lam[0] * np.sign(P["sR"]), "tangential": Ft, "contact": np.abs(Ft) / np.cos(P["alpha"])}
 
     def touch_points(self):
-        return [(self.bodies[0], self.data["through"]), (self.bodies[1], self.data["centre"])]
+        from planar.model import GROUND  # (here: the model imports the joints)
+
+        # a ground line's point only says where the line lies (as a slot's origin): far along
+        # it, it is no part of the drawing, nor of the sketch's size
+        line = [] if self.bodies[0] == GROUND else [(self.bodies[0], self.data["through"])]
+        return line + [(self.bodies[1], self.data["centre"])]
 
     def anchor(self):
         return self.bodies[1], self.data["centre"]

@@ -36,7 +36,8 @@ def compile_sketch(name, sk, plan=True):
                              f"(float64 rounds it by more than the rows' tolerance): give it within a turn")
     q0 = np.concatenate([np.r_[origins[b], sk.bodies[b]] for b in bodies[1:]]) if n else np.zeros(0)
 
-    L = char_length(sk.points, joints)
+    # the named points enter no row (a driven point enters as its driver's): they leave the scale alone
+    L = char_length({}, constraints)
     lengths = np.concatenate([np.array(c.length_rows, bool) for c in constraints]) if m else np.zeros(0, bool)
     row_scale = np.where(lengths, 1.0 / L, 1.0)
     col_scale = np.tile([L, L, 1.0], len(bodies) - 1)
