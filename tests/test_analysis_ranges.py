@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from planar.analysis.ranges import motion_range, runs, swept_ranges
-from planar.mechanisms import four_bar, slider_crank
+from planar.mechanisms import four_bar, geared_five_bar, slider_crank
 from tests import oracles
 
 REF = oracles.load_reference()
@@ -49,3 +49,18 @@ def test_a_sweep_reads_the_same_ends_as_far_as_it_went():
 def test_runs_of_a_mask():
     assert runs([True, False, False, True, True]) == [(0, 0), (3, 4)]
     assert runs([]) == [] and runs([False]) == []
+
+
+def test_a_geared_five_bars_stretches_over_the_same_inputs_are_ranges_of_their_own():
+    # past its limit at 4.457 the crank re-enters a stretch that reaches back to 4.3737 and a
+    # narrow one [5.6071, 5.6904] over the same inputs: every value of the turn assembles on
+    # one or another, and that read as one run of values had been a full turn
+    m = geared_five_bar(ground=17.415047727859392, gear_radius_2=3.721527582006219,
+                        gear_radius_4=4.845214131881709, link_5=14.43467129449753, crossed=True,
+                        start=-0.18091610142973247)
+    wrap = lambda u: (u + np.pi) % (2 * np.pi) - np.pi  # noqa: E731
+    ranges = np.array(motion_range(m))
+    assert len(ranges) == 3
+    np.testing.assert_allclose(np.sort(wrap(ranges[:, 0])), np.sort(wrap(np.array([-3.8066, 4.3737, 5.6071]))), atol=1e-4)
+    assert np.any(np.abs(wrap(ranges[:, 1] - 4.457004808008)) < 1e-9)  # the sketch's stretch ends at its limit
+    assert np.any(np.abs(wrap(ranges[:, 1] - 5.690360105685)) < 1e-9)

@@ -700,6 +700,19 @@ def test_a_value_between_a_walk_step_entered_past_a_gap_and_the_next_limit_is_so
     assert_limits_named(res, ranges)
 
 
+def test_values_a_walk_back_from_past_a_narrow_interval_passes_over_are_solved():
+    # past the limit at 4.457 the search entered a narrow interval [5.6071, 5.6904] at 5.63; the
+    # walk on from it re-entered past 5.6904 at 5.75, on another stretch of the branch that runs
+    # back down to 4.3737. 5.0 and 4.8 lie on it, but the walk back from 5.63 met 5.6071 and the
+    # one from 5.75 stopped at 5.67, solved on the narrow interval: both NOT_ASSEMBLABLE
+    m = geared_five_bar(ground=17.415047727859392, gear_radius_2=3.721527582006219,
+                        gear_radius_4=4.845214131881709, link_5=14.43467129449753, crossed=True,
+                        start=-0.18091610142973247)
+    res = m.sweep(np.r_[np.arange(-0.18, 4.5, 0.035), 5.63, 5.67, 5.75, 5.0, 4.8])
+    assert np.all(POSED[res.status]) and np.all(res.residual <= 1e-12)
+    assert {round(float(np.ravel(e.input)[0]), 4) for e in res.events if e.kind == "limit"} >= {4.457, 4.3737}
+
+
 def test_a_far_value_where_the_search_finds_only_other_modes_is_out_of_reach():
     # the geared five-bar above (no period: its gears' ratio is not rational), a value 1000 rad
     # off: entered directly, where least squares and Newton land only in the other modes and

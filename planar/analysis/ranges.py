@@ -19,7 +19,7 @@ import numpy as np
 from planar import arguments
 from planar.blocks import plan as block_plan
 from planar.errors import InputError
-from planar.results import POSED, as_sweep
+from planar.results import POSED, Status, as_sweep
 from planar.sweep import Branch, Walker
 
 TURN = 2 * np.pi
@@ -57,22 +57,24 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
     u0 = float(model.u0[0])
     if model.input_lengths[0]:
         R = _travel(travel) if travel is not None else 2.0 * model.L * len(model.body_names)
-        up = _stretches(model, u0 + np.linspace(0, R, samples + 1), tol, max_step)
-        down = _stretches(model, u0 - np.linspace(0, R, samples + 1), tol, max_step)
+        up, _ = _stretches(model, u0 + np.linspace(0, R, samples + 1), tol, max_step)
+        down, _ = _stretches(model, u0 - np.linspace(0, R, samples + 1), tol, max_step)
         # the stretch through the sketch is the first of each sweep; one that runs to the end
         # of the travel ends there
         end = lambda v, e: e if v is None else v  # noqa: E731
         first = (end(down[0][1], u0 - R), end(up[0][1], u0 + R))
         out = [first] + [(lo, end(hi, u0 + R)) for lo, hi in up[1:]] + [(end(hi, u0 - R), lo) for lo, hi in down[1:]]
         return tuple(sorted((min(a, b), max(a, b)) for a, b in out))
-    runs = _stretches(model, u0 + np.linspace(0, TURN, samples + 1), tol, max_step)
-    if len(runs) == 1 and runs[0][1] is None:
+    grid = u0 + np.linspace(0, TURN, samples + 1)
+    stretches, back = _stretches(model, grid, tol, max_step, turn=True)
+    first, rest = stretches[0], stretches[1:]
+    if first[1] is None:  # (the sketch's stretch turns fully)
         return ((-np.pi, np.pi),)
-    first, rest = runs[0], runs[1:]
-    if rest and rest[-1][1] is None:  # the last stretch runs through the end of the turn into the first
-        first = (rest[-1][0] - TURN, first[1])
-        rest = rest[:-1]
-    elif first[1] is not None:
+    into = [st for st in rest if st[1] is None]
+    if into:  # a stretch runs through the end of the turn into the first (the sketch's pose a turn on)
+        first = (into[0][0] - TURN, first[1])
+        rest = [st for st in rest if st[1] is not None]
+    else:
         # the sketch's stretch started at u0 but did not come back around: find its lower end
         first = (_lower_end(model, u0, tol, max_step), first[1])
     return tuple(sorted(_turn(lo, hi) for lo, hi in [first] + rest))
@@ -126,49 +128,74 @@ def _turn(lo, hi):
     return float(start), float(start + (hi - lo))
 
 
-def _stretches(model, grid, tol, max_step):
-    """Stretches of ``grid`` (from the sketch's input on) that assemble: [(lo, hi)], with hi
-    the limit that ends a stretch (None when it runs to the end of the grid) and lo the limit
-    that starts it (the grid's first value for the first stretch)."""
+def _stretches(model, grid, tol, max_step, turn=False):
+    """(stretches, back): the stretches of ``grid`` (from the sketch's input on) that assemble,
+    [(lo, hi)], hi the limit that ends a stretch (None when it runs to the end of the grid), lo
+    the limit that starts it (the grid's first value for the first stretch); ``back``: whether
+    the pose at the grid's end is the sketch's a whole turn on (``turn``: an angle grid of a
+    turn), so that a stretch running to the end runs into the first. A stretch that reaches
+    over the inputs of another (a geared linkage's, past a gap) is one of its own."""
     res = model.sweep(grid, tol=tol, max_step=max_step)
     posed = POSED[res.status]
-    limits = [e for e in res.events if e.kind == "limit"]
-    out = []
-    br = Branch(model, block_plan(model), tol)
+    limits = [float(np.ravel(e.input)[0]) for e in res.events if e.kind == "limit"]
+    walker = Walker(Branch(model, block_plan(model), tol), max_step, False)
+
+    def limit(i, target):
+        """The limit the walk from value i's pose towards ``target`` meets, or None."""
+        q, u = res.q[i], res.inputs[i]
+        got = walker.walk(q, u, walker.br.signs(q[None], u[None])[0], np.array([target]), i)
+        return float(np.ravel(got[1].input)[0]) if got[0] == "limit" else None
+
+    def continues(b):
+        """Whether value b is on the stretch of value b - 1 (both posed): the walk from b - 1
+        comes to b's pose, where b was not entered past a gap nor lies past a limit."""
+        if res.status[b] != Status.JUMPED and not any(_between(v, grid[b - 1], grid[b]) for v in limits):
+            return True
+        q, u = res.q[b - 1], res.inputs[b - 1]
+        got = walker.walk(q, u, walker.br.signs(q[None], u[None])[0], grid[b][None], b)
+        return got[0] == "ok" and not _apart(model, got[1], res.q[b])
+
+    pieces = []  # (first, last) value of each stretch the sweep posed
     for a, last in runs(posed):
-        b = last + 1
+        cut = [b for b in range(a + 1, last + 1) if not continues(b)]
+        pieces += list(zip([a] + cut, [b - 1 for b in cut] + [last]))
+    back = turn and bool(posed[-1]) and not _apart(model, res.q[-1], model.q0)
+    beyond = None  # where a stretch past the grid's end ends, where it is not the first a turn on
+    out = []
+    for a, e in pieces:
+        # back to the limit that starts it, as far as the sweep's start (values just inside
+        # may have been missed by the sweep, or posed on another stretch over them)
+        lo = grid[0] if a == 0 else limit(a, grid[0])
+        lo = 0.5 * (grid[a - 1] + grid[a]) if lo is None else lo
         hi = None
-        if b < len(grid):
-            ends = [e.input for e in limits if _between(e.input, grid[b - 1], grid[b])]
-            hi = ends[0] if ends else 0.5 * (grid[b - 1] + grid[b])
-        if a == 0:
-            lo = grid[0]
-        else:
-            # back towards the end of the stretch before: values just inside may have been
-            # missed by the sweep, the limit is met first
-            lo = _walk_back(model, br, res, a, out[-1][1] if out and out[-1][1] is not None else grid[a - 1],
-                            max_step)
-        out.append((float(lo), None if hi is None else float(hi)))
-    return out or [(grid[0], grid[0])]
+        if e + 1 < len(grid):
+            ends = [v for v in limits if _between(v, grid[e], grid[e + 1])]
+            # (on past a value posed on another stretch, as far as the grid's end)
+            hi = ends[0] if ends and not posed[e + 1] else limit(e, grid[-1])
+        if hi is None and turn and not back and a > 0:
+            # a geared linkage's stretch over the end of the turn (its pose does not repeat
+            # each turn): on to its end, within another turn
+            beyond = limit(len(grid) - 1, grid[-1] + TURN) if beyond is None else beyond
+            hi = beyond if beyond is not None else lo + TURN
+        if not any(abs(lo - p) <= 1e-9 and (hi is None if h is None else hi is not None and abs(hi - h) <= 1e-9)
+                   for p, h in out):
+            out.append((float(lo), None if hi is None else float(hi)))
+    return (out or [(grid[0], grid[0])]), back
+
+
+def _apart(model, q, p):
+    """Whether poses q and p differ (angles up to whole turns)."""
+    d = np.asarray(q, float) - p
+    angle = np.arange(d.size) % 3 == 2
+    d[angle] = np.angle(np.exp(1j * d[angle])) * model.L
+    return not np.all(np.abs(d) <= 1e-8 * model.L)
 
 
 def _between(u, a, b):
     return min(a, b) <= u <= max(a, b)
 
 
-def _walk_back(model, br, res, a, target, max_step):
-    """The limit met walking from the pose of value a back towards ``target``."""
-    walker = Walker(br, max_step, False)
-    q, u = res.q[a], res.inputs[a]
-    signs = br.signs(q[None], u[None])[0]
-    got = walker.walk(q, u, signs, np.array([target]), a)
-    if got[0] == "limit":
-        return float(got[1].input)
-    return 0.5 * (u[0] + target)
-
-
 def _lower_end(model, u0, tol, max_step):
-    """The limit below the sketch's input (the sweep went up from it)."""
-    res = model.sweep(u0 - np.linspace(0, TURN, 361), tol=tol, max_step=max_step)
-    limits = [e.input for e in res.events if e.kind == "limit"]
-    return float(limits[0]) if limits else u0 - TURN
+    """The limit that ends the sketch's stretch below its input (the sweep went up from it)."""
+    (_, end), *_ = _stretches(model, u0 - np.linspace(0, TURN, 361), tol, max_step)[0]
+    return u0 - TURN if end is None else end

@@ -492,11 +492,27 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # step): the limit on the gap's far side, located walking back from the value past it, up
     # to a turn of the input
     at_event = at_events(model, U, events)
-    for j in list(stops):
+    for j in dict.fromkeys(stops):  # (once each: a walk meets many limits on its way to one value)
         if 0 < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
             reach = np.flatnonzero(scaled_norm(model, U[:j] - U[j]) <= TURN)
             # (the direct way: only the limit it meets is wanted)
-            walk((q[j], U[j], signs[j]), int(reach[0] if reach.size else j - 1), -1, back=j, periodic=False)
+            a = int(reach[0] if reach.size else j - 1)
+            got = walk((q[j], U[j], signs[j]), a, -1, back=j, periodic=False)
+            # the values that walk passed over unsolved: another stretch of the branch, over
+            # the same inputs, held the value before j, where the walk back past the gap
+            # stopped (those are still that stretch's)
+            over = np.arange(a, j)[~solved[a:j]]
+            if got[0] == "limit":
+                u_star = float(np.ravel(got[1].input)[0])
+                over = over[(U[over, 0] - u_star) * (U[j, 0] - u_star) > 0]
+            b = j
+            for i in over[::-1]:
+                if at_events(model, U[i : i + 1], events):
+                    continue
+                got = walk((q[b], U[b], signs[b]), i, -1, back=b, periodic=False)
+                if got[0] != "ok":
+                    break
+                q[i], solved[i], signs[i], b = got[1], True, got[2], i
     at_event = at_events(model, U, events)
     for i, ev in at_event.items():
         q[i], solved[i], done[i] = ev.q, True, True
