@@ -30,6 +30,8 @@ MAX_STEPS = 1e8  # continuation steps of max_step through the sweep's values
 # input rates and accelerations (per the mechanism's size for lengths): beyond, v**2 overflows
 MAX_RATE, MAX_ACCELERATION = 1e100, 1e200
 BYTES_PER_COORDINATE = 40  # per value and coordinate: positions, rates, accelerations and the work arrays
+# a circuit's: its tracing and the sweep along it (1e6 samples of a four-bar: 1.3 GB)
+CIRCUIT_BYTES_PER_COORDINATE = 4 * BYTES_PER_COORDINATE
 
 
 def finite_number(value):
@@ -128,12 +130,12 @@ def _memory():
     return min(limits, default=None)
 
 
-def size(model, N, what="the sweep"):
+def size(model, N, what="the sweep", per_coordinate=BYTES_PER_COORDINATE):
     """Refuse ``N`` values of ``model`` when their results cannot fit in memory (a count that is
-    not an integer is refused where it is read)."""
+    not an integer is refused where it is read); ``per_coordinate``: bytes per value and coordinate."""
     if isinstance(N, bool) or not isinstance(N, Integral):
         return
-    need = (float(max(N, 0)) if N < 2**1000 else math.inf) * max(model.n, 1) * BYTES_PER_COORDINATE
+    need = (float(max(N, 0)) if N < 2**1000 else math.inf) * max(model.n, 1) * per_coordinate
     have = _memory()
     if have is not None and need > have:
         raise InputError(f"{what} of {N if N < 10**15 else f'~1e{len(str(N)) - 1}'} values needs about {need / 2**30:.3g} GiB for its results, more than "

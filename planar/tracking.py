@@ -35,6 +35,7 @@ import numpy as np
 from planar import arguments
 from planar.errors import InputError
 from planar.events import NEAR_CURVE
+from planar.model.checks import is_complex
 from planar.results import Status, Sweep
 
 CAP = 256  # poses kept per branch option: a turn of the crank at the default max_step is ~126
@@ -364,7 +365,7 @@ class Tracker:
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             try:
-                if np.iscomplexobj(value):  # (numpy would take the real parts)
+                if is_complex(value):  # (numpy would take the real parts)
                     raise TypeError(value)
                 value = np.asarray(value, dtype=float)
             except (TypeError, ValueError, OverflowError):

@@ -52,7 +52,7 @@ def convert_length(value, source, target):
 
 
 def given(units):
-    """``units`` where it is a :class:`Units`; ``Units()`` (radians, no length unit) for None."""
+    """``units`` where it is a :class:`Units`; ``Units()`` (degrees, rad/s, no length unit) for None."""
     if units is None:
         return Units()
     if not isinstance(units, Units):

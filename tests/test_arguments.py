@@ -81,5 +81,7 @@ def test_a_sweep_larger_than_memory_is_refused_before_any_work(crank, monkeypatc
         arguments.size(crank, 1001)
     with pytest.raises(InputError, match="the circuit of 2000 values"):
         arguments.size(crank, 2000, "the circuit")
+    with pytest.raises(InputError, match="the circuit of 251 values"):  # (its tracing keeps more a value)
+        crank.circuit(samples=251)
     monkeypatch.setattr(arguments, "_memory", lambda: None)  # the system does not say: allowed
     arguments.size(crank, 10**15)

@@ -253,7 +253,6 @@ def test_bad_analysis_options(call, message):
 
 @pytest.mark.parametrize("call, message", [
     (lambda p: io.save(four_bar(), None), "a mechanism file is named by a path, got None"),  # (a TypeError)
-    (lambda p: io.save(four_bar(), p, "mm"), "units must be a planar.units.Units, got 'mm'"),  # (AttributeError)
     (lambda p: io.to_dict(four_bar(), sweep="x"), "sweep must be a SweepSettings or a dict"),  # (AttributeError)
     (lambda p: io.loads(None), "a mechanism document is JSON text, got NoneType"),  # (a TypeError)
     (lambda p: io.load(io.save(four_bar(), p), length_unit=["mm"]), r"a length unit is a name .* got \['mm'\]"),
@@ -292,6 +291,7 @@ def test_a_file_that_cannot_be_written_is_a_write_error_naming_it(tmp_path, wher
     (lambda r, p: animate(r, p, size=None), r"animate size must be \(width, height\)"),  # (a TypeError)
     (lambda r, p: animate(r, p, progress="x"), "animate progress must be a function"),  # (a TypeError)
     (lambda r, p: animate(r, p, units="deg"), "units must be a planar.units.Units"),  # (each an AttributeError)
+    (lambda r, p: io.save(four_bar(), p.with_suffix(".json"), "mm"), "units must be a planar.units.Units, .* got 'mm'"),
     (lambda r, p: animate(four_bar(), p), "animate needs a sweep result .* got Mechanism"),
     (lambda r, p: draw.draw(r, 0, ax="x"), "ax must be matplotlib axes"),
     (lambda r, p: draw.draw(r, 0, units="mm"), "units must be a planar.units.Units"),

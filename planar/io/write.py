@@ -14,7 +14,7 @@ from planar.io.schema import VERSION
 from planar.joints import FILE_TYPES
 from planar.joints.base import xy
 from planar.model import GROUND, Mechanism
-from planar.units import Units
+from planar.units import given
 
 
 def _angle_entry(key, angle, units):
@@ -82,11 +82,9 @@ def to_dict(obj, units=None, sweep=None):
         return json.loads(json.dumps(obj.data))
     if not isinstance(obj, Mechanism):
         raise FileFormatError(f"can only save a planar.Mechanism or a MechanismFile, got {type(obj).__name__}")
-    if units is not None and not isinstance(units, Units):
-        raise FileFormatError(f"units must be a planar.units.Units, got {units!r}")
     if sweep is not None and not isinstance(sweep, (dict, SweepSettings)):
         raise FileFormatError(f"sweep must be a SweepSettings or a dict of sweep fields, got {sweep!r}")
-    units = units or Units()
+    units = given(units)
     sk = obj.sketch()
     joint_names = {j.name for j in sk.joints}
     points = {n: v for n, v in sk.points.items() if n not in joint_names}

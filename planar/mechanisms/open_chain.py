@@ -17,6 +17,7 @@ from planar.errors import ModelError
 from planar.mechanisms import checks
 from planar.mechanisms.sketch import polar
 from planar.model import Mechanism
+from planar.model.checks import is_complex
 
 
 def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike | None = None,
@@ -50,7 +51,7 @@ def open_chain(lengths: Sequence[float] = (5.0, 8.0, 9.0), *, start: ArrayLike |
     r = checks.length_list(lengths, "lengths")
     checks.choice(driver, ("absolute", "relative"), "driver")
     try:
-        if start is not None and np.iscomplexobj(start):  # (numpy would take its real part)
+        if start is not None and is_complex(start):  # (numpy would take its real part)
             raise TypeError(start)
         th0 = np.zeros(len(r)) if start is None else np.asarray(start, dtype=float)
     except (TypeError, ValueError, OverflowError):

@@ -237,7 +237,7 @@ class Model:
         from planar import arguments
         from planar.circuit import circuit
 
-        arguments.size(self, samples, "the circuit")
+        arguments.size(self, samples, "the circuit", arguments.CIRCUIT_BYTES_PER_COORDINATE)
         return circuit(self, samples, velocity, acceleration, tol=arguments.tolerance(tol),
                        max_step=arguments.max_step(max_step))
 
