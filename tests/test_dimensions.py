@@ -269,7 +269,7 @@ def test_jansen_foot_path_matches_a_dyad_by_dyad_computation():
     cranks = np.radians(np.arange(0.0, 361.0, 5.0))
     res = jansen.jansen_leg().sweep(cranks)
     assert res.ok.all()
-    O, B = np.zeros(2), np.array([-n["a"], -n["l"]])
+    B = np.array([-n["a"], -n["l"]])
     for th, got in zip(cranks, res.position("G")):
         M = n["m"] * np.array([math.cos(th), math.sin(th)])
         C = intersect(M, n["j"], B, n["b"], left=False)      # above the line M -> B

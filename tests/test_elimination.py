@@ -17,8 +17,8 @@ from hypothesis import strategies as st
 
 from planar.blocks import plan
 from planar import lu
-from planar.elimination import CONST, VAR, ZERO, Program, _parity
-from planar.mechanisms import CATALOGUE, four_bar
+from planar.elimination import CONST, VAR, ZERO, Program
+from planar.mechanisms import four_bar
 
 N = 6  # poses
 
