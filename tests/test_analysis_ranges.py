@@ -64,3 +64,10 @@ def test_a_geared_five_bars_stretches_over_the_same_inputs_are_ranges_of_their_o
     np.testing.assert_allclose(np.sort(wrap(ranges[:, 0])), np.sort(wrap(np.array([-3.8066, 4.3737, 5.6071]))), atol=1e-4)
     assert np.any(np.abs(wrap(ranges[:, 1] - 4.457004808008)) < 1e-9)  # the sketch's stretch ends at its limit
     assert np.any(np.abs(wrap(ranges[:, 1] - 5.690360105685)) < 1e-9)
+
+
+def test_a_limit_on_a_sample_of_the_turn_is_the_end_of_its_range():
+    # the limit 3.66519 falls on the 420th of 720 samples: its event was not read as the end
+    # (rounding put it just outside the pair of samples), and the range ended half a sample on
+    got = motion_range(slider_crank(2, 1.5, offset=0.5))
+    np.testing.assert_allclose(got, oracles.slider_crank_limits(2, 1.5, 0.5, "crank"), rtol=0, atol=1e-9)
