@@ -21,6 +21,7 @@ from planar.blocks import plan as block_plan
 from planar.errors import InputError
 from planar.results import POSED, Status, as_sweep
 from planar.sweep import Branch, Walker
+from planar.sweep.walk import _turns
 
 TURN = 2 * np.pi
 MAX_SAMPLES = 10**6  # sweep values per turn or per travel: far more than any range needs
@@ -140,26 +141,32 @@ def _stretches(model, grid, tol, max_step, turn=False):
     limits = [float(np.ravel(e.input)[0]) for e in res.events if e.kind == "limit"]
     walker = Walker(Branch(model, block_plan(model), tol), max_step, False)
 
+    def walk(i, target):
+        q, u = res.q[i], res.inputs[i]
+        return walker.walk(q, u, walker.br.signs(q[None], u[None])[0], np.array([target]), i)
+
     def limit(i, target):
         """The limit the walk from value i's pose towards ``target`` meets, or None."""
-        q, u = res.q[i], res.inputs[i]
-        got = walker.walk(q, u, walker.br.signs(q[None], u[None])[0], np.array([target]), i)
+        got = walk(i, target)
         return float(np.ravel(got[1].input)[0]) if got[0] == "limit" else None
+
+    def same(q, p):
+        """Whether poses q and p are one up to whole turns of their angles."""
+        return _turns(walker.br, q - p) is not None
 
     def continues(b):
         """Whether value b is on the stretch of value b - 1 (both posed): the walk from b - 1
         comes to b's pose, where b was not entered past a gap nor lies past a limit."""
         if res.status[b] != Status.JUMPED and not any(_between(v, grid[b - 1], grid[b]) for v in limits):
             return True
-        q, u = res.q[b - 1], res.inputs[b - 1]
-        got = walker.walk(q, u, walker.br.signs(q[None], u[None])[0], grid[b][None], b)
-        return got[0] == "ok" and not _apart(model, got[1], res.q[b])
+        got = walk(b - 1, grid[b])
+        return got[0] == "ok" and same(got[1], res.q[b])
 
     pieces = []  # (first, last) value of each stretch the sweep posed
     for a, last in runs(posed):
         cut = [b for b in range(a + 1, last + 1) if not continues(b)]
         pieces += list(zip([a] + cut, [b - 1 for b in cut] + [last]))
-    back = turn and bool(posed[-1]) and not _apart(model, res.q[-1], model.q0)
+    back = turn and bool(posed[-1]) and same(res.q[-1], model.q0)
     beyond = None  # where a stretch past the grid's end ends, where it is not the first a turn on
     out = []
     for a, e in pieces:
@@ -181,14 +188,6 @@ def _stretches(model, grid, tol, max_step, turn=False):
                    for p, h in out):
             out.append((float(lo), None if hi is None else float(hi)))
     return (out or [(grid[0], grid[0])]), back
-
-
-def _apart(model, q, p):
-    """Whether poses q and p differ (angles up to whole turns)."""
-    d = np.asarray(q, float) - p
-    angle = np.arange(d.size) % 3 == 2
-    d[angle] = np.angle(np.exp(1j * d[angle])) * model.L
-    return not np.all(np.abs(d) <= 1e-8 * model.L)
 
 
 def _between(u, a, b):
