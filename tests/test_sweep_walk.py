@@ -3,13 +3,16 @@ spacing and repetition of the values, and a far input costs what a near one does
 full-turn crank repeats every turn). Closed forms from tests/oracles.py."""
 
 import os
+import runpy
 
+from pathlib import Path
 from unittest import mock
 
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, example, given, settings, strategies as st
 
+from planar import io
 from planar.blocks import Plan, plan as block_plan
 from planar.errors import PlanarError
 from planar.events.tracer import Tracer
@@ -17,6 +20,7 @@ from planar.mechanisms import (four_bar, gear_train, geared_five_bar, planetary_
                                slider_crank, stephenson_six_bar, two_loop_six_bar, watt_six_bar)
 from planar.results import POSED, VALID, Status
 from planar.solver import rounding
+from planar.units import Units
 from planar.sweep import walk as walk_module
 from planar.sweep.branch import Branch
 from tests import oracles
@@ -125,6 +129,19 @@ def test_a_far_input_costs_what_a_near_one_does(far):
     np.testing.assert_allclose(res.angle("rocker")[[0, 2]], near.angle("rocker")[[0, 2]], atol=1e-12)
     # one turn walked to find the period, then less than a turn each way
     assert count.calls <= 3 * near_calls + 200, (count.calls, near_calls)
+
+
+def test_a_pivot_moved_far_out_of_reach_is_given_up_in_bounded_steps():
+    # every joint type, with one gear's pivot moved 1e5 from a mechanism of size ~5: the traced
+    # curve runs within GAP_CROSS of another for thousands of steps of ~2e-8 rad each
+    build = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "every_joint_type.py"))["build"]
+    d = io.to_dict(build(), Units())
+    d["joints"][1]["at"][0] = 1e5
+    model = io.from_dict(d).mechanism.compile()
+    with TracerSteps() as steps:
+        res = model.sweep(np.linspace(0.0, 0.5, 5))
+    assert steps.calls <= 1000, steps.calls
+    assert not res.ok[1:].any() and (res.status[1:] != Status.NOT_CONVERGED).all(), res
 
 
 def test_a_far_input_turns_the_coupler_of_a_drag_link_by_whole_turns():

@@ -7,9 +7,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planar.events import NEAR, NEAR_CURVE, Event
-from planar.events.tracer import Tracer
+from planar.events.tracer import GAP_CROSS, Tracer
 
 MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
+# consecutive steps closer than GAP_CROSS to another curve before a crossing gives the curve up:
+# a crossing is passed in a few such steps, and a curve that runs that close for longer (a crank
+# 1e4 times its coupler) gains next to nothing of input per step
+MAX_CLOSE = 100
 RESUME = 4  # walk steps of input a crossing asked to resume traces at least
 LEADS = 0.1  # least share of the input in the unit tangent where the walk resumes
 
@@ -87,11 +91,15 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0, resume=Fa
     at_target = False
     # bounded: a degenerate curve is given up; the allowance covers approaches to crossings, whose
     # certified steps shrink with the gap (~150 steps each from gap 0.1 down to GAP_CROSS)
+    close = 0
     for _ in range(int(20 * tr.d / max_step) + 2000):
         st = tr.step(y, t, h, gap)
         if st is None:
             return out
         y1, t1, det1, h_used, h, gap = st
+        close = close + 1 if gap < GAP_CROSS else 0
+        if close > MAX_CLOSE:
+            return out
         if t1[-1] < 0 < t[-1]:
             # the input turned back: a limit position between y and y1
             pt = tr.locate(y, t, h_used, lambda yy, tt, dd: tt[-1])
