@@ -591,7 +591,9 @@ MOTION = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.3), (1.5, 0.5, 0.6)]
     # (a LinAlgError)
     (lambda: synthesis.freudenstein([math.nan, 1, 2], [1, 2, 3]), "th2 must be a list of finite numbers"),
     (lambda: synthesis.freudenstein("abc", [1, 2, 3]), "th2 must be a list of numbers"),
-    (lambda: synthesis.freudenstein([1, 2], [1, 2, 3]), "th4 must be a list of finite numbers, one per"),
+    (lambda: synthesis.freudenstein([1, 2, 3], [1, 2]), "th4 must be a list of finite numbers, one per"),
+    (lambda: synthesis.freudenstein([1, 2], [1, 2]), "th2 holds 2 precision points: .* give at least three"),
+    (lambda: synthesis.slider_crank_dimensions([], []), "th2 holds 0 precision points"),
     (lambda: synthesis.slider_crank_dimensions([0.1, 0.5, 0.9], [1, math.inf, 2]), "s must be a list of finite"),
     (lambda: synthesis.slider_crank_dimensions([0.1, 0.5, 0.9], [1, 2, 1e300]), "s must be slider travels within"),
     (lambda: synthesis.four_bar_lengths(None), "K must be Freudenstein's three constants"),

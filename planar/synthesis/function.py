@@ -194,13 +194,16 @@ def _map(y, f, x_range, output_range):
 
 
 def _angles(v, what, size=None):
-    """``v`` as a 1-D array of finite numbers (of ``size`` values where given)."""
+    """``v`` as a 1-D array of at least three finite numbers (of ``size`` values where given)."""
     try:
         a = np.asarray(v, float)
     except (TypeError, ValueError, OverflowError):
         raise InputError(f"{what} must be a list of numbers, got {v!r}") from None
     if a.ndim != 1 or not np.all(np.isfinite(a)) or (size is not None and a.size != size):
         raise InputError(f"{what} must be a list of finite numbers, one per precision point, got {v!r}")
+    if a.size < 3:
+        raise InputError(f"{what} holds {a.size} precision points: three fix the three constants, more are fitted "
+                         "by least squares; give at least three")
     return a
 
 
