@@ -212,6 +212,8 @@ def _property(case, N, engine):
 @example(((2.0, 1.3108617996955507, 2.0, 1.3108617983846889), 1.3108617996955507, True), 116)
 # re-entered past a limit, the rocker's angle counted as before the gap whichever search found it
 @example(((2.0, 0.5, 2.27734375, 0.22265625022265628), 2.27734375, False), 116)
+# an avoided crossing passed in 11 steps halved below CROSS_STEP (the gap changing over them)
+@example(((2.0, 1.5, 1.5, 1.999999998), 3.5, False), 13)
 def test_coarse_agrees_with_finer_near_change_points_folds_and_limits(case, N):
     _property(case, N, "numpy")
 

@@ -97,6 +97,22 @@ class TracerSteps(Evaluations):
         return self
 
 
+class TracerCorrections(Evaluations):
+    """Counts the arclength tracer's corrector solves in its block (a step takes one, or one per
+    halving where it is not accepted)."""
+
+    def __enter__(self):
+        real = Tracer.correct
+
+        def counted(tracer, *args, **kw):
+            self.calls += 1
+            return real(tracer, *args, **kw)
+
+        self._patch = mock.patch.object(Tracer, "correct", counted)
+        self._patch.start()
+        return self
+
+
 def test_the_four_bar_reproduction_solves_every_value_in_range():
     r = (1.228349473246219, 1.3074591228844887, 0.2107607718255605, 1.245859010662002)
     m = four_bar(*r, start=1.222402070420413, crossed=True)
@@ -131,17 +147,20 @@ def test_a_far_input_costs_what_a_near_one_does(far):
     assert count.calls <= 3 * near_calls + 200, (count.calls, near_calls)
 
 
-def test_a_pivot_moved_far_out_of_reach_is_given_up_in_bounded_steps():
-    # every joint type, with one gear's pivot moved 1e5 from a mechanism of size ~5: the traced
-    # curve runs within GAP_CROSS of another for thousands of steps of ~2e-8 rad each
+@pytest.mark.parametrize("joint, axis, at", [(1, 0, 1e5), (3, 1, 1e7), (10, 0, 1e7)])
+def test_a_pivot_moved_far_out_of_the_mechanism_is_given_up_in_bounded_work(joint, axis, at):
+    # every joint type with one joint moved 1e5 or 1e7 from a mechanism of size ~5: the traced
+    # curve runs alongside another, within GAP_CROSS, for thousands of steps of ~2e-8 rad each
+    # (1e5), or each step there halved ~15 times before it is taken (1e7): 4,800-6,200 corrector
+    # solves, 25-35 s, where 300-400 give the same statuses
     build = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "every_joint_type.py"))["build"]
     d = io.to_dict(build(), Units())
-    d["joints"][1]["at"][0] = 1e5
+    d["joints"][joint]["at"][axis] = at
     model = io.from_dict(d).mechanism.compile()
-    with TracerSteps() as steps:
+    with TracerCorrections() as solves:
         res = model.sweep(np.linspace(0.0, 0.5, 5))
-    assert steps.calls <= 1000, steps.calls
-    assert not res.ok[1:].any() and (res.status[1:] != Status.NOT_CONVERGED).all(), res
+    assert solves.calls <= 1000, solves.calls
+    assert res.status[0] == Status.NEAR_SINGULAR and not res.ok[1:].any(), res
 
 
 def test_a_far_input_turns_the_coupler_of_a_drag_link_by_whole_turns():

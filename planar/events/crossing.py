@@ -7,13 +7,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planar.events import NEAR, NEAR_CURVE, Event
-from planar.events.tracer import GAP_CROSS, Tracer
+from planar.events.tracer import CROSS_STEP, GAP_CROSS, Tracer
 
 MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
 # consecutive steps closer than GAP_CROSS to another curve before a crossing gives the curve up:
 # a crossing is passed in a few such steps, and a curve that runs that close for longer (a crank
-# 1e4 times its coupler) gains next to nothing of input per step
+# 1e4 times its coupler) gains next to nothing of input per step; MAX_CRAWL of them in a row that
+# could not take CROSS_STEP (halved ~15 times, each a corrector solve) with the gap unchanged to
+# STEADY: the curve runs alongside the other (a pivot moved 1e7 away), it does not cross it
 MAX_CLOSE = 100
+MAX_CRAWL = 10
+STEADY = 1e-3
 RESUME = 4  # walk steps of input a crossing asked to resume traces at least
 LEADS = 0.1  # least share of the input in the unit tangent where the walk resumes
 
@@ -91,15 +95,12 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0, resume=Fa
     at_target = False
     # bounded: a degenerate curve is given up; the allowance covers approaches to crossings, whose
     # certified steps shrink with the gap (~150 steps each from gap 0.1 down to GAP_CROSS)
-    close = 0
+    stall = _Stall()
     for _ in range(int(20 * tr.d / max_step) + 2000):
         st = tr.step(y, t, h, gap)
-        if st is None:
+        if st is None or stall.stuck(gap, st):
             return out
         y1, t1, det1, h_used, h, gap = st
-        close = close + 1 if gap < GAP_CROSS else 0
-        if close > MAX_CLOSE:
-            return out
         if t1[-1] < 0 < t[-1]:
             # the input turned back: a limit position between y and y1
             pt = tr.locate(y, t, h_used, lambda yy, tt, dd: tt[-1])
@@ -206,6 +207,22 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0, resume=Fa
     return out
 
 
+class _Stall:
+    """A tracing's steps in a row close to another curve (within GAP_CROSS), and those of them
+    halved below CROSS_STEP with the gap unchanged: past MAX_CLOSE or MAX_CRAWL it is stuck."""
+
+    def __init__(self):
+        self.close = self.crawl = 0
+
+    def stuck(self, gap, st):
+        """Whether the tracing is stuck after the step ``st`` of :meth:`Tracer.step` taken
+        from a point at ``gap`` (None where not known yet)."""
+        along = gap is not None and gap < GAP_CROSS and st[3] < CROSS_STEP and abs(st[5] - gap) <= STEADY * gap
+        self.crawl = self.crawl + 1 if along else 0
+        self.close = self.close + 1 if st[5] < GAP_CROSS else 0
+        return self.close > MAX_CLOSE or self.crawl > MAX_CRAWL
+
+
 def _scalar(u):
     u = np.asarray(u, float)
     return float(u[0]) if u.size == 1 else u
@@ -230,9 +247,10 @@ def around(model, plan, q, u, signs, max_step, reach):
         except np.linalg.LinAlgError:
             return None, tuple(span)
         h, turned, gap = min(max_step, 0.1 * tr.d), False, None
+        stall = _Stall()
         for _ in range(int(2 * reach / max_step) + 50):
             st = tr.step(y, t, h, gap)
-            if st is None:
+            if st is None or stall.stuck(gap, st):
                 break
             y1, t1, _, _, h, gap = st
             u1 = float(tr.u_of(y1)[0])
