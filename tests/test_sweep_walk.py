@@ -61,56 +61,30 @@ def assert_no_lost_value(res, intervals, th3, margin=1e-6):
 
 
 class Evaluations:
-    """Counts the constraint evaluations of the sweeps in its ``with`` block (each is one batch
-    of values): the walk's work, whatever the engine's timing."""
+    """Counts the calls of ``owner``'s ``name`` in its ``with`` block: by default the constraint
+    evaluations of the sweeps (each one batch of values), the walk's work whatever the engine's
+    timing; ``Evaluations(Tracer, "step")`` the arclength tracer's steps (each several
+    evaluations of its own), ``Evaluations(Tracer, "correct")`` its corrector solves (one a
+    step, or one per halving where it is not accepted); ``Evaluations(walk_module, name)``
+    ``planar.sweep.walk``'s searches' least squares (each a batch of values, up to 200
+    iterations) or its tracings round a circuit (each ~100 tracer steps)."""
 
-    def __init__(self):
-        self.calls = 0
+    def __init__(self, owner=Plan, name="evaluate"):
+        self.owner, self.name, self.calls = owner, name, 0
 
     def __enter__(self):
-        real = Plan.evaluate
+        real = getattr(self.owner, self.name)
 
-        def counted(plan, q, u):
+        def counted(*args, **kw):
             self.calls += 1
-            return real(plan, q, u)
+            return real(*args, **kw)
 
-        self._patch = mock.patch.object(Plan, "evaluate", counted)
+        self._patch = mock.patch.object(self.owner, self.name, counted)
         self._patch.start()
         return self
 
     def __exit__(self, *exc):
         self._patch.stop()
-
-
-class TracerSteps(Evaluations):
-    """Counts the arclength tracer's steps (each several evaluations of its own) in its block."""
-
-    def __enter__(self):
-        real = Tracer.step
-
-        def counted(tracer, *args, **kw):
-            self.calls += 1
-            return real(tracer, *args, **kw)
-
-        self._patch = mock.patch.object(Tracer, "step", counted)
-        self._patch.start()
-        return self
-
-
-class TracerCorrections(Evaluations):
-    """Counts the arclength tracer's corrector solves in its block (a step takes one, or one per
-    halving where it is not accepted)."""
-
-    def __enter__(self):
-        real = Tracer.correct
-
-        def counted(tracer, *args, **kw):
-            self.calls += 1
-            return real(tracer, *args, **kw)
-
-        self._patch = mock.patch.object(Tracer, "correct", counted)
-        self._patch.start()
-        return self
 
 
 def test_the_four_bar_reproduction_solves_every_value_in_range():
@@ -157,7 +131,7 @@ def test_a_pivot_moved_far_out_of_the_mechanism_is_given_up_in_bounded_work(join
     d = io.to_dict(build(), Units())
     d["joints"][joint]["at"][axis] = at
     model = io.from_dict(d).mechanism.compile()
-    with TracerCorrections() as solves:
+    with Evaluations(Tracer, "correct") as solves:
         res = model.sweep(np.linspace(0.0, 0.5, 5))
     assert solves.calls <= 1000, solves.calls
     assert res.status[0] == Status.NEAR_SINGULAR and not res.ok[1:].any(), res
@@ -640,27 +614,6 @@ def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
     assert np.sum(res.status == Status.NOT_ASSEMBLABLE) == 166 and not np.any(res.status == Status.NOT_CONVERGED)
 
 
-class Calls(Evaluations):
-    """Counts the calls of ``planar.sweep.walk``'s ``name`` in its block: its searches' least
-    squares (each a batch of values, up to 200 iterations) or its tracings round a circuit
-    (each ~100 tracer steps)."""
-
-    def __init__(self, name):
-        super().__init__()
-        self.name = name
-
-    def __enter__(self):
-        real = getattr(walk_module, self.name)
-
-        def counted(*args, **kw):
-            self.calls += 1
-            return real(*args, **kw)
-
-        self._patch = mock.patch.object(walk_module, self.name, counted)
-        self._patch.start()
-        return self
-
-
 def test_a_gap_searched_from_its_limit_is_not_searched_again_for_the_values_in_it():
     # (found by benchmarks/fuzz_campaign.py) a crank that rocks over [2.0, 4.28], 181 values
     # drawn over +-4 rad: the gap past each limit is searched once (from the limit's pose and
@@ -672,7 +625,7 @@ def test_a_gap_searched_from_its_limit_is_not_searched_again_for_the_values_in_i
     start = 1.0536061807635093 + 2.6004822959174714 - 2 * np.pi
     m = four_bar(*r, crossed=True, start=start)
     U = start + np.random.default_rng(2).uniform(-4, 4, 181)
-    with Calls("least_squares_gap") as count:
+    with Evaluations(walk_module, "least_squares_gap") as count:
         res = m.sweep(U)
     assert count.calls <= 8, count.calls
     o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1)
@@ -773,7 +726,7 @@ def test_a_circuit_traced_round_is_not_traced_again_whole_periods_on():
                          start=1.724989098190794)
     rng = np.random.default_rng(0)
     U = rng.permutation(np.repeat(1.724989098190794 + rng.uniform(-3, 3, 60), 3))
-    with Calls("around") as count:
+    with Evaluations(walk_module, "around") as count:
         res = m.sweep(U)
     assert count.calls <= 2, count.calls
     dense = m.sweep(np.sort(U))
@@ -842,7 +795,7 @@ def test_a_walk_from_next_to_a_limit_takes_its_own_steps_again_past_it():
     u0 = 0.18317895394778927
     m = slider_crank(crank=4.67137729979805, coupler=1.9403108163859453, offset=2.791231386324089,
                      coupler_point=(-0.7417895781775796, -1.8525216108965168), start=u0)
-    with TracerSteps() as steps:
+    with Evaluations(Tracer, "step") as steps:
         res = m.sweep([u0 + 2 * np.pi])
     assert steps.calls <= 40, steps.calls
     np.testing.assert_allclose(res.position("C"), m.sweep([u0]).position("C"), atol=1e-9)
