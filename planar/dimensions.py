@@ -36,6 +36,10 @@ import numpy as np
 from planar.errors import AssemblyError, ModelError
 from planar.joints.base import wrap
 
+# Newton solves one following of the targets may take (the hardest in the tests take under 100):
+# a follow that halves and doubles its step without getting on (a joint drawn 1e29 away) stops
+MAX_SOLVES = 250
+
 
 def circle_circle(c1, r1, c2, r2, what="the two circles"):
     """Both intersections of circle(c1, r1) and circle(c2, r2): (left, right) of the directed
@@ -229,7 +233,7 @@ def _path(rows, X):
 
 def _follow(p, z, a, b, smallest=1.0 / 4096):
     """Follow the row targets from a (held at z) to b in steps that halve where Newton fails,
-    down to ``smallest``: (z, how far it got, 0 to 1)."""
+    down to ``smallest``, in at most MAX_SOLVES Newton solves: (z, how far it got, 0 to 1)."""
     # lengths change by equal ratios: a link stated 1e5 times its drawing takes tens of steps, not thousands
     ratio = np.array([r.kind == "length" for r in p.rows]) & (a > 0) & (b > 0)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -239,7 +243,9 @@ def _follow(p, z, a, b, smallest=1.0 / 4096):
         return np.where(ratio, a * np.exp(t * log), a + t * (b - a))
 
     t, dt = 0.0, 0.125
-    while t < 1.0:
+    for _ in range(MAX_SOLVES):
+        if t >= 1.0:
+            break
         step = min(dt, 1.0 - t)
         z_new, ok = p.newton(z, target(t + step))
         if ok:

@@ -8,13 +8,14 @@ import json
 import math
 import re
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
 import pytest
 from hypothesis import assume, example, given, settings, strategies as st
 
 import planar
-from planar import io
+from planar import dimensions, io
 from planar.errors import AssemblyError, FileFormatError, ModelError
 from planar.mechanisms import four_bar, stephenson_six_bar
 
@@ -179,6 +180,32 @@ def test_a_start_out_of_reach_names_the_driver():
     m = dimensioned_four_bar(4, 3, 3, 3, math.radians(150), A_guess=(1.5, 2.6), B_guess=(4.4, 2.9))
     with pytest.raises(AssemblyError, match=r"the start of driver 'O2' cannot hold with the others: the nearest assembly has 2.04692 rad"):
         m.compile()
+
+
+def test_a_joint_drawn_absurdly_far_is_reported_in_bounded_work():
+    # A drawn 1e29 from O2 for a crank of 2 (with a coupler point C held by two lengths): the diagnosis's follow halves and doubles its step
+    # without getting on; it stops after MAX_SOLVES Newton solves and names the driver
+    doc = {"version": 1, "bodies": [{"name": "crank"}, {"name": "coupler"}, {"name": "rocker"}],
+           "points": [{"name": "C", "body": "coupler", "at": [1.265877081724073, 0.8432458365518541]}],
+           "joints": [{"type": "revolute", "name": "O2", "bodies": ["ground", "crank"], "at": [0, 0]},
+                      {"type": "revolute", "name": "A", "bodies": ["crank", "coupler"], "at": [1e29, 0]},
+                      {"type": "revolute", "name": "B", "bodies": ["coupler", "rocker"], "at": [1.25, 2.9047375096555625]},
+                      {"type": "revolute", "name": "O4", "bodies": ["rocker", "ground"], "at": [4, 0]}],
+           "dimensions": [{"between": ["O2", "O4"], "length": 4}, {"between": ["O2", "A"], "length": 2},
+                          {"between": ["A", "B"], "length": 3}, {"between": ["O4", "B"], "length": 4},
+                          {"between": ["A", "C"], "length": 1.118033988749895},
+                          {"between": ["B", "C"], "length": 2.0615528128088303}],
+           "drivers": [{"body": "crank", "start": 0}]}
+    real, solves = dimensions._Problem.newton, []
+
+    def newton(self, *args):
+        solves.append(1)
+        assert len(solves) <= 1000, "the follow does not stop"
+        return real(self, *args)
+
+    with mock.patch.object(dimensions._Problem, "newton", newton):
+        with pytest.raises(AssemblyError, match=r"the start of driver 'crank' cannot hold with the others"):
+            io.loads(json.dumps(doc)).mechanism.compile()
 
 
 def test_distance_and_dyad_refuse_points_of_different_bodies():

@@ -21,7 +21,7 @@ from planar.blocks import plan as block_plan
 from planar.errors import InputError
 from planar.results import POSED, Status, as_sweep
 from planar.sweep import Branch, Walker
-from planar.sweep.walk import _turns
+from planar.sweep.walk import whole_turns
 
 TURN = 2 * np.pi
 MAX_SAMPLES = 10**6  # sweep values per turn or per travel: far more than any range needs
@@ -152,7 +152,7 @@ def _stretches(model, grid, tol, max_step, turn=False):
 
     def same(q, p):
         """Whether poses q and p are one up to whole turns of their angles."""
-        return _turns(walker.br, q - p) is not None
+        return whole_turns(walker.br, q - p) is not None
 
     def continues(b):
         """Whether value b is on the stretch of value b - 1 (both posed): the walk from b - 1

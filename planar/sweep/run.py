@@ -15,7 +15,7 @@ from planar.sweep.anchors import (MAX_WAVE, WAVE, Kin, from_anchors, solve_stati
 from planar.sweep.branch import Branch, input_scale, scaled_norm
 from planar.sweep.finish import Out, finish
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
-from planar.sweep.walk import MODE_PERIODS, SPREAD, WALK_STEPS, Walker, _turns, less_periods
+from planar.sweep.walk import MODE_PERIODS, SPREAD, WALK_STEPS, Walker, less_periods, whole_turns
 
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
@@ -683,7 +683,7 @@ def _period_by_sweep(model, walker, options):
     s0 = walker.br.signs(model.q0[None], model.u0[None])[0]
     for j in np.flatnonzero(res.ok):
         q = np.where(np.isnan(res.q[j]), model.q0, res.q[j])  # (columns the outputs leave unsolved)
-        D = _turns(walker.br, q - model.q0, (j + 1) * sym[1])
+        D = whole_turns(walker.br, q - model.q0, (j + 1) * sym[1])
         if D is not None and np.all(walker.br.signs(q[None], V[j][None])[0] == s0):
             lims = [float(np.ravel(e.input)[0]) for e in res.events if e.kind == "limit"]
             walker.keep_period((j + 1) * P, D, lims[0] if lims else None)

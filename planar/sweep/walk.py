@@ -85,7 +85,7 @@ class Walker:
                         break
                     q, u, s = got[1], u + P, got[2]
                     if np.all(s == s0):
-                        D = _turns(self.br, q - m.q0, j * sym[1])
+                        D = whole_turns(self.br, q - m.q0, j * sym[1])
                         self._period = False if D is None else (j * P, D)
                         self.turns = D is not None
                         break
@@ -323,7 +323,7 @@ class Walker:
         qn, conv, _, _ = self.br.solve((q + shift)[None], u[None])
         # (q counted hundreds of turns on holds its rows only to the rounding of its angles)
         slack = float(rounding(self.br.m, q[None], cols)[0])
-        if conv[0] and np.all(self.br.signs(qn, u[None])[0] == signs) and _turns(self.br, qn[0] - q, slack=slack) is not None:
+        if conv[0] and np.all(self.br.signs(qn, u[None])[0] == signs) and whole_turns(self.br, qn[0] - q, slack=slack) is not None:
             return qn[0]
         return q
 
@@ -500,7 +500,7 @@ def _symmetry(br):
     G[:, col] -= Phi[:, p.rows[p.drivers[0]]] / row[col]
     qn, conv, _, _ = br.solve(G, U, max_iter=DISTANT)
     for k in np.flatnonzero(_in_modes(br, qn, U, conv, s0)):
-        D = _turns(br, qn[k] - q0)
+        D = whole_turns(br, qn[k] - q0)
         if D is not None:
             return float(P[k]), D
     return _linear_symmetry(br, s0)
@@ -540,10 +540,10 @@ def _linear_symmetry(br, s0):
     for P, lin, q in zip(Ps[same], lins[same], Q[same]):
         P = float(P)
         d = q - q0
-        D = _turns(br, d)
+        D = whole_turns(br, d)
         if D is None:
             near = np.abs(d - lin) / m.col_scale <= SAME * (1.0 + np.abs(lin) / m.col_scale)
-            back = _turns(br, np.where(near, 0.0, d))
+            back = whole_turns(br, np.where(near, 0.0, d))
             D = None if back is None else np.where(near, d, back)
         if D is not None and _invariant(br, P, D):
             return P, D
@@ -576,7 +576,7 @@ def _invariant(br, P, D):
     return bool(np.max(np.abs(Phi[0, p.rows]) * m.row_scale[p.rows]) <= 1e3 * np.finfo(float).eps * size)
 
 
-def _turns(br, d, base=0.0, slack=0.0):
+def whole_turns(br, d, base=0.0, slack=0.0):
     """base + the change d - base (n,) of a pose rounded to whole turns of its angles, None
     where it is not whole turns (to SAME + ``slack``, scaled) or moves a position."""
     m, cols = br.m, br.p.cols
