@@ -289,6 +289,44 @@ def test_a_far_input_of_a_geared_linkage_with_no_period_is_entered_directly_as_a
     np.testing.assert_allclose(res.q[[0, 1, 4]], near.q, atol=1e-12)
 
 
+GEARED_211 = dict(ground=12.048954468833484, gear_radius_2=3.9587203040952526, gear_radius_4=3.0317816721778468,
+                  link_5=12.214707038611781, crossed=True, start=3.1114766890490175)
+
+
+def test_far_values_of_a_geared_linkage_cost_a_few_searches_not_a_walk_through_every_gap():
+    # (found by benchmarks/fuzz_campaign.py, seed 211) limit pairs every few radians and no
+    # period: from -760.6 to -828.8 the walk entered 23 ranges at their gaps' far ends (25
+    # searches); past MAX_GAPS (8) on the way to one value the value itself is entered
+    m = geared_five_bar(**GEARED_211)
+    with Evaluations(walk_module.Walker, "enter_any") as searches:
+        res = m.sweep([3.2, 2.4, -760.615743, -828.75674])
+    assert searches.calls <= 12, searches.calls
+    assert list(res.status) == [Status.SOLVED] * 2 + [Status.JUMPED] * 2
+    # values too far to walk to are entered directly, not by tracing round a circuit from
+    # other modes (1.5 s each, and one of many stretches a direct entry may land on)
+    with Evaluations(walk_module, "around") as tracings:
+        res = m.sweep([3.2, 859864.9, 831082.0, 359799.7])
+    assert tracings.calls == 0
+    assert list(res.status) == [Status.SOLVED, Status.JUMPED, Status.NOT_ASSEMBLABLE, Status.SOLVED]
+    model = m.compile()
+    br = Branch(model, block_plan(model, None), 1e-12)
+    posed = POSED[res.status]
+    np.testing.assert_array_equal(br.signs(res.q[posed], res.inputs[posed]),
+                                  np.repeat(br.signs(model.q0[None], model.u0[None]), posed.sum(), 0))
+
+
+def test_a_far_value_beyond_one_no_search_entered_is_out_of_reach_not_unconverged():
+    # (found by benchmarks/fuzz_campaign.py, seed 238) no assembly in the sketch's modes is
+    # found at -241.1 or -786.4, both too far to walk; -786.4, further the same way, was
+    # passed over as a walk that failed nearer would be, and read NOT_CONVERGED
+    m = geared_five_bar(ground=16.436079311222223, gear_radius_2=3.706950375928348, gear_radius_4=7.665512881172466,
+                        link_5=8.835950584724149, crossed=True, start=-0.5835589800190943)
+    res = m.sweep([-0.5835589800190943, -241.11084868, -786.35303344])
+    assert list(res.status) == [Status.SOLVED, Status.NOT_ASSEMBLABLE, Status.NOT_ASSEMBLABLE]
+    alone = m.sweep([-0.5835589800190943, -786.35303344])
+    assert list(alone.status) == [Status.SOLVED, Status.NOT_ASSEMBLABLE]
+
+
 def test_far_values_of_a_geared_linkage_are_entered_from_the_poses_solved_and_held_to_their_rounding():
     # (found by a fuzz campaign) the loop of a geared five-bar closes at many poses of the same
     # modes at one input (the arm's and gear 4's angles are tied by the gears' ratio, which has

@@ -22,6 +22,9 @@ HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
 TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 SPARSE = 4  # anchors further apart than SPARSE * max_step are reached through stations, not tried in a wave
 MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
+# ranges entered at a gap's far end on the way to one value: past more gaps (a geared linkage's
+# limit pairs every few radians between far values) the value itself is entered, JUMPED either way
+MAX_GAPS = 8
 GUESSES = 64  # poses solved that a value too far to walk to is entered from, at most
 FAR = 100.0  # scaled input from the sketch beyond which a periodic input is solved periods back
 ROCKING = 4 * np.pi  # the same for an input that rocks (its walk would meet two limits a period)
@@ -124,8 +127,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         """Value i, too far from ``start`` to walk with no period to shorten the way, entered
         directly in the sketch's modes: past every gap between, the walk would re-enter the
         branch in them, and within a stretch it keeps them."""
-        # (its angles counted as the sketch's first; then from up to GUESSES poses solved)
-        qe = walker.enter([model.q0, snapped(start[0])], chosen, U[i], solved_poses())
+        # (its angles counted as the sketch's first; then from up to GUESSES poses solved; not
+        # round a circuit, ~100s of solves for one of the many stretches a direct entry may land on)
+        qe = walker.enter([model.q0, snapped(start[0])], chosen, U[i], solved_poses(), circuit=False)
         if qe is None:
             unentered.append(i)
             return ("far",)
@@ -253,9 +257,11 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     limits = []  # (limit event, direction of the input that hit it)
     round_limits = []  # the same, met only by the walk the other way round a period on
     entries = 0  # ranges entered at a gap's far end
+    gaps = {}  # anchor index -> ranges entered at a gap's far end on the way to it
     searched = []  # (input, direction) of the limits the gaps past which were searched
     stops = []  # indices of the limits the walk stopped at, moving with the sweep
     direct = []  # values entered directly, too far to walk
+    past_cap = []  # values entered directly past MAX_GAPS gaps on the way to one value
     unentered = []  # values too far to walk where the branch's modes were not found
     periods = []  # values walked to moved by whole periods of a rocking input, past their limits
     anchors = sweep_anchors(model, U, max_step)
@@ -323,7 +329,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             known = np.flatnonzero(solved)
             found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
             bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
-            if found is None and got[0] == "limit" and entries < MAX_ENTRIES:
+            far_end = entries < MAX_ENTRIES and gaps.get(anchors[k], 0) < MAX_GAPS
+            if found is None and got[0] == "limit" and far_end:
                 # the range past the gap entered at its far end, as a sweep with values all the way
                 # enters it: the first of the walk's steps past the limit where the branch can be
                 # entered, and walked on from there
@@ -337,6 +344,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                     bare = np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
                 if nearer is not None:
                     entries += 1
+                    gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
                     u_e = grid[nearer[0]]
                     state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
                     continue
@@ -352,10 +360,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
             if bare is not None:  # (not again where the search from the limit, from the same guesses, found none)
                 seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
-            nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=solved_poses()) if seg.size
-                                 else (None, False))
+            nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=solved_poses(), circuit=got[0] != "far")
+                                 if seg.size else (None, False))
             steps = (_steps_out(model, state[1], U[seg], max_step, bare)
-                     if seg.size and nearer is None and not assembles and got[0] == "limit" and entries < MAX_ENTRIES
+                     if seg.size and nearer is None and not assembles and got[0] == "limit" and far_end
                      else None)
             # where no value asked assembles at all (the first in the gap, least squares from
             # there lands nowhere beyond it), the walk steps from the limit out to the values: a
@@ -363,6 +371,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             ahead = walker.enter_any(guesses, chosen, steps, poses=solved_poses())[0] if steps is not None else None
             if ahead is not None:
                 entries += 1
+                gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
                 u_e = steps[ahead[0]]
                 # the first value on from it an anchor (the walk from the entry solves it, and the
                 # stretch's values from it); the anchors before it, in the gap or reached back
@@ -375,6 +384,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
                 k += int(np.argmin(np.r_[d * (U[anchors[k:upto], 0] - u_e[0]) < 0, False]))
                 state, coef = (walker.near_turns(ahead[1], u_e, chosen, state[0]), u_e, chosen), None
                 continue
+            # (entered past gaps not walked through, MAX_GAPS met on the way: a jump, whatever
+            # limits the walk met between it and the value asked before it)
+            capped = got[0] == "limit" and not far_end and nearer is not None
             if nearer is not None:
                 c = int(np.searchsorted(anchors, seg[nearer[0]]))
                 if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
@@ -396,6 +408,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             q[i], solved[i], signs[i] = qe, True, se
             if got[0] == "far":
                 direct.append(i)
+            elif capped:
+                past_cap.append(i)
             state, lo = (qe, U[i], se), i
             k += 1
         if not skipped:
@@ -450,22 +464,26 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
         u_from = _input_before(origin[1], U, last, rest)
         rest = rest[~on_event(model, U[rest], events) & ~past(u_from, U[rest])]
-    failed, newest = (None, None), -1
+    failed, newest, failed_far = (None, None), -1, False
     for i in rest:
         if at_events(model, U[i : i + 1], events):
             continue
         j = max(int(last[i - 1]) if i else -1, newest)
         j = None if j < 0 else j
         start = origin if j is None else (q[j], U[j], signs[j])
-        if further(failed, j, start[1], U[i]) or past(start[1][None], U[i][None])[0]:
-            continue  # the walk from this pose failed nearer that way already, or a limit lies between
+        if further(failed, j, start[1], U[i]):
+            if failed_far:  # (further than a far value the search did not enter: as far out of reach)
+                unentered.append(i)
+            continue  # the walk from this pose failed nearer that way already
+        if past(start[1][None], U[i][None])[0]:
+            continue  # a limit lies between
         got = walk(start, i, -1 if j is None else j)
         if got[0] == "far":
             got = enter_far(start, i)
         if got[0] == "limit" and entries < MAX_ENTRIES:
             got = enter_past(got[2], i, -1 if j is None else j)
         if got[0] != "ok":
-            failed = (j, U[i])
+            failed, failed_far = (j, U[i]), got[0] == "far"
             continue
         q[i], solved[i], signs[i], newest = got[1], True, got[2], i
     # values still unreached past a gap in the range (re-entered further on): walked back from
@@ -532,7 +550,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # (and those too far to walk where the search found other modes or nothing: out of the
     # branch's reach as far as it knows, whatever their least-squares gap)
     beyond[np.intersect1d(miss, unentered).astype(int)] = True
-    jumps = (stops + direct + periods, None)
+    jumps = (stops + direct + periods + past_cap, None)
     if order is not None:
         # values asked one after the other with a limit the walk met between them (the direct
         # way), or entered too far to walk: a jump
@@ -549,7 +567,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         far = [j for j in direct if prev[j] >= 0 and scaled_norm(model, U[j] - U[prev[j]]) > reach]
         # (and one on the other side of a move by whole periods of a rocking input)
         moved = _apart(np.cumsum(np.isin(np.arange(N), periods)), prev)
-        jumps = (np.union1d(np.union1d(cand, far), moved).astype(int), prev)
+        jumps = (np.union1d(np.union1d(cand, far), np.union1d(moved, past_cap)).astype(int), prev)
     if shift is not None and not walker.turns:
         # values of a rocking input solved whole periods back: one in another period than the
         # value asked before it has the limit that starts its period between them
@@ -557,7 +575,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         jumps = (np.union1d(jumps[0], _apart(shift[0], before)).astype(int), jumps[1])
     if _reached is not None:
         # (values solved whole periods back are a move by whole periods from the start)
-        cut = stops + direct + periods + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
+        cut = stops + direct + periods + past_cap + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
         reached = np.arange(N) < (0 if shift is not None and not walker.turns else min(cut, default=N))
         _reached.append(reached if order is None else reached[np.argsort(order)])
     if isinstance(_nested, Walker):

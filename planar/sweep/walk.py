@@ -245,12 +245,12 @@ class Walker:
             return ("lost",)
         return "ok", qn[0], br.signs(qn, target[None])[0]
 
-    def enter_any(self, guesses, signs, targets, tries=4, poses=None):
+    def enter_any(self, guesses, signs, targets, tries=4, poses=None, circuit=True):
         """((index, pose) of the first of ``targets`` (M, f) where the branch can be entered,
         or None if none found; whether any target searched assembles at all): a batched
         least-squares search from each guess, then Newton, the mode test and, on another mode,
-        Newton from ``poses`` of the branch solved elsewhere and the way round through a limit
-        (:meth:`enter`)."""
+        Newton from ``poses`` of the branch solved elsewhere and (``circuit``) the way round
+        through a limit (:meth:`enter`)."""
         br = self.br
         best, assembles = None, False
         # the first few targets and some spread over the rest, at most SPREAD walk steps apart
@@ -275,7 +275,7 @@ class Walker:
                                if near.size else near):
                 if best is not None and pick[c] >= best[0]:
                     break
-                qe = self.enter([ql[c]], signs, targets[pick[c]], poses)
+                qe = self.enter([ql[c]], signs, targets[pick[c]], poses, circuit)
                 if qe is not None:
                     best = (int(pick[c]), qe)
                     break
@@ -327,12 +327,13 @@ class Walker:
             return qn[0]
         return q
 
-    def enter(self, guesses, signs, target, poses=None):
+    def enter(self, guesses, signs, target, poses=None, circuit=True):
         """Re-enter the motion range at ``target`` from guesses of the same branch, each by
         Newton (from a least-squares minimum where Newton from it fails); where each lands in
         other modes, from ``poses`` (G, n) in one batch (poses of the branch solved elsewhere:
         where the loop closes at many poses in the same modes, as a geared linkage's, one of
-        them lands in ours), and only then round through a limit from the modes found. The pose
+        them lands in ours), and only then (``circuit``) round through a limit from the modes
+        found. The pose
         found has its angles counted within half a turn of its guess's where it can
         (:meth:`near_turns`)."""
         br = self.br
@@ -370,7 +371,7 @@ class Walker:
             # periods of the input from those (the same circuit, most likely: the tracings are
             # few, each costs ~100s of solves)
             covered = any(np.array_equal(found, f) and _within(target[0], lo, hi, P) for f, (lo, hi), P in self._round)
-            if target.size == 1 and self.rounds > 0 and not covered:
+            if circuit and target.size == 1 and self.rounds > 0 and not covered:
                 self.rounds -= 1
                 got, span = around(br.m, br.p, qn, target, signs, self.max_step, np.pi)
                 if got is not None:
