@@ -84,6 +84,15 @@ class Units:
     angle: str = "deg"
     rate: str = "rad/s"
 
+    def __init__(self, length="", angle="deg", rate="rad/s", **unknown):
+        # (the dataclass keeps this constructor: an unknown keyword is the user's InputError)
+        if unknown:
+            raise InputError(f"Units takes length, angle and rate, got {', '.join(map(repr, unknown))}: "
+                             f"such as Units(length='mm', angle='deg', rate='rpm')")
+        for name, value in (("length", length), ("angle", angle), ("rate", rate)):
+            object.__setattr__(self, name, value)
+        self.__post_init__()
+
     def __post_init__(self):
         if not isinstance(self.length, str) or len(self.length) > 16 or not re.fullmatch(r"[^\s\[\]]*", self.length):
             raise InputError(f"length unit must be a short label without spaces, like 'mm', got {self.length!r}")

@@ -240,6 +240,19 @@ def test_a_length_that_cannot_be_converted_is_an_input_error(value, message):
         convert_length(1.0, "m", ["mm"])
 
 
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(bogus=1), "Units takes length, angle and rate, got 'bogus'"),  # (a TypeError)
+    (dict(angle="grad"), "unknown angle unit 'grad': use one of rad, deg"),
+    (dict(rate=60), "unknown rate unit 60"),
+    (dict(length="m m"), "length unit must be a short label without spaces"),
+])
+def test_bad_units_are_input_errors(kwargs, message):
+    from planar.units import Units
+
+    with pytest.raises(InputError, match=message):
+        Units(**kwargs)
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda: grashof(4, 2, 3, 4, rtol=-1), "rtol must be a number from 0 to 1"),  # (an IndexError)
     (lambda: grashof(4, 2, 3, 4, rtol=None), "rtol must be a number from 0 to 1"),  # (a TypeError)
