@@ -16,8 +16,9 @@ from planar import io
 from planar.blocks import Plan, plan as block_plan
 from planar.errors import PlanarError
 from planar.events.tracer import Tracer
-from planar.mechanisms import (four_bar, gear_train, geared_five_bar, planetary_gear_train, rack_and_pinion, rolling_wheel,
-                               slider_crank, stephenson_six_bar, two_loop_six_bar, watt_six_bar)
+from planar.mechanisms import (four_bar, gear_train, geared_five_bar, inverted_slider_crank, planetary_gear_train,
+                               rack_and_pinion, rolling_wheel, slider_crank, stephenson_six_bar, two_loop_six_bar,
+                               watt_six_bar)
 from planar.results import POSED, VALID, Status
 from planar.solver import rounding
 from planar.units import Units
@@ -135,6 +136,20 @@ def test_a_pivot_moved_far_out_of_the_mechanism_is_given_up_in_bounded_work(join
         res = model.sweep(np.linspace(0.0, 0.5, 5))
     assert solves.calls <= 1000, solves.calls
     assert res.status[0] == Status.NEAR_SINGULAR and not res.ok[1:].any(), res
+
+
+def test_a_crossing_of_branches_met_again_is_given_up_not_located_over_and_over():
+    # (the file fuzz) an inverted slider-crank with its crank's pivot moved to y = 1e7: the
+    # crank's end passes 1.6e-5 from O4 (1.6e-12 of the size), the branches there apart at
+    # rounding, and the tracing located the same crossing eight times (MAX_EVENTS) over
+    # 4,700 steps
+    d = io.to_dict(inverted_slider_crank(), Units())
+    d["joints"][0]["at"] = [0.0, 1e7]
+    model = io.from_dict(d).mechanism.compile()
+    with Evaluations(Tracer, "step") as steps:
+        res = model.sweep([-1.5707963, -1.5])
+    assert steps.calls <= 2000, steps.calls
+    assert [e.kind for e in res.events] == ["near_singular", "bifurcation"]
 
 
 def test_a_far_input_turns_the_coupler_of_a_drag_link_by_whole_turns():

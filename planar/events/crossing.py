@@ -10,6 +10,7 @@ from planar.events import NEAR, NEAR_CURVE, Event
 from planar.events.tracer import CROSS_STEP, GAP_CROSS, Tracer
 
 MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
+SAME_EVENT = 1e-8  # scaled input within which two crossings of branches located are one
 # consecutive steps closer than GAP_CROSS to another curve before a crossing gives the curve up:
 # a crossing is passed in a few such steps, and a curve that runs that close for longer (a crank
 # 1e4 times its coupler) gains next to nothing of input per step; MAX_CRAWL of them in a row that
@@ -137,6 +138,12 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0, resume=Fa
                 ev = Event("bifurcation", _scalar(us), index, qs, tangents=tuple(T / per for T in raw),
                            note="branches cross here: continued on the " +
                            ("other branch" if other else "smooth branch (pass branch='other' to take the other)"))
+                scale = np.where(model.input_lengths, 1.0 / model.L, 1.0)
+                if any(e.kind == "bifurcation" and np.max(np.abs((np.atleast_1d(e.input) - us) * scale)) <= SAME_EVENT
+                       for e in out.events):
+                    # the same crossing of branches located again: the tracing goes round it (the
+                    # branches there apart at rounding), not on; given up as at MAX_EVENTS
+                    return out
                 out.events.append(ev)
                 if other and len(raw) == 2:
                     # leave the crossing along the other tangent, towards increasing input
