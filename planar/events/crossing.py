@@ -138,8 +138,7 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0, resume=Fa
                 ev = Event("bifurcation", _scalar(us), index, qs, tangents=tuple(T / per for T in raw),
                            note="branches cross here: continued on the " +
                            ("other branch" if other else "smooth branch (pass branch='other' to take the other)"))
-                scale = np.where(model.input_lengths, 1.0 / model.L, 1.0)
-                if any(e.kind == "bifurcation" and np.max(np.abs((np.atleast_1d(e.input) - us) * scale)) <= SAME_EVENT
+                if any(e.kind == "bifurcation" and np.max(np.abs((np.atleast_1d(e.input) - us) * tr.scale)) <= SAME_EVENT
                        for e in out.events):
                     # the same crossing of branches located again: the tracing goes round it (the
                     # branches there apart at rounding), not on; given up as at MAX_EVENTS

@@ -34,8 +34,8 @@ class Tracer:
         self.q_full = np.array(q, float)
         self.u_a = np.asarray(u_a, float)
         self.du = np.asarray(u_b, float) - self.u_a
-        s = np.where(model.input_lengths, 1.0 / model.L, 1.0)
-        self.d = float(np.max(np.abs(self.du * s)))
+        self.scale = np.where(model.input_lengths, 1.0 / model.L, 1.0)  # (each input's, as the sweep scales it)
+        self.d = float(np.max(np.abs(self.du * self.scale)))
         self.cs = model.col_scale[plan.cols]
         self.rs = model.row_scale[plan.rows]
         self.h_max = max_step

@@ -333,9 +333,8 @@ class Walker:
         other modes, from ``poses`` (G, n) in one batch (poses of the branch solved elsewhere:
         where the loop closes at many poses in the same modes, as a geared linkage's, one of
         them lands in ours), and only then (``circuit``) round through a limit from the modes
-        found. The pose
-        found has its angles counted within half a turn of its guess's where it can
-        (:meth:`near_turns`)."""
+        found. The pose found has its angles counted within half a turn of its guess's where it
+        can (:meth:`near_turns`)."""
         br = self.br
         other = []
         for g in guesses:
