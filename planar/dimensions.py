@@ -7,7 +7,10 @@ one stays on the line drawn from it (the frame's origin and direction); a slider
 on its line on the ground; the data of other joints (lines on moving bodies, gear centres,
 rolling contacts) stay as drawn. The assembly follows the lengths from the drawn ones to the
 stated ones in small steps, so it keeps the assembly mode drawn, never the mirror image; the
-sides of dyads and the turn of triangles of three stated lengths are checked.
+sides of dyads and the turn of triangles of three stated lengths are checked. Where that way is
+blocked (a joint drawn far from its place: the loop cannot close on the way), it goes round:
+the other dimensions first, then the one left out. A drawing too far from the dimensions for
+double precision to follow (1e10 across for links of 2) is refused.
 
 :class:`Dyad` places a joint or point at given distances from two known ones, on a named side,
 and states both distances: a linkage is a few lines from its published dimensions.
@@ -39,6 +42,7 @@ from planar.joints.base import wrap
 # Newton solves one following of the targets may take (the hardest in the tests take under 100):
 # a follow that halves and doubles its step without getting on (a joint drawn 1e29 away) stops
 MAX_SOLVES = 250
+HELD = 1e-9  # a length or travel holds to this, relative to the dimensions' size
 
 
 def circle_circle(c1, r1, c2, r2, what="the two circles"):
@@ -213,9 +217,10 @@ def assemble(X0, bases, rows, triangles, L):
     p = _Problem(X0, bases, rows, L)
     z0 = np.zeros(p.cols[-1])
     z, t = _follow(p, z0, *_path(rows, p.X0))
-    if t < 1.0:
-        _diagnose(X0, bases, rows, L)
+    if t < 1.0:  # (the straight way from the drawing is blocked: the diagnosis may find another)
+        z = _diagnose(X0, bases, rows, L)
     X = p.X(z)
+    _check_held(X, rows, L)
     for a, b, c, what in triangles:
         before, after = _turn(p.X0, a, b, c), _turn(X, a, b, c)
         if abs(before) > 1e-9 * L**2 and np.sign(before) != np.sign(after):
@@ -262,9 +267,26 @@ def _turn(X, a, b, c):
     return d[0] * e[1] - d[1] * e[0]
 
 
+def _check_held(X, rows, L):
+    """Raise the AssemblyError for the first length or travel that does not hold at X to the
+    size of the dimensions stated (a sketch drawn 1e20 across for links of 2 meets the
+    assembly's tolerance, relative to the drawing, where it stands; angles are held to their
+    own)."""
+    lengths = [r for r in rows if r.kind != "angle"]
+    size = max([abs(r.target) for r in lengths] + [1e-300])
+    for r in lengths:
+        off = r.residual(X, r.target)
+        if not abs(off) <= HELD * size:
+            raise AssemblyError(f"{r.label} is off by {abs(off):.3g} where the drawing assembles: the sketch is "
+                                f"drawn {L:.3g} across for dimensions of {size:.3g}, too far from them to follow in "
+                                f"double precision; draw the joints nearer their places")
+
+
 def _diagnose(X0, bases, rows, L):
-    """Raise the AssemblyError: the first row (drivers, then dimensions, last stated first)
-    without which the others hold, with the value nearest its target they let it reach."""
+    """The sites' coordinates z of an assembly the way round the drawing blocked the follow
+    from: the first row (drivers, then dimensions, last stated first) without which the others
+    hold, followed from there to its target. Where it cannot get there, raise the
+    AssemblyError: that row, with the value nearest its target the others let it reach."""
     order = [k for k in reversed(range(len(rows))) if rows[k].kind != "length"]
     order += [k for k in reversed(range(len(rows))) if rows[k].kind == "length"]
     for k in order:
@@ -275,7 +297,9 @@ def _diagnose(X0, bases, rows, L):
         p = _Problem(X0, bases, rows, L)
         a, b = _path(rows, p.X(z))
         a[np.arange(len(rows)) != k] = b[np.arange(len(rows)) != k]
-        z, _ = _follow(p, z, a, b, smallest=1e-12)
+        z, t = _follow(p, z, a, b, smallest=1e-12)
+        if t >= 1.0:
+            return z
         row = rows[k]
         got, off = row.value(p.X(z)), row.residual(p.X(z), row.target)
         unit = f" rad ({np.degrees(got):.6g} deg)" if row.kind == "angle" else ""

@@ -18,6 +18,7 @@ import planar
 from planar import dimensions, io
 from planar.errors import AssemblyError, FileFormatError, ModelError
 from planar.mechanisms import four_bar, stephenson_six_bar
+from planar.units import Units
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 
@@ -206,6 +207,33 @@ def test_a_joint_drawn_absurdly_far_is_reported_in_bounded_work():
     with mock.patch.object(dimensions._Problem, "newton", newton):
         with pytest.raises(AssemblyError, match=r"the start of driver 'crank' cannot hold with the others"):
             io.loads(json.dumps(doc)).mechanism.compile()
+
+
+def _four_bar_with_A_drawn_at(x):
+    """The catalogue four-bar's file (its four distances stated) with joint A drawn at (x, 0)."""
+    d = io.to_dict(four_bar(), Units())
+    next(j for j in d["joints"] if j["name"] == "A")["at"] = [x, 0.0]
+    return io.from_dict(d).mechanism
+
+
+@pytest.mark.parametrize("x", [1e3, 1e5, 1e8])
+def test_a_joint_drawn_far_from_its_place_assembles_the_way_round(x):
+    # (the file fuzz) the lengths followed straight from the drawing leave the loop unclosable
+    # on the way (the crank and coupler shrink from ~x by equal ratios, far apart in between):
+    # the diagnosis then closed it the way round, to within 4e-12 of every stated length, and
+    # reported "O4-B = 4 cannot hold ... 4.06e-12 more than stated"
+    got, want = _four_bar_with_A_drawn_at(x).compile(), four_bar().compile()
+    np.testing.assert_allclose(got.q0, want.q0, rtol=0, atol=1e-10)
+    assert got.sweep(np.linspace(0, 2 * np.pi, 9)).ok.all()
+
+
+@pytest.mark.parametrize("x", [1e10, 1e20, 1e29])
+def test_a_joint_drawn_too_far_for_double_precision_is_an_assembly_error_that_says_so(x):
+    # (the file fuzz) at 1e20 the assembly's tolerance, relative to the drawing, held where the
+    # sketch stood, and compile raised a MobilityError: "3 degree(s) of freedom, add 2 drivers"
+    with pytest.raises(AssemblyError, match=re.escape(f"the sketch is drawn {x:.3g} across for dimensions of 4, too "
+                                                      f"far from them to follow in double precision")):
+        _four_bar_with_A_drawn_at(x).compile()
 
 
 def test_distance_and_dyad_refuse_points_of_different_bodies():
