@@ -365,7 +365,8 @@ class Tracker:
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             try:
-                if is_complex(value):  # (numpy would take the real parts)
+                # (numpy would take complex numbers' real parts, and read None, bools and strings as numbers)
+                if value is None or is_complex(value) or np.asarray(value).dtype.kind in "bmMSU":
                     raise TypeError(value)
                 value = np.asarray(value, dtype=float)
             except (TypeError, ValueError, OverflowError):

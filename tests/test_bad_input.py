@@ -47,7 +47,11 @@ SWEEP_CALLS = [
     ([0.1], {"outputs": ["rocker", None]}, InputError, "outputs must be a name or a list of names"),
     ([[0.1, 0.2]], {}, InputError, "sweep values have shape (1, 2) but 1 input(s) ['crank'] need"),
     ([math.nan], {}, InputError, "sweep values must be finite"),
-    (["a"], {}, InputError, "sweep values must be numbers"),
+    (["a"], {}, InputError, "sweep values must be real numbers, got strings"),
+    # (a list of these was read as numbers: "1.0" as 1.0, True as 1.0 and None as NaN, "must be finite")
+    (["1.0", "2"], {}, InputError, "sweep values must be real numbers, got strings"),
+    ([True, False], {}, InputError, "sweep values must be real numbers, got booleans"),
+    ([0.1, None], {}, InputError, "sweep values must be numbers, got None among them"),
     (0.1, {}, InputError, "must be a sequence of input values, got a scalar"),
     ([0.0, 1e300], {}, InputError, "continuation steps of max_step = 0.05, more than the limit of 1e+08"),
     ([1e308, -1e308], {}, InputError, "more than the limit of 1e+08"),
@@ -79,7 +83,7 @@ def test_bad_sweep_arguments(values, options, error, message):
 @pytest.mark.parametrize("kwargs, message", [
     ({"velocity": [1.0, 2.0, 3.0]}, "sweep velocity have shape (3,)"),
     ({"velocity": math.inf}, "sweep velocity must be finite"),
-    ({"acceleration": "fast"}, "sweep acceleration must be numbers"),
+    ({"acceleration": "fast"}, "sweep acceleration must be real numbers, got strings"),
     ({"velocity": 1e160}, "sweep velocity reaches 1e+160 .* beyond 1e+100 the accelerations overflow"),
     ({"velocity": [1.0, -1e300]}, "sweep velocity reaches 1e+300"),
     ({"acceleration": 1e250}, "sweep acceleration reaches 1e+250"),
@@ -109,7 +113,9 @@ def test_bad_circuit_arguments(kwargs, message):
         four_bar().circuit(**kwargs)
 
 
-@pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]], 10**400, np.complex128(1 + 2j)])
+# (None, "1.0" and True were moves to NaN, 1.0 and 1.0)
+@pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]], 10**400, np.complex128(1 + 2j), "1.0", True,
+                                   np.bool_(False), [True]])
 def test_a_tracker_move_to_no_number_is_an_input_error(value):
     with pytest.raises(InputError, match="move takes a number|sweep values"):
         four_bar().compile().track().move(value)

@@ -18,6 +18,8 @@ if TYPE_CHECKING:
     from planar.tracking import Tracker
 
 GROUND = "ground"
+# what a list numpy reads as an array of these kinds holds
+_WORDS = {"b": "booleans", "c": "complex ones", "m": "time spans", "M": "dates", "S": "bytes", "U": "strings"}
 
 
 @dataclass(frozen=True)
@@ -248,9 +250,17 @@ class Model:
         one row broadcast to N rows: read-only and no N-sized copy (the compiled loop reads
         the row itself)."""
         f = len(self.drivers)
-        kind = getattr(values, "dtype", np.dtype(float)).kind
-        if kind in "bcmMSU" or np.ma.is_masked(values):  # (read as numbers, they would be other numbers)
-            raise InputError(f"sweep {what} must be real numbers, got an array of {getattr(values, 'dtype', '')}"
+        dtype = getattr(values, "dtype", None)
+        if dtype is None:  # (a list: strings, bools and None in it are no numbers, though numpy reads them as ones)
+            try:
+                dtype = np.asarray(values).dtype
+            except (TypeError, ValueError, OverflowError):  # (ragged: the conversion below names it)
+                dtype = np.dtype(float)
+            if dtype.kind == "O" and any(v is None for v in np.asarray(values, dtype=object).ravel()):
+                raise InputError(f"sweep {what} must be numbers, got None among them")
+        if dtype.kind in "bcmMSU" or np.ma.is_masked(values):  # (read as numbers, they would be other numbers)
+            got = f"an array of {dtype}" if hasattr(values, "dtype") else _WORDS.get(dtype.kind, str(dtype))
+            raise InputError(f"sweep {what} must be real numbers, got {got}"
                              f"{' with masked values' if np.ma.is_masked(values) else ''}")
         if is_complex(values):  # (numpy would read complex scalars in a list as their real parts)
             raise InputError(f"sweep {what} must be real numbers, got complex ones")
