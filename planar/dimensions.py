@@ -9,8 +9,9 @@ rolling contacts) stay as drawn. The assembly follows the lengths from the drawn
 stated ones in small steps, so it keeps the assembly mode drawn, never the mirror image; the
 sides of dyads and the turn of triangles of three stated lengths are checked. Where that way is
 blocked (a joint drawn far from its place: the loop cannot close on the way), it goes round:
-the other dimensions first, then the one left out. A drawing too far from the dimensions for
-double precision to follow (1e10 across for links of 2) is refused.
+the other dimensions first, then the one left out, kept where every two stated lengths from
+one joint turn as drawn. A drawing too far from the dimensions for double precision to follow
+(1e10 across for links of 2) is refused.
 
 :class:`Dyad` places a joint or point at given distances from two known ones, on a named side,
 and states both distances: a linkage is a few lines from its published dimensions.
@@ -221,6 +222,8 @@ def assemble(X0, bases, rows, triangles, L):
         z = _diagnose(X0, bases, rows, L)
     X = p.X(z)
     _check_held(X, rows, L)
+    if t < 1.0:
+        _check_turns(p.X0, X, rows, L)
     for a, b, c, what in triangles:
         before, after = _turn(p.X0, a, b, c), _turn(X, a, b, c)
         if abs(before) > 1e-9 * L**2 and np.sign(before) != np.sign(after):
@@ -280,6 +283,25 @@ def _check_held(X, rows, L):
             raise AssemblyError(f"{r.label} is off by {abs(off):.3g} where the drawing assembles: the sketch is "
                                 f"drawn {L:.3g} across for dimensions of {size:.3g}, too far from them to follow in "
                                 f"double precision; draw the joints nearer their places")
+
+
+def _check_turns(X0, X, rows, L):
+    """Raise the AssemblyError where two stated lengths from one site turn the other way at X
+    than drawn at X0: an assembly found the way round (not followed from the drawing) keeps
+    the mode drawn, never the mirror image."""
+    ends = [(k, r.terms[0]) for k, r in enumerate(rows) if r.kind == "length"]
+    for n, (k, (a, b)) in enumerate(ends):
+        for m, (c, d) in ends[n + 1:]:
+            shared = {a, b} & {c, d}
+            if len(shared) != 1:
+                continue
+            s, = shared
+            i, j = ({a, b} - shared).pop(), ({c, d} - shared).pop()
+            before, after = _turn(X0, s, i, j), _turn(X, s, i, j)
+            if abs(before) > 1e-9 * L**2 and np.sign(before) != np.sign(after):
+                raise AssemblyError(f"the dimensions hold together only with {rows[k].label} and {rows[m].label} "
+                                    f"turned over from the drawing (the mirror image of the mode drawn: the lengths "
+                                    f"cannot be followed from the drawing): draw the sketch closer to the dimensions")
 
 
 def _diagnose(X0, bases, rows, L):

@@ -216,15 +216,28 @@ def _four_bar_with_A_drawn_at(x):
     return io.from_dict(d).mechanism
 
 
+def test_lengths_that_cannot_be_followed_from_the_drawing_assemble_the_way_round_in_the_mode_drawn():
+    # (a fuzz of rough sketches) followed straight from this drawing the loop cannot close on the
+    # way; the diagnosis then closed it the other way round and reported "the start of driver
+    # 'O2' cannot hold with the others: the nearest assembly has 1.97649 rad, 0 rad less than stated"
+    r, th2 = (3.4459050405163367, 0.9322952846996277, 2.11142710318898, 2.4882215970467447), 1.9764924194058082
+    A_guess, B_guess, O4_guess = (2.5552110521204208, 7.753015328341022), (3.4944203827568048, 6.973945052315136), \
+        (8.461391632546436, 0.0)
+    sk = dimensioned_four_bar(*r, th2, A_guess, B_guess, O4_guess).compile().sketch
+    d, e = np.subtract(O4_guess, A_guess), np.subtract(B_guess, A_guess)
+    A, B = exact_four_bar(*r, th2, left=d[0] * e[1] - d[1] * e[0] > 0)  # B on the side of A -> O4 drawn
+    np.testing.assert_allclose(sk.position("A"), A, atol=1e-12)
+    np.testing.assert_allclose(sk.position("B"), B, atol=1e-12)
+
+
 @pytest.mark.parametrize("x", [1e3, 1e5, 1e8])
-def test_a_joint_drawn_far_from_its_place_assembles_the_way_round(x):
-    # (the file fuzz) the lengths followed straight from the drawing leave the loop unclosable
-    # on the way (the crank and coupler shrink from ~x by equal ratios, far apart in between):
-    # the diagnosis then closed it the way round, to within 4e-12 of every stated length, and
-    # reported "O4-B = 4 cannot hold ... 4.06e-12 more than stated"
-    got, want = _four_bar_with_A_drawn_at(x).compile(), four_bar().compile()
-    np.testing.assert_allclose(got.q0, want.q0, rtol=0, atol=1e-10)
-    assert got.sweep(np.linspace(0, 2 * np.pi, 9)).ok.all()
+def test_a_joint_drawn_far_past_its_place_is_refused_as_the_mirror_image(x):
+    # (the file fuzz) A drawn past O4: the dimensions close only with B on the other side of
+    # A -> O4 than drawn; the error said "O4-B = 4 cannot hold with the others: the nearest
+    # assembly has 4, 4.06e-12 more than stated"
+    with pytest.raises(AssemblyError, match="the dimensions hold together only with distance A-B = 3 and distance "
+                                            "O4-B = 4 turned over from the drawing"):
+        _four_bar_with_A_drawn_at(x).compile()
 
 
 @pytest.mark.parametrize("x", [1e10, 1e20, 1e29])

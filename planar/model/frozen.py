@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from planar.tracking import Tracker
 
 GROUND = "ground"
-# what a list numpy reads as an array of these kinds holds
+# what a list holds, by the kind of array numpy makes of it
 _WORDS = {"b": "booleans", "c": "complex ones", "m": "time spans", "M": "dates", "S": "bytes", "U": "strings"}
 
 
