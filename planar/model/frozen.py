@@ -250,13 +250,14 @@ class Model:
         one row broadcast to N rows: read-only and no N-sized copy (the compiled loop reads
         the row itself)."""
         f = len(self.drivers)
-        dtype = getattr(values, "dtype", None)
+        read, dtype = values, getattr(values, "dtype", None)
         if dtype is None:  # (a list: strings, bools and None in it are no numbers, though numpy reads them as ones)
             try:
-                dtype = np.asarray(values).dtype
+                read = np.asarray(values)  # (converted once: the numbers below are read from it)
+                dtype = read.dtype
             except (TypeError, ValueError, OverflowError):  # (ragged: the conversion below names it)
                 dtype = np.dtype(float)
-            if dtype.kind == "O" and any(v is None for v in np.asarray(values, dtype=object).ravel()):
+            if dtype.kind == "O" and any(v is None for v in read.ravel()):
                 raise InputError(f"sweep {what} must be numbers, got None among them")
         if dtype.kind in "bcmMSU" or np.ma.is_masked(values):  # (read as numbers, they would be other numbers)
             got = f"an array of {dtype}" if hasattr(values, "dtype") else _WORDS.get(dtype.kind, str(dtype))
@@ -265,7 +266,7 @@ class Model:
         if is_complex(values):  # (numpy would read complex scalars in a list as their real parts)
             raise InputError(f"sweep {what} must be real numbers, got complex ones")
         try:
-            a = np.array(values, dtype=float, order="C")
+            a = np.array(read, dtype=float, order="C")
         except (TypeError, ValueError):
             raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
         except OverflowError:  # (an integer beyond any float)
