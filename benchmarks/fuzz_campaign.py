@@ -15,7 +15,11 @@ model, which remembers the poses it solved). One JSON line a sweep: the seed, th
 the scenario, its CPU seconds and count of each status, and the values it disagrees with the
 dense sweep on: ``lost`` (the dense sweep poses them, this one does not), ``extra`` (the
 other way) and ``apart`` (both posed, neither ``JUMPED``, a coordinate more than 1e-8 L apart,
-an angle times L, up to whole turns).
+an angle times L, up to whole turns). On a geared five-bar, whose loop closes in the
+branch's modes on many stretches (its crank has no period), a value that both sweeps reach
+only past a limit they meet between the start and it is counted ``past`` where it would be
+lost or apart: which stretch a search past a gap enters depends on the values asked
+(docs/sweeps.md, events).
 
     python3 benchmarks/fuzz_campaign.py 0 50 > camp.jsonl            # seeds 0-49, numpy
     python3 benchmarks/fuzz_campaign.py 0 50 --kinds watt_six_bar --engine numba
@@ -104,8 +108,9 @@ def near_end(kind, kw, rng):
     return dict(kw, start=float(start)), start + (1 if up else -1) * np.linspace(0, (hi - lo) * 1.3, 181)
 
 
-def compare(r, ref, values, L):
-    """Lost, extra and apart values of sweep r against the dense sweep ref (values: ref's)."""
+def compare(r, ref, values, L, u0, kind):
+    """Lost, past, extra and apart values of sweep r from the start u0 against the dense sweep
+    ref (values: ref's)."""
     posed = POSED[np.asarray(r.status)]
     u = np.asarray(r.inputs)[:, 0]
     k = np.searchsorted(values, u)
@@ -117,14 +122,25 @@ def compare(r, ref, values, L):
     # (a value JUMPED to is on the branch but not shown continuous with the one before: its
     # pose may be another circuit's, a geared linkage's arm some turns on)
     jumped = (np.asarray(r.status) == Status.JUMPED) | (np.asarray(ref.status)[k] == Status.JUMPED)
-    both = ok & ref_posed & posed & ~jumped
-    apart = 0
-    if both.any():
-        d = np.asarray(r.q)[both] - np.asarray(ref.q)[k[both]]
+    apart = ok & ref_posed & posed & ~jumped
+    if apart.any():
+        d = np.asarray(r.q)[apart] - np.asarray(ref.q)[k[apart]]
         angle = np.arange(d.shape[1]) % 3 == 2  # (angles by their sines and cosines, a turn more or less alike)
         d[:, angle] = np.angle(np.exp(1j * d[:, angle])) * L
-        apart = int((np.nanmax(np.abs(d), axis=1) > 1e-8 * L).sum())
-    return int(lost.sum()), int(extra.sum()), apart
+        apart[apart] = np.nanmax(np.abs(d), axis=1) > 1e-8 * L
+    past = np.zeros_like(lost)
+    if kind in MANY_STRETCHES:
+        past = (lost | apart) & _past_limits(r, u, u0) & _past_limits(ref, u, u0)
+    return int((lost & ~past).sum()), int(past.sum()), int(extra.sum()), int((apart & ~past).sum())
+
+
+MANY_STRETCHES = ("geared_five_bar",)
+
+
+def _past_limits(r, u, u0):
+    """(N,) whether sweep r met a limit between the start u0 and each value u."""
+    at = np.array([e.input for e in r.events if e.kind == "limit"])
+    return np.array([bool(np.any((at > min(x, u0)) & (at < max(x, u0)))) for x in u], bool)
 
 
 MODELS = {}  # with --warm: one model per mechanism, as a user's script sweeps it again and again
@@ -174,7 +190,8 @@ def run_seed(seed, kinds, engine, out):
             if dense.size:
                 ref, _, rerr = sweep(kind, args, dense, engine)
                 if ref is not None:
-                    rec["lost"], rec["extra"], rec["apart"] = compare(r, ref, dense, r.model.L)
+                    rec["lost"], rec["past"], rec["extra"], rec["apart"] = compare(r, ref, dense, r.model.L,
+                                                                                   float(r.model.u0[0]), kind)
                 else:
                     rec["ref_error"] = rerr
         out.write(json.dumps(rec) + "\n")
@@ -184,7 +201,7 @@ def run_seed(seed, kinds, engine, out):
 def summary(path):
     recs = [json.loads(line) for line in open(path)]
     print(f"{len(recs)} sweeps, {len({r['seed'] for r in recs})} mechanisms")
-    for key in ("error", "lost", "extra", "apart"):
+    for key in ("error", "lost", "past", "extra", "apart"):
         bad = [r for r in recs if r.get(key)]
         print(f"{key}: {len(bad)} sweeps", [(r["seed"], r["scenario"], r[key]) for r in bad[:20]])
     nc = [r for r in recs if r.get("status", {}).get("NOT_CONVERGED")]

@@ -710,20 +710,26 @@ def _period_by_sweep(model, walker, options):
 
 
 def _input_order(U, u0):
-    """The order in which to solve the values U (N, 1) of one input given out of order (turning
-    back at least once): sorted, ascending or descending from the end nearer the start's
-    input ``u0`` (stable: repeated values keep their order). None for values in order.
+    """The order in which to solve the values U (N, 1) of one input: sorted, ascending or
+    descending from the end nearer the start's input ``u0`` (stable: repeated values keep their
+    order); values in order from their far end, reversed. None where that is the order given.
+    So the walk from the start takes the values of the start's own stretch before a stretch
+    entered past a gap can (one over the same inputs, ending just past the start's input).
 
     >>> _input_order(np.array([[0.0], [2.0], [1.0]]), 0.0).tolist(), _input_order(np.array([[0.0], [2.0], [1.0]]), 3.0).tolist()
     ([0, 2, 1], [1, 2, 0])
+    >>> _input_order(np.array([[0.0], [1.0], [2.0]]), 0.5), _input_order(np.array([[0.0], [1.0], [2.0]]), 1.8).tolist()
+    (None, [2, 1, 0])
     """
-    if U.shape[1] != 1 or U.shape[0] < 3:
+    if U.shape[1] != 1 or U.shape[0] < 2:
         return None
     v = U[:, 0]
+    down = v.max() - u0 < u0 - v.min()
     d = np.diff(v)
     if np.all(d >= 0) or np.all(d <= 0):
-        return None
-    down = v.max() - u0 < u0 - v.min()
+        # (in order: reversed only where its far end is strictly nearer the start)
+        first, last = abs(v[0] - u0), abs(v[-1] - u0)
+        return np.arange(v.size)[::-1].copy() if last < first and v[0] != v[-1] else None
     return np.argsort(-v if down else v, kind="stable")
 
 
