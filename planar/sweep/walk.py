@@ -251,6 +251,13 @@ class Walker:
         least-squares search from each guess, then Newton, the mode test and, on another mode,
         Newton from ``poses`` of the branch solved elsewhere and (``circuit``) the way round
         through a limit (:meth:`enter`)."""
+        # (a value asked again is searched once: repeats would take the places of the values
+        # spread over the rest)
+        _, first = np.unique(targets, axis=0, return_index=True)
+        if first.size < len(targets):
+            keep = np.sort(first)
+            best, assembles = self.enter_any(guesses, signs, targets[keep], tries, poses, circuit)
+            return (None if best is None else (int(keep[best[0]]), best[1])), assembles
         br = self.br
         best, assembles = None, False
         # the first few targets and some spread over the rest, at most SPREAD walk steps apart
