@@ -51,6 +51,7 @@ def test_tracker_moves_equal_sweeps_from_the_sketch(name):
 
 
 @pytest.mark.parametrize("name", sorted(MECHANISMS))
+@pytest.mark.filterwarnings("error")  # (a value on the parallelogram's change point: no RuntimeWarning)
 def test_warm_sweeps_equal_sweeps_from_the_sketch(name):
     model = MECHANISMS[name]().compile()
     model.sweep([2.0, 5.0])

@@ -36,7 +36,7 @@ def _asked_order(model, U, order, events, u0):
     return sorted(out, key=lambda e: e.index)
 
 
-def mark_jumps(status, stops, prev=None):
+def _mark_jumps(status, stops, prev=None):
     """JUMPED for the first value past each limit the walk stopped at (``stops``: the events'
     indices) where it is valid and the value before it posed: the branch was re-entered past the
     limit with no unassemblable value between to show the gap (a pair of limits inside one step).
@@ -86,7 +86,7 @@ class Out:
 
 def finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
             order=None, u0=None):
-    """The results of the solved values; ``jumps`` (stops, prev) for :func:`mark_jumps`;
+    """The results of the solved values; ``jumps`` (stops, prev) for :func:`_mark_jumps`;
     ``shift`` (k, (P, D)): value i was solved k[i] periods P back (the input values ``U_in``),
     its pose shifted back by k[i] D; ``order`` (values solved in the order of the input from
     the start's input ``u0``): the asked position of each, where the results are put back."""
@@ -123,7 +123,7 @@ def finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event
         _, g = least_squares_gap(model, guess, U[i])
         gap[i] = g
         status[i] = np.where((g > GAP) | beyond[i], Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
-    mark_jumps(status, *jumps)
+    _mark_jumps(status, *jumps)
     events = tuple(events) + tuple(near_stretches(model, U, out.sing, status, events))
     events = tuple(sorted(events, key=lambda e: e.index))
     residual, iters, sing, branch = out.residual, out.iters, out.sing, out.branch
@@ -233,7 +233,8 @@ def near_stretches(model, U, sing, status, events):
             continue
         near = int(np.sum(status[a:b] == Status.NEAR_SINGULAR))
         out.append(Event("near_singular", U[k, 0] if U.shape[1] == 1 else U[k].copy(), int(k),
-                         singularity=float(sing[k]), error=float(np.finfo(float).eps / sing[k]),
+                         singularity=float(sing[k]),
+                         error=float(np.finfo(float).eps / sing[k]) if sing[k] > 0 else np.inf,
                          note=f"{b - a} value(s) close to another branch (an avoided crossing or a close approach, "
                               f"singularity down to {sing[k]:.2g}; {near} of them NEAR_SINGULAR): valid but sensitive; "
                               "the branch was kept"))

@@ -1,8 +1,6 @@
-"""The sweep's entry point (:func:`run_sweep`: the values on each side of the start's input
-walked out from it, :func:`_joined` back in the asked order) and the sweep of one side
-(:func:`_run`): the walk over the anchors, the bulk from them, the rest one by one and the
-gaps walked back, one function of three passes over shared arrays; the module is those and the
-few helpers they alone use."""
+"""The sweep's entry point (:func:`run_sweep`): the walk over the anchors, the bulk from them,
+the rest one by one and the gaps walked back; :func:`run_sweep` is one function of three passes
+over shared arrays, and the module is that function and the few helpers it alone uses."""
 
 import functools
 from dataclasses import replace
@@ -15,8 +13,7 @@ from planar.events import SINGULAR
 from planar.sweep.anchors import (MAX_WAVE, WAVE, Kin, from_anchors, solve_stations, solve_wave, sweep_anchors,
                                   walk_anchors)
 from planar.sweep.branch import Branch, input_scale, scaled_norm
-from planar.results import Sweep
-from planar.sweep.finish import Out, finish, mark_jumps
+from planar.sweep.finish import Out, finish
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
 from planar.sweep.walk import MODE_PERIODS, SPREAD, WALK_STEPS, Walker, less_periods, whole_turns
 
@@ -67,63 +64,6 @@ def output_columns(model, outputs):
 
 def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
               engine="numpy", _nested=False, _reached=None):
-    """See :meth:`planar.Model.sweep` and :func:`_run` (the arguments). Values of one input on
-    both sides of the start's input are swept as two sweeps, each walked out from the start:
-    the start's own stretch takes its values on both sides before a stretch entered past a gap
-    can (one over the same inputs would otherwise take those it reaches first, walking up from
-    the far end of the values below the start)."""
-    options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, rates=rates, engine=engine)
-    u_s = model.u0[0] if start is None else start[1][0]
-    up = U[:, 0] >= u_s if U.shape[1] == 1 else None
-    if up is None or _nested or up.all() or not up.any():
-        return _run(model, U, Ud, Udd, start, _nested=_nested, _reached=_reached, **options)
-    sides = np.flatnonzero(up), np.flatnonzero(~up)
-    parts, reached = [], []
-    for side in sides:
-        part = []
-        parts.append(_run(model, U[side], Ud[side], Udd[side], start, _reached=part, **options))
-        reached.append(part[-1])
-    if _reached is not None:
-        joined = np.zeros(len(U), bool)
-        for side, r in zip(sides, reached):
-            joined[side] = r
-        _reached.append(joined)
-    return _joined(model, U, sides, parts)
-
-
-def _joined(model, U, sides, parts):
-    """The sweep of values U from the sweeps ``parts`` of their ``sides`` (index arrays, in
-    the asked order): each part's values put back, its events' indices too (an event both
-    met, once), and a value asked right after one on the other side of the start, with a
-    limit between them, JUMPED (:func:`planar.sweep.finish.mark_jumps`)."""
-    N = len(U)
-    fields = ("inputs", "input_rates", "input_accelerations", "q", "qd", "qdd", "status", "residual", "iterations",
-              "singularity", "branch", "gap")
-    out = {}
-    for f in fields:
-        a = getattr(parts[0], f)
-        out[f] = np.empty((N,) + a.shape[1:], a.dtype)
-        for side, r in zip(sides, parts):
-            out[f][side] = getattr(r, f)
-    events = []
-    for side, r in zip(sides, parts):
-        for e in r.events:
-            if not any(same_event(e, o, model) for o in events):
-                events.append(replace(e, index=int(side[min(e.index, side.size - 1)])))
-    events.sort(key=lambda e: e.index)
-    limits = np.array([float(np.ravel(e.input)[0]) for e in events if e.kind == "limit"])
-    side_of = np.zeros(N, int)
-    side_of[sides[1]] = 1
-    u = U[:, 0]
-    cross = np.flatnonzero(side_of[1:] != side_of[:-1]) + 1
-    between = [i for i in cross
-               if np.any((limits > min(u[i - 1], u[i])) & (limits < max(u[i - 1], u[i])))]
-    mark_jumps(out["status"], between, np.arange(-1, N - 1))
-    return Sweep(model, events=tuple(events), **out)
-
-
-def _run(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
-         engine="numpy", _nested=False, _reached=None):
     """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
     from instead of the sketch, reached from the sketch by continuation with no event between
     (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``_nested``: a
