@@ -729,12 +729,11 @@ def _input_order(U, u0):
     if U.shape[1] != 1 or U.shape[0] < 2:
         return None
     v = U[:, 0]
-    down = v.max() - u0 < u0 - v.min()
     d = np.diff(v)
     if np.all(d >= 0) or np.all(d <= 0):
         # (in order: reversed only where its far end is strictly nearer the start)
-        first, last = abs(v[0] - u0), abs(v[-1] - u0)
-        return np.arange(v.size)[::-1].copy() if last < first and v[0] != v[-1] else None
+        return np.arange(v.size)[::-1].copy() if abs(v[-1] - u0) < abs(v[0] - u0) else None
+    down = v.max() - u0 < u0 - v.min()
     return np.argsort(-v if down else v, kind="stable")
 
 
