@@ -30,6 +30,8 @@ Models with more inputs sweep from the sketch.
 ([True], True)
 """
 
+import math
+
 import numpy as np
 
 from planar import arguments
@@ -46,6 +48,17 @@ NEWTON = 8  # Newton steps of the direct path (the sweep's walk step allows as m
 SLOWEST = np.sqrt(np.finfo(float).tiny)  # input rates below this teach no kinematic coefficients
 DIRECT = 4096  # values the direct path takes in one batch: more are the sweep's (its bulk is made for them)
 NUMBER = (int, float, np.float64)  # a move's value and rates as numbers (the others, and bools, go by the sweep's checks)
+
+
+def _read_only(a):
+    a.setflags(write=False)
+    return a
+
+
+# a move's unit input rate and no acceleration, and a posed value's assembly gap: read-only
+# arrays the moves' results share
+UNIT = _read_only(np.ones((1, 1))), _read_only(np.zeros((1, 1)))
+NO_GAP = _read_only(np.full(1, np.nan))
 
 
 class Poses:
@@ -245,40 +258,42 @@ class Direct:
         if not self.applies or U.shape[0] > DIRECT:
             return None
         M, u = U.shape[0], U[:, 0]
-        if not (abs(u[0] - self.u0) if M == 1 else np.max(np.abs(u - self.u0))) <= self.far:
+        first = float(u[0])
+        if not (abs(first - self.u0) if M == 1 else np.max(np.abs(u - self.u0))) <= self.far:
             return None  # (NaN inputs: the sweep's)
         poses = _poses(self.model, *self.key)
-        if M == 1 and u[0] == poses.refused:
+        if M == 1 and first == poses.refused:
             return None
         br = self.branch()
         if poses.signs is None:
             from planar.sweep import check_sketch
 
             check_sketch(self.model, br.p)  # (a sketch on a singular position is refused, as the sweep does)
-            poses.signs = br.signs(self.model.q0[None], self.model.u0[None])
+            poses.signs = np.ascontiguousarray(br.signs(self.model.q0[None], self.model.u0[None]), np.int8)
+            # (as either engine gave them: the compiled engine reads them as they are)
         if not poses.complete:  # (the predictor reads every known pose's coefficients)
             poses.coefficients(br)
         r = self._compiled(br, poses, U) if self.engine == "numba" else self._numpy(br, poses, U)
         if r is None:
-            poses.refused = u[0] if M == 1 else None
+            poses.refused = first if M == 1 else None
             return None
         q, qu, quu, status, res, iters, sing, branch = r
         if M == 1:
-            poses.append(u[0], q[0], qu[0], quu[0])
+            poses.append(first, q[0], qu[0], quu[0])
         else:
             poses.merge(u, (q, qu, quu))
         if not self.rates:
             qd = qdd = np.broadcast_to(np.nan, q.shape)
-        elif Ud.size == 1 and Ud[0, 0] == 1.0 and Udd[0, 0] == 0.0:
+        elif Ud.size == 1 and Ud.item() == 1.0 and Udd.item() == 0.0:
             qd, qdd = qu, quu  # (a unit rate: the coefficients are the rates)
         else:
             qd, qdd = qu * Ud, quu * Ud**2 + qu * Udd
         events = ()
-        if (sing[0] < NEAR_CURVE) if M == 1 else (sing < NEAR_CURVE).any():
+        if (sing.item() < NEAR_CURVE) if M == 1 else (sing < NEAR_CURVE).any():
             from planar.sweep import near_stretches
 
             events = tuple(near_stretches(self.model, U, sing, status, ()))
-        return Sweep(self.model, U, Ud, Udd, q, qd, qdd, status, res, iters, sing, branch, np.full(M, np.nan), events)
+        return Sweep(self.model, U, Ud, Udd, q, qd, qdd, status, res, iters, sing, branch, NO_GAP if M == 1 else np.full(M, np.nan), events)
 
     def _numpy(self, br, poses, U):
         """(q, qu, quu, status, res, iters, sing, branch) of the values U, or None (see the class)."""
@@ -302,8 +317,8 @@ class Direct:
 
     def _compiled(self, br, poses, U):
         """As :meth:`_numpy`, in one call of the compiled engine."""
-        signs = np.ascontiguousarray(poses.signs, np.int8)  # (as either engine gave them)
-        return br.compiled.direct(self.model, br.p, poses.u, poses.rows, signs, U, self.key[1], self.reach, NEWTON)
+        return br.compiled.direct(self.model, br.p, poses.u, poses.rows, poses.signs, U, self.key[1], self.reach,
+                                  NEWTON)
 
 
 def _clean_end(res):
@@ -356,12 +371,17 @@ class Tracker:
         """The pose at input ``value`` (a number, or one per input): a :class:`planar.Sweep`
         of one value, as ``model.sweep([value], velocity, acceleration)`` gives it."""
         res = None
-        if self.model.u0.size == 1 and type(value) in NUMBER and type(velocity) in NUMBER and \
-                type(acceleration) in NUMBER and arguments.finite_number(velocity) and \
-                arguments.finite_number(acceleration):
-            v, a = float(velocity), float(acceleration)
-            if arguments.finite_number(value) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
-                res = self._direct(np.array([[float(value)]]), np.array([[v]]), np.array([[a]]))
+        if type(value) in NUMBER and type(velocity) in NUMBER and type(acceleration) in NUMBER:
+            try:
+                u, v, a = float(value), float(velocity), float(acceleration)
+            except OverflowError:  # (an integer beyond any float: the sweep's checks say so)
+                u = v = a = math.nan
+            # (a NaN or infinite rate is beyond its limit)
+            if math.isfinite(u) and abs(v) <= self._limits[0] and abs(a) <= self._limits[1]:
+                # (a unit rate and no acceleration, as a drag asks: arrays shared by the moves, read only)
+                unit = v == 1.0 and a == 0.0
+                res = self._direct(np.array([[u]]), UNIT[0] if unit else np.array([[v]]),
+                                   UNIT[1] if unit else np.array([[a]]))
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             try:
