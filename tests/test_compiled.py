@@ -121,23 +121,6 @@ def test_every_structure_runs_on_one_compiled_loop():
 
 
 @pytest.mark.numba
-def test_the_loop_takes_back_the_tables_and_work_arrays_it_is_passed_packed():
-    # the loop is passed a plan's tables and its work arrays as a few flat arrays (numba
-    # unboxes each array at every call) and takes them back as views, field by field
-    from planar.compiled import engine
-
-    model = geared_five_bar().compile()
-    T = compiled.tables(model, plan(model))
-    back = engine._tables.py_func(compiled.pack(T))
-    assert type(back) is compiled.Tables
-    for name, a, b in zip(T._fields, T, back):
-        assert a.dtype == b.dtype and a.shape == b.shape and np.array_equal(a, b), name
-    W = tuple(np.random.default_rng(1).integers(0, 100, a.shape).astype(a.dtype) for a in compiled.work_arrays(T, 3))
-    for k, (a, b) in enumerate(zip(W, engine._work.py_func(compiled.pack(W)))):
-        assert a.dtype == b.dtype and a.shape == b.shape and np.array_equal(a, b), k
-
-
-@pytest.mark.numba
 def test_the_bulk_pass_leaves_a_solved_anchor_it_cannot_take_as_it_was():
     # the compiled pass takes the solved anchors with the other values (their final step); an
     # anchor whose step fails there (here: a table whose second interval guesses 0.3 off)

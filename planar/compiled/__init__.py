@@ -177,7 +177,7 @@ def direct(model, plan, KU, HQ, signs, U, tol, reach, steps):
             np.require(U, float, ("C", "W")), C.one, C.zero, True, qu, quu, res, np.empty((M, nb), np.int8), sing,
             branch, no_f, no_f, no_f, ok, status, iters, no_b, no_b)
     if M <= MIN_CHUNK:  # (a few poses: the loop's machine code called as it was compiled, on this thread)
-        C.known(engine, M, args)(0, M, np.arange(M), *args, C.packed, C.work(min(engine.LANES, M)))
+        C.known(engine, M, args)(0, M, np.arange(M), *args, C.T, C.work(min(engine.LANES, M)))
     else:
         engine.loop(C, engine.chunk(M), np.arange(M), *args)
     if not ok.all():
@@ -225,13 +225,12 @@ def _rates_in(a):
 
 
 class Compiled:
-    """A plan as the loop takes it: its :class:`Tables` ``T``, ``packed`` (:func:`pack`), and
-    the loop's work buffers, made once per thread and number of lanes and kept (a call reuses
-    them as a call's groups of values do: each group writes what it reads)."""
+    """A plan as the loop takes it: its :class:`Tables` ``T`` and the loop's work buffers,
+    made once per thread and number of lanes and kept (a call reuses them as a call's groups of
+    values do: each group writes what it reads)."""
 
     def __init__(self, T):
         self.T = T
-        self.packed = pack(T)
         self._work = {}
         self._known = None
         # a unit input rate, no input acceleration, and the loop's arrays a call does not use
@@ -244,7 +243,7 @@ class Compiled:
         argument at every call; :func:`direct` gives them the same types at every call (HQ and
         KU: ``planar.tracking.Poses``' arrays)."""
         if self._known is None:
-            full = (0, M, np.arange(M)) + args + (self.packed, self.work(min(engine.LANES, M)))
+            full = (0, M, np.arange(M)) + args + (self.T, self.work(min(engine.LANES, M)))
             engine._values(0, 0, *full[2:])  # (compiled, or loaded from the cache, for these types)
             self._known = engine._values.overloads[tuple(engine._values.typeof_pyval(a) for a in full)].entry_point
         return self._known
@@ -256,47 +255,8 @@ class Compiled:
         if key not in self._work:
             if len(self._work) > 256:  # (threads come and go)
                 self._work.clear()
-            W = pack(work_arrays(self.T, L))
-            engine._buffers(self.packed, W)
-            self._work[key] = W
+            self._work[key] = engine._buffers(self.T, L)
         return self._work[key]
-
-
-def pack(arrays):
-    """``arrays`` (int64, float, int8 and bool) as the loop takes them: the flat concatenation
-    of each kind's, in that order, and S (len(arrays), 5): each array's offset in its kind's
-    and its shape (up to four axes, ones after its last). numba unboxes every array passed to
-    the loop at every call (~40 ns each: the tables and work arrays, 86, were most of a pose on
-    demand's call); the loop takes them back as views (``engine._tables``, ``engine._work``)."""
-    kinds = (np.dtype(np.int64), np.dtype(float), np.dtype(np.int8), np.dtype(bool))
-    flat = {k: [] for k in kinds}
-    at = dict.fromkeys(kinds, 0)
-    S = np.ones((len(arrays), 5), np.int64)
-    for i, a in enumerate(arrays):
-        S[i, 0], S[i, 1:1 + a.ndim] = at[a.dtype], a.shape
-        flat[a.dtype].append(a.ravel())
-        at[a.dtype] += a.size
-    return tuple(np.concatenate(flat[k] + [np.zeros(0, k)]) for k in kinds) + (S,)
-
-
-def work_arrays(T, L):
-    """The loop's work arrays for L lanes (zeros), in the order ``engine._work`` takes them back:
-    the last axis over the lanes, but for the kernels' arrays (each lane's contiguous, as a
-    kernel reads it); ``engine._buffers`` sets them up."""
-    from planar.compiled import engine
-
-    D = T.dims
-    nb, kmax, rmax, n, jr, nbod = T.blk.shape[0], D[D_KMAX], D[D_RMAX], D[D_N], D[D_JROWS], D[D_BODIES]
-    f, i = (lambda *shape: np.zeros(shape)), (lambda *shape: np.zeros(shape, np.int64))  # noqa: E731
-    # fb, a joint's row constants, rows, Jacobian block and gamma; Phi, Jv, rhs, x, z, y; the
-    # blocks' factors A, P; q, qg, the modes, dets, ref, aref; the programs' forms and variables,
-    # zs, xl, the columns' inverse scales, the lanes' scalars; I, des, anc, its, sts, live, act
-    return (f(L, nbod, 8), f(jr), f(L, jr), f(L, jr, 3 * D[D_JBODIES]), f(L, jr),
-            f(D[D_M], L), f(D[D_NNZ], L), f(T.prow.size, L), f(n + 1, L), f(kmax, L), f(rmax),
-            f(nb, L, rmax, rmax), i(nb, L, rmax),
-            f(n, L), f(n, L), np.zeros((nb, L), np.int8), f(nb, L), f(nbod, 3, L), f(nbod, 3),
-            f(T.form0.size + 1, L), f(D[D_NV] + 1, L), f(rmax), f(kmax, L), f(T.cs.size), f(engine.LV_ROWS, L),
-            i(L), i(L), i(L), i(L), i(L), np.zeros(L, bool), np.zeros(L, bool))
 
 
 def _compiled(model, plan):

@@ -23,7 +23,7 @@ from numba.extending import register_jitable
 
 from planar.acceptance import CERT, JUMP, ROUND, certified, on_course
 from planar.compiled import CHUNK, D_BODIES, D_DESIGN, D_JBODIES, D_JROWS, D_KMAX, D_M, D_N, D_NNZ, D_NV, D_RMAX
-from planar.compiled import MIN_CHUNK, Tables, kinds
+from planar.compiled import MIN_CHUNK, kinds
 from planar.compiled import B_ANGLE, B_CO, B_FO, B_K, B_LENGTHS, B_LO, B_NF, B_NL, B_NS, B_NV, B_NW, B_O, B_R
 from planar.compiled import B_RO, B_SO, B_UO, B_VO, B_WEIGHTED
 from planar.events import HELD, NEAR, NEAR_CURVE, SINGULAR, status_of
@@ -463,9 +463,8 @@ def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach,
     numbers. Allocates nothing, so it is compiled without numba's reference counting
     (``_nrt``): with it, each array passed to a helper and each view took an atomic increment
     and decrement per value, on counters the threads share."""
-    T = _tables(T)
     fb, c, phi, jac, g, Phi, Jv, rhs, x, z, y, A, P, q, qg, sg, dets, ref, aref, E, V, zs, xl, ics, lv, I, des, anc, \
-        its, sts, live, act = _work(W)
+        its, sts, live, act = W
     L = q.shape[1]
     near = mode == BULK  # (cos and sin from the anchor's: _frames)
     n = T.dims[D_N]
@@ -676,69 +675,28 @@ def _values(lo, hi, rows, mode, steps, ADJ, G, HQ, KU, SA, tol, step_tol, reach,
                 QDD[I[l], :] = np.nan
 
 
-@_inline
-def _view1(a, S, k):
-    """Array k of those :func:`planar.compiled.pack` flattened into ``a`` (S: their offsets and
-    shapes), a view of one axis (two, three, four: :func:`_view2`, ...)."""
-    return a[S[k, 0]:S[k, 0] + S[k, 1]]
-
-
-@_inline
-def _view2(a, S, k):
-    return a[S[k, 0]:S[k, 0] + S[k, 1] * S[k, 2]].reshape((S[k, 1], S[k, 2]))
-
-
-@_inline
-def _view3(a, S, k):
-    return a[S[k, 0]:S[k, 0] + S[k, 1] * S[k, 2] * S[k, 3]].reshape((S[k, 1], S[k, 2], S[k, 3]))
-
-
-@_inline
-def _view4(a, S, k):
-    return a[S[k, 0]:S[k, 0] + S[k, 1] * S[k, 2] * S[k, 3] * S[k, 4]].reshape((S[k, 1], S[k, 2], S[k, 3], S[k, 4]))
-
-
-@_inline
-def _tables(T):
-    """The plan's :class:`planar.compiled.Tables` from their packed arrays T (:func:`planar.compiled.pack`)."""
-    I, F, _, _, S = T
-    return Tables(
-        _view1(I, S, 0), _view1(I, S, 1), _view1(I, S, 2), _view3(F, S, 3), _view3(F, S, 4), _view2(I, S, 5),
-        _view2(I, S, 6), _view1(I, S, 7), _view1(I, S, 8), _view1(I, S, 9), _view1(I, S, 10), _view1(I, S, 11),
-        _view1(F, S, 12), _view1(I, S, 13), _view1(I, S, 14), _view1(I, S, 15), _view1(F, S, 16), _view1(I, S, 17),
-        _view1(F, S, 18), _view2(I, S, 19), _view1(I, S, 20), _view1(I, S, 21), _view1(F, S, 22), _view1(F, S, 23),
-        _view1(I, S, 24), _view1(I, S, 25), _view1(I, S, 26), _view1(F, S, 27), _view1(F, S, 28), _view1(I, S, 29),
-        _view1(I, S, 30), _view1(F, S, 31), _view1(I, S, 32), _view1(I, S, 33), _view1(I, S, 34), _view1(I, S, 35),
-        _view1(F, S, 36), _view1(I, S, 37), _view1(I, S, 38), _view1(F, S, 39), _view1(I, S, 40), _view1(I, S, 41),
-        _view1(I, S, 42), _view1(F, S, 43), _view1(F, S, 44), _view1(I, S, 45), _view1(I, S, 46), _view1(I, S, 47),
-        _view1(I, S, 48), _view1(I, S, 49), _view1(F, S, 50), _view1(F, S, 51), _view1(F, S, 52), _view1(I, S, 53))
-
-
-@_inline
-def _work(W):
-    """The loop's work arrays from their packed arrays W (:func:`planar.compiled.work_arrays`,
-    in its order)."""
-    I, F, I8, B, S = W
-    return (_view3(F, S, 0), _view1(F, S, 1), _view2(F, S, 2), _view3(F, S, 3), _view2(F, S, 4), _view2(F, S, 5),
-            _view2(F, S, 6), _view2(F, S, 7), _view2(F, S, 8), _view2(F, S, 9), _view1(F, S, 10), _view4(F, S, 11),
-            _view3(I, S, 12), _view2(F, S, 13), _view2(F, S, 14), _view2(I8, S, 15), _view2(F, S, 16),
-            _view3(F, S, 17), _view2(F, S, 18), _view2(F, S, 19), _view2(F, S, 20), _view1(F, S, 21),
-            _view2(F, S, 22), _view1(F, S, 23), _view2(F, S, 24), _view1(I, S, 25), _view1(I, S, 26),
-            _view1(I, S, 27), _view1(I, S, 28), _view1(I, S, 29), _view1(B, S, 30), _view1(B, S, 31))
-
-
 @numba.njit(**_JIT)
-def _buffers(T, W):
-    """Set up the packed work arrays W of one chunk's values (:func:`planar.compiled.work_arrays`,
-    zeros: the row orders in P a valid one from the start, for the solves run on every lane,
-    factored or not): the ground's frame, every lane active, the columns' inverse scales and
-    the factors of the blocks of constants."""
-    T = _tables(T)
-    fb, _, _, _, _, _, _, _, _, _, _, A, P, _, _, _, _, _, _, E, V, _, _, ics, lv, _, _, _, _, _, _, act = _work(W)
+def _buffers(T, L):
+    """The work arrays of one chunk's values (:func:`_values`) in L lanes: the last axis, but
+    for the kernels' arrays (each lane's contiguous, as a kernel reads it). Compiled apart from
+    the loop, with numba's reference counting (it allocates)."""
+    D = T.dims
+    nb, kmax, rmax, n = T.blk.shape[0], D[D_KMAX], D[D_RMAX], D[D_N]
+    fb = np.zeros((L, D[D_BODIES], 8))  # (lane first: each lane's is a kernel's contiguous array)
     fb[:, 0, 3] = 1.0  # the ground: at the origin, unrotated
-    act[:] = True
-    ics[:] = 1.0 / T.cs
+    # (a row order in P from the start: the solves run on every lane, factored or not)
+    A, P, E, V = np.empty((nb, L, rmax, rmax)), np.zeros((nb, L, rmax), np.int64), np.empty((T.form0.size + 1, L)), \
+        np.empty((D[D_NV] + 1, L))
+    lv = np.empty((LV_ROWS, L))
+    act = np.ones(L, np.bool_)
     _constants(T, A, P, E, V, lv[LV_FACTOR + 8], lv[LV_FACTOR], act)
+    jr = D[D_JROWS]  # a joint's row constants, rows, Jacobian block and gamma
+    return (fb, np.empty(jr), np.empty((L, jr)), np.empty((L, jr, 3 * D[D_JBODIES])), np.empty((L, jr)),
+            np.zeros((D[D_M], L)), np.zeros((D[D_NNZ], L)), np.empty((T.prow.size, L)), np.zeros((n + 1, L)),
+            np.empty((kmax, L)), np.empty(rmax), A, P, np.empty((n, L)), np.empty((n, L)), np.empty((nb, L), np.int8),
+            np.empty((nb, L)), np.zeros((D[D_BODIES], 3, L)), np.zeros((D[D_BODIES], 3)), E, V, np.empty(rmax),
+            np.empty((kmax, L)), 1.0 / T.cs, lv, np.zeros(L, np.int64), np.zeros(L, np.int64), np.zeros(L, np.int64),
+            np.zeros(L, np.int64), np.zeros(L, np.int64), np.zeros(L, np.bool_), act)
 
 
 def chunk(N, least=MIN_CHUNK):
@@ -755,7 +713,7 @@ def loop(C, size, rows, *args):
     (:class:`planar.compiled.Compiled`) in chunks of ``size`` (:func:`chunk`) on numba's number
     of threads (:func:`spread`), each chunk with its thread's buffers."""
     def run(lo, hi):
-        _values(lo, hi, rows, *args, C.packed, C.work(min(LANES, hi - lo)))
+        _values(lo, hi, rows, *args, C.T, C.work(min(LANES, hi - lo)))
 
     spread(rows.shape[0], size, run)
 
