@@ -249,7 +249,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # nearer the start, and put back in the asked order at the end: each is walked to from its
     # neighbour in input, where a jumping sweep would walk back and forth across the range and
     # search again for the range past each gap it meets
-    order = _input_order(U, origin[1][0])
+    # (values solved whole periods back: in the one period from a limit below the start, the
+    # walk through it in the order of the input, as the walk through every period would go)
+    order, split = _input_order(U, origin[1][0], both=shift is None)
+    side = np.where(np.arange(N) >= split, split, 0)  # the first value of each value's side of the start
     if order is not None:
         U, Ud, Udd, U_in = U[order], Ud[order], Udd[order], U_in[order]
         shift = None if shift is None else (shift[0][order], shift[1])
@@ -264,11 +267,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     past_cap = []  # values entered directly past MAX_GAPS gaps on the way to one value
     unentered = []  # values too far to walk where the branch's modes were not found
     periods = []  # values walked to moved by whole periods of a rocking input, past their limits
-    anchors = sweep_anchors(model, U, max_step)
+    anchors = np.union1d(sweep_anchors(model, U, max_step), np.arange(split, min(split + 1, N)))
     kin = Kin()  # the anchors' kinematic coefficients where known (one input)
     coef = None  # those of the state, where known
     lo, k, wave = -1, 0, WAVE
-    end = anchors.size  # the walk's bound: a range skipped before is walked up to its end
+    # the walk's bound: the start's first side, then its second; a range skipped before is
+    # walked up to its end
+    end = int(np.searchsorted(anchors, split))
+    second = split >= N  # (on the second side, or none)
     skipped = []  # (k, upto, u): anchors past a gap from u, passed over for the origin's stretch further on
     while True:
         while k < end:
@@ -413,7 +419,13 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             state, lo = (qe, U[i], se), i
             k += 1
         if not skipped:
-            break
+            if second:
+                break
+            # the other side of the start: walked from the start again
+            second = True
+            k, end = int(np.searchsorted(anchors, split)), anchors.size
+            state, lo, coef, wave = origin, split - 1, None, WAVE
+            continue
         # a range passed over: entered a whole period on from a value solved since, or from
         # the sweep of its images a period back where some lie in the origin's stretch (no
         # limit met between), and walked on from there
@@ -440,7 +452,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     done = np.zeros(N, bool)
     todo = ~solved  # all but the solved anchors and the values on events
     todo[list(at_event)] = False
-    cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}), int)
+    # (and the start between its two sides: each side's values from its own anchors)
+    cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}
+                           | ({split} if split < N else set())), int)
     fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
                 cuts=cuts, kin=kin)
     if U.shape[1] == 1:
@@ -460,15 +474,15 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # 3. the rest one by one, from the solved point before each; values on an event or past a
     # limit from there are set aside in one pass (out of range, there may be many)
     rest = np.flatnonzero(~solved)
-    if rest.size:  # (the last solved value before each: N-sized, so only when needed)
-        last = np.maximum.accumulate(np.where(solved, np.arange(N), -1))
-        u_from = _input_before(origin[1], U, last, rest)
+    if rest.size:  # (the last solved value before each on its side of the start: N-sized, so only when needed)
+        last = _last_solved(solved, side)
+        u_from = _input_before(origin[1], U, last, rest, side)
         rest = rest[~on_event(model, U[rest], events) & ~past(u_from, U[rest])]
     failed, newest, failed_far = (None, None), -1, False
     for i in rest:
         if at_events(model, U[i : i + 1], events):
             continue
-        j = max(int(last[i - 1]) if i else -1, newest)
+        j = max(int(last[i - 1]) if i > side[i] else -1, newest if newest >= side[i] else -1)
         j = None if j < 0 else j
         start = origin if j is None else (q[j], U[j], signs[j])
         if further(failed, j, start[1], U[i]):
@@ -494,7 +508,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
     failed, newest = (None, None), N
     for i in rest[::-1]:
-        j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
+        stop = split if i < split else N  # (the end of its side of the start)
+        j = min(int(nxt[i + 1]) if i + 1 < stop else N, newest)
+        j = N if j >= stop else j
         if j >= N or at_events(model, U[i : i + 1], events):
             continue
         if further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
@@ -510,12 +526,14 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     # step): the limit on the gap's far side, located walking back from the value past it, up
     # to a turn of the input
     at_event = at_events(model, U, events)
-    if 0 in stops and solved[0] and 0 not in at_event and U.shape[1] == 1:
-        # (the first value, past a limit pair from the start: walked back towards the start)
-        walk((q[0], U[0], signs[0]), 0, -1, back=0, periodic=False, to=origin[1])
+    for f in {0, split} & set(stops):
+        if f < N and solved[f] and f not in at_event and U.shape[1] == 1:
+            # (the first value of a side of the start, past a limit pair from it: walked back
+            # towards the start)
+            walk((q[f], U[f], signs[f]), f, -1, back=f, periodic=False, to=origin[1])
     for j in dict.fromkeys(stops):  # (once each: a walk meets many limits on its way to one value)
-        if 0 < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
-            reach = np.flatnonzero(scaled_norm(model, U[:j] - U[j]) <= TURN)
+        if side[j] < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
+            reach = side[j] + np.flatnonzero(scaled_norm(model, U[side[j]:j] - U[j]) <= TURN)
             # (the direct way: only the limit it meets is wanted)
             a = int(reach[0] if reach.size else j - 1)
             got = walk((q[j], U[j], signs[j]), a, -1, back=j, periodic=False)
@@ -548,8 +566,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         # and the value are not known)
         walked = solved.copy()
         walked[direct] = False
-        last = np.maximum.accumulate(np.where(walked, np.arange(N), -1))
-        beyond[miss] = past(_input_before(origin[1], U, last, miss), U[miss], limits + round_limits)
+        last = _last_solved(walked, side)
+        beyond[miss] = past(_input_before(origin[1], U, last, miss, side), U[miss], limits + round_limits)
     # (and those too far to walk where the search found other modes or nothing: out of the
     # branch's reach as far as it knows, whatever their least-squares gap)
     beyond[np.intersect1d(miss, unentered).astype(int)] = True
@@ -714,27 +732,40 @@ def _period_by_sweep(model, walker, options):
     return None
 
 
-def _input_order(U, u0):
-    """The order in which to solve the values U (N, 1) of one input: sorted, ascending or
-    descending from the end nearer the start's input ``u0`` (stable: repeated values keep their
-    order); values in order from their far end, reversed. None where that is the order given.
-    So the walk from the start takes the values of the start's own stretch before a stretch
-    entered past a gap can (one over the same inputs, ending just past the start's input).
+def _input_order(U, u0, both=True):
+    """(order, b): the order in which to solve the values U (N, 1) of one input (None where it
+    is the order given) and the first position b in it of the values walked from the start
+    again (N for none). Values on both sides of the start's input ``u0`` (``both``): each side from the
+    start out (the side whose far end is nearer first, whatever the order asked), the second
+    walked from the start again, not from the first's far end. Values on one side: sorted,
+    ascending or descending from the end nearer the start (stable: repeated values keep their
+    order); values in order from their far end, reversed. So the walk from the start takes the
+    values of the start's own stretch, on both sides of it, before a stretch entered past a gap
+    can (one over the same inputs, reached first from the far end of the values).
 
-    >>> _input_order(np.array([[0.0], [2.0], [1.0]]), 0.0).tolist(), _input_order(np.array([[0.0], [2.0], [1.0]]), 3.0).tolist()
+    >>> _input_order(np.array([[0.0], [2.0], [1.0]]), 0.0)[0].tolist(), _input_order(np.array([[0.0], [2.0], [1.0]]), 3.0)[0].tolist()
     ([0, 2, 1], [1, 2, 0])
-    >>> _input_order(np.array([[0.0], [1.0], [2.0]]), 0.5), _input_order(np.array([[0.0], [1.0], [2.0]]), 1.8).tolist()
-    (None, [2, 1, 0])
+    >>> _input_order(np.array([[0.0], [1.0], [2.0]]), 0.0), _input_order(np.array([[0.0], [1.0], [2.0]]), 2.0)[0].tolist()
+    ((None, 3), [2, 1, 0])
+    >>> order, b = _input_order(np.array([[0.0], [1.0], [2.0], [3.0]]), 1.2); order.tolist(), b
+    ([1, 0, 2, 3], 2)
     """
-    if U.shape[1] != 1 or U.shape[0] < 2:
-        return None
+    N = U.shape[0]
+    if U.shape[1] != 1 or N < 2:
+        return None, N
     v = U[:, 0]
+    if both and v.min() < u0 < v.max():
+        up = np.flatnonzero(v >= u0)
+        down = np.flatnonzero(v < u0)
+        up, down = up[np.argsort(v[up], kind="stable")], down[np.argsort(-v[down], kind="stable")]
+        sides = (down, up) if u0 - v.min() < v.max() - u0 else (up, down)
+        return np.concatenate(sides), sides[0].size
     d = np.diff(v)
     if np.all(d >= 0) or np.all(d <= 0):
         # (in order: reversed only where its far end is strictly nearer the start)
-        return np.arange(v.size)[::-1].copy() if abs(v[-1] - u0) < abs(v[0] - u0) else None
+        return (np.arange(N)[::-1].copy() if abs(v[-1] - u0) < abs(v[0] - u0) else None), N
     down = v.max() - u0 < u0 - v.min()
-    return np.argsort(-v if down else v, kind="stable")
+    return np.argsort(-v if down else v, kind="stable"), N
 
 
 def _further(failed, j, u_j, u):
@@ -746,10 +777,18 @@ def _further(failed, j, u_j, u):
     return bool(np.all(d * f >= 0) and np.max(np.abs(d)) >= np.max(np.abs(f)))
 
 
-def _input_before(u0, U, last, idx):
-    """(M, f) the input of the last solved value before each of ``idx`` (``last``: the index
-    of the last solved value at or before each value, -1 for none), the start's ``u0`` where none."""
-    prev = np.where(idx > 0, last[np.maximum(idx - 1, 0)], -1)
+def _last_solved(solved, side):
+    """(N,) the index of the last solved value at or before each on its side of the start
+    (``side``: the first value of each one's side), -1 for none."""
+    last = np.maximum.accumulate(np.where(solved, np.arange(solved.size), -1))
+    return np.where(last >= side, last, -1)
+
+
+def _input_before(u0, U, last, idx, side):
+    """(M, f) the input of the last solved value before each of ``idx`` on its side of the
+    start (``last``: :func:`_last_solved`; ``side``: the first value of each one's side), the
+    start's ``u0`` where none."""
+    prev = np.where(idx > side[idx], last[np.maximum(idx - 1, 0)], -1)
     return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], u0)
 
 
