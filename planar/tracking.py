@@ -293,7 +293,8 @@ class Direct:
             from planar.sweep import near_stretches
 
             events = tuple(near_stretches(self.model, U, sing, status, ()))
-        return Sweep(self.model, U, Ud, Udd, q, qd, qdd, status, res, iters, sing, branch, NO_GAP if M == 1 else np.full(M, np.nan), events)
+        gap = NO_GAP if M == 1 else np.full(M, np.nan)
+        return Sweep(self.model, U, Ud, Udd, q, qd, qdd, status, res, iters, sing, branch, gap, events)
 
     def _numpy(self, br, poses, U):
         """(q, qu, quu, status, res, iters, sing, branch) of the values U, or None (see the class)."""

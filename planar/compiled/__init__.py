@@ -170,19 +170,16 @@ def direct(model, plan, KU, HQ, signs, U, tol, reach, steps):
     (``planar.tracking.Direct`` then leaves them all to the sweep)."""
     C, engine = _compiled(model, plan)
     M, n, nb = U.shape[0], C.T.dims[D_N], C.T.blk.shape[0]
-    # (a few allocations and views, not one each: a pose on demand costs ~20 us)
     (q, qu, quu), (res, sing, branch) = np.empty((3, M, n)), np.empty((3, M))
     status, ok, iters, no_b, no_f = np.empty(M, np.int8), np.empty(M, bool), np.empty(M, np.int64), C.none[1], C.none[2]
-    if not (U.dtype == np.float64 and U.flags.c_contiguous and U.flags.writeable):
-        U = np.require(U, float, ("C", "W"))
-    args = (engine.KNOWN, int(steps), no_b, C.none[0], HQ, KU, signs, float(tol), ROUND, float(reach), q, U, C.one,
-            C.zero, True, qu, quu, res, np.empty((M, nb), np.int8), sing, branch, no_f, no_f, no_f, ok, status, iters,
-            no_b, no_b)
+    args = (engine.KNOWN, int(steps), no_b, C.none[0], HQ, KU, signs, float(tol), ROUND, float(reach), q,
+            np.require(U, float, ("C", "W")), C.one, C.zero, True, qu, quu, res, np.empty((M, nb), np.int8), sing,
+            branch, no_f, no_f, no_f, ok, status, iters, no_b, no_b)
     if M <= MIN_CHUNK:  # (a few poses: the loop's machine code called as it was compiled, on this thread)
-        C.known(engine, M, args)(0, M, C.rows(M), *args, C.T, C.work(min(engine.LANES, M)))
+        C.known(engine, M, args)(0, M, np.arange(M), *args, C.T, C.work(min(engine.LANES, M)))
     else:
         engine.loop(C, engine.chunk(M), np.arange(M), *args)
-    if np.count_nonzero(ok) < M:
+    if not ok.all():
         return None
     return q, qu, quu, status, res, iters, sing, branch
 
@@ -235,7 +232,6 @@ class Compiled:
         self.T = T
         self._work = {}
         self._known = None
-        self._rows = {}
         # a unit input rate, no input acceleration, and the loop's arrays a call does not use
         self.one, self.zero = np.ones((1, 1)), np.zeros((1, 1))
         self.none = (np.zeros(0, np.int64), np.zeros(0, bool), np.zeros(0))
@@ -246,16 +242,10 @@ class Compiled:
         argument at every call; :func:`direct` gives them the same types at every call (HQ and
         KU: ``planar.tracking.Poses``' arrays)."""
         if self._known is None:
-            full = (0, M, self.rows(M)) + args + (self.T, self.work(min(engine.LANES, M)))
+            full = (0, M, np.arange(M)) + args + (self.T, self.work(min(engine.LANES, M)))
             engine._values(0, 0, *full[2:])  # (compiled, or loaded from the cache, for these types)
             self._known = engine._values.overloads[tuple(engine._values.typeof_pyval(a) for a in full)].entry_point
         return self._known
-
-    def rows(self, M):
-        """0, ..., M - 1 (kept: a call of one value takes them)."""
-        if M not in self._rows:
-            self._rows[M] = np.arange(M)
-        return self._rows[M]
 
     def work(self, L):
         from planar.compiled import engine

@@ -508,9 +508,8 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
         nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
     failed, newest = (None, None), N
     for i in rest[::-1]:
-        stop = split if i < split else N  # (the end of its side of the start)
-        j = min(int(nxt[i + 1]) if i + 1 < stop else N, newest)
-        j = N if j >= stop else j
+        j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
+        j = N if i < split <= j else j  # (a value after i on its side of the start, or none)
         if j >= N or at_events(model, U[i : i + 1], events):
             continue
         if further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
@@ -735,17 +734,18 @@ def _period_by_sweep(model, walker, options):
 def _input_order(U, u0, both=True):
     """(order, b): the order in which to solve the values U (N, 1) of one input (None where it
     is the order given) and the first position b in it of the values walked from the start
-    again (N for none). Values on both sides of the start's input ``u0`` (``both``): each side from the
-    start out (the side whose far end is nearer first, whatever the order asked), the second
-    walked from the start again, not from the first's far end. Values on one side: sorted,
+    again (N for none). Values on both sides of the start's input ``u0`` (with ``both``): each
+    side from the start out (the side whose far end is nearer first, whatever the order asked),
+    the second walked from the start again, not from the first's far end. Values on one side: sorted,
     ascending or descending from the end nearer the start (stable: repeated values keep their
     order); values in order from their far end, reversed. So the walk from the start takes the
     values of the start's own stretch, on both sides of it, before a stretch entered past a gap
     can (one over the same inputs, reached first from the far end of the values).
 
-    >>> _input_order(np.array([[0.0], [2.0], [1.0]]), 0.0)[0].tolist(), _input_order(np.array([[0.0], [2.0], [1.0]]), 3.0)[0].tolist()
+    >>> U, V = np.array([[0.0], [2.0], [1.0]]), np.array([[0.0], [1.0], [2.0]])
+    >>> _input_order(U, 0.0)[0].tolist(), _input_order(U, 3.0)[0].tolist()
     ([0, 2, 1], [1, 2, 0])
-    >>> _input_order(np.array([[0.0], [1.0], [2.0]]), 0.0), _input_order(np.array([[0.0], [1.0], [2.0]]), 2.0)[0].tolist()
+    >>> _input_order(V, 0.0), _input_order(V, 2.0)[0].tolist()
     ((None, 3), [2, 1, 0])
     >>> order, b = _input_order(np.array([[0.0], [1.0], [2.0], [3.0]]), 1.2); order.tolist(), b
     ([1, 0, 2, 3], 2)
