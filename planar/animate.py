@@ -18,7 +18,7 @@ import numpy as np
 
 from planar.draw.pose import path_points, pose_title
 from planar.draw.scene import Scene
-from planar.draw.style import PATH_COLOURS, SAME, TINY, finish, thinned
+from planar.draw.style import PATH_COLOURS, SAME, TINY, figure_size, finish, flag, thinned
 from planar.errors import InputError, WriteError
 from planar.results import as_sweep
 from planar.units import given
@@ -47,6 +47,7 @@ def frame_indices(res, max_frames=120, rocking=False):
     """
     if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 1:
         raise InputError(f"max_frames must be a whole number of at least 1, got {max_frames!r}")
+    rocking = flag(rocking, "rocking")
     q = np.asarray(res.q)
     drawable = np.flatnonzero(np.all(np.isfinite(q), axis=1))
     if drawable.size == 0:
@@ -93,14 +94,15 @@ def animate(res, path, *, points=None, fps=20, max_frames=120, rocking=False, tr
         if isinstance(v, (bool, np.bool_)) or not isinstance(v, Real) or not whole or not lo <= v <= hi:
             raise InputError(f"animate {name} must be a {'whole ' if name == 'max_frames' else ''}number from {lo} "
                              f"to {hi}, got {v!r}")
-    if not (isinstance(size, (tuple, list)) and len(size) == 2
-            and all(isinstance(x, Real) and not isinstance(x, bool) and 0.5 <= x <= 50 for x in size)):
-        raise InputError(f"animate size must be (width, height) in inches, each from 0.5 to 50, got {size!r}")
+    size, trace = figure_size(size, "animate"), flag(trace, "animate trace")
     if progress is not None and not callable(progress):
         raise InputError(f"animate progress must be a function progress(done, total), got {progress!r}")
     if not isinstance(path, (str, os.PathLike)):
         raise InputError(f"animate writes to a file path (.gif or .mp4), got {path!r}")
     path = Path(path)
+    if "\x00" in str(path):  # (no system names a file so: checked before the frames are drawn)
+        raise InputError(f"cannot write an animation to {str(path)!r}: a file name cannot hold a NUL byte "
+                         f"('\\x00'); name the file without it")
     kind = path.suffix.lower()
     if kind not in (".gif", ".mp4"):
         raise InputError(f"cannot write an animation to {path.name!r}: use a .gif or .mp4 file name")

@@ -79,6 +79,21 @@ def test_refusals(res, tmp_path, monkeypatch):
         anim.frame_indices(nothing)
 
 
+@pytest.mark.parametrize("call, message", [
+    # (each a ValueError: an array's truth, and Pillow's "embedded null byte")
+    (lambda r, p: anim.animate(r, p, trace=np.array([1, 0])), r"animate trace must be True or False, got array\(\[1, 0\]\)"),
+    (lambda r, p: anim.animate(r, p, rocking=np.array([1, 0])), r"rocking must be True or False, got array"),
+    (lambda r, p: anim.frame_indices(r, rocking=np.array([True, False])), "rocking must be True or False"),
+    (lambda r, p: anim.animate(r, p.with_name("a\x00.gif")),
+     r"cannot write an animation to '.*a\\x00\.gif': a file name cannot hold a NUL byte"),
+    (lambda r, p: anim.animate(r, "\x00.gif"), r"'\\x00\.gif': a file name cannot hold a NUL byte .* name the file "
+                                               r"without it"),
+])
+def test_bad_arguments_are_input_errors(res, tmp_path, call, message):
+    with pytest.raises(InputError, match=message):
+        call(res, tmp_path / "a.gif")
+
+
 @pytest.mark.skipif(not anim.ffmpeg_available(), reason="ffmpeg is not installed")
 def test_mp4_when_ffmpeg_exists(res, tmp_path):
     out = anim.animate(res, tmp_path / "fb.mp4", max_frames=6, dpi=40)

@@ -304,3 +304,61 @@ def test_a_long_sweep_draws_a_thinned_line_that_breaks_where_the_sweep_does():
     assert X[0] == x[0] and X[-1] == x[-1] and np.all(np.diff(X[np.isfinite(X)]) > 0)
     # a short sweep is drawn whole
     assert drawn(SimpleNamespace(status=np.zeros(5)), np.arange(5.0))[0].tolist() == [0, 1, 2, 3, 4]
+
+
+@pytest.fixture(scope="module")
+def weighed():
+    """A four-bar with a massive coupler under gravity, and its forces (reactions of tens)."""
+    m = four_bar(coupler_point=(1.0, 0.5))
+    m.set_mass("coupler", 1.0, (1.0, 1.0), 0.1)
+    m.gravity = (0.0, -9.81)
+    res = m.sweep(np.linspace(0.0, 1.0, 5), velocity=10.0)
+    return res, res.forces()
+
+
+def _axes(projection):
+    return plt.figure().add_subplot(projection=projection)
+
+
+BAD_DRAWING_CALLS = [
+    # (call on a sweep and its forces, message): each was an AttributeError, IndexError, TypeError,
+    # matplotlib's ValueError or a RuntimeWarning
+    (lambda r, f: draw.input_axis(3), r"input_axis needs a sweep result .* got int"),
+    (lambda r, f: draw.input_axis(r.model), r"input_axis needs a sweep result .* got Model"),
+    (lambda r, f: draw.default_outputs(r), r"default_outputs needs a Model \(Mechanism.compile\(\), .* got Sweep"),
+    (lambda r, f: draw.default_outputs(None), r"default_outputs needs a Model .* got NoneType"),
+    (lambda r, f: draw.draw_vectors(r, 0, []), r"draw_vectors points: name one or more of \['A', .*\], got \[\]"),
+    (lambda r, f: draw.draw_vectors(r, 0, scale=(1e308, 1.0)), r"draw_vectors scale 1e\+308 draws arrows beyond float64"),
+    *[(lambda r, f, s=s: draw.figure(r, size=s),
+       r"figure size must be \(width, height\) in inches, each from 0.5 to 50, got " + shown)
+      for s, shown in [((-1, 5), r"\(-1, 5\)"), ("x", "'x'"), ((7.0,), r"\(7.0,\)"), ((np.nan, 5), r"\(nan, 5\)"),
+                       (7.0, "7.0"), ((10**400, 5), r"\(1000")]],
+    (lambda r, f: draw.draw_forces(f, 0, 3), r"draw_forces joints: name one or more of \['A', 'B', 'O2', 'O4'\], got \[3\]"),
+    (lambda r, f: draw.draw_forces(f, 0, ["nope"]), r"draw_forces joints: name one or more of .* got \['nope'\]"),
+    (lambda r, f: draw.draw_forces(f, scale=1e308), r"draw_forces scale 1e\+308 draws arrows beyond float64's largest "
+                                                    r"number: give a smaller scale"),
+    (lambda r, f: draw.figure(r, paths=np.array([1, 0])), r"figure paths must be True or False, got array\(\[1, 0\]\)"),
+    (lambda r, f: draw.draw_paths(r, events=np.array([1, 0])), "draw_paths events must be True or False"),
+    (lambda r, f: draw.draw_vectors(r, velocity=np.array([1, 0])), "draw_vectors velocity must be True or False"),
+    (lambda r, f: draw.draw_instant_centres(r, loci=np.array([1, 0])), "draw_instant_centres loci must be True or False"),
+    (lambda r, f: draw.plot_outputs(r, ["angle:rocker"], events=np.array([1, 0])), "plot_outputs events must be True or"),
+    (lambda r, f: draw.draw(r, 0, labels=np.array([1, 0])), "draw labels must be True or False"),
+    (lambda r, f: draw.draw(r, 0, ax=_axes("polar")), r"ax must be matplotlib axes of x and y .* got <PolarAxes"),
+    (lambda r, f: draw.draw(r, 0, ax=_axes("3d")), r"ax must be matplotlib axes of x and y .* got <Axes3D"),
+    (lambda r, f: draw.draw_paths(r, ax=_axes("polar")), r"ax must be matplotlib axes of x and y"),
+    (lambda r, f: draw.plot_outputs(r, ["angle:rocker"], ax=[_axes("polar")]), r"ax must be matplotlib axes of x and y"),
+]
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("call, message", BAD_DRAWING_CALLS, ids=range(len(BAD_DRAWING_CALLS)))
+def test_bad_drawing_arguments_are_input_errors(weighed, call, message):
+    with pytest.raises(InputError, match=message):
+        call(*weighed)
+
+
+@pytest.mark.filterwarnings("error")
+def test_arrows_too_small_for_a_finite_default_scale_are_drawn_at_one():
+    res = four_bar(coupler_point=(1.0, 0.5)).sweep(np.linspace(0.0, 1.0, 5), velocity=1e-320)
+    ax = draw.draw_vectors(res, 1)
+    assert "velocity: 1 length unit = 1 " in ax.get_legend_handles_labels()[1][0]

@@ -273,6 +273,44 @@ def test_sweep_settings_in_file_units():
         io.SweepSettings(start=(0.0, 1.0), stop=(1.0,)).values(model, Units())
 
 
+def _bodies(angle):
+    return {"version": 1, "name": "x", "bodies": [{"name": "a", "angle": angle}], "joints": [], "drivers": []}
+
+
+def _without_types():
+    d = four_bar_doc()
+    for j in d["joints"]:
+        del j["type"]
+    return d
+
+
+@pytest.mark.parametrize("call, error, message", [
+    # (each a TypeError from the JSON encoder, a KeyError, a TypeError or a ValueError)
+    (lambda p: io.from_dict(_bodies(1 + 1j)), FileFormatError,
+     r"<mechanism file>: bodies\[0\]\.angle: must be JSON \(numbers, .*\), got \(1\+1j\): give plain Python numbers"),
+    (lambda p: io.from_dict(_bodies(object())), FileFormatError, r"bodies\[0\]\.angle: must be JSON .* got <object object"),
+    (lambda p: io.from_dict(_bodies(np.zeros(2))), FileFormatError, r"bodies\[0\]\.angle: must be JSON .* got array\("),
+    (lambda p: io.from_dict(_bodies(10**5000)), FileFormatError, r"bodies\[0\]\.angle: .* got an integer of 16610 bits"),
+    (lambda p: io.from_dict({"version": np.array([1, 2])}), FileFormatError, r"version: must be JSON .* got array"),
+    (lambda p: io.from_dict({"version": 1, 2: 3, "colour": 4}), FileFormatError, r"file: unknown field 2: the fields here"),
+    (lambda p: io.from_dict({"version": 1, (2, 3): 4}), FileFormatError, r"file: must be JSON .* got the field name \(2, 3\)"),
+    (lambda p: io.from_dict({"units": {"length": np.array(["m", "mm"])}}), FileFormatError, r"units\.length: must be JSON"),
+    (lambda p: io.convert_lengths(_without_types(), "mm"), FileFormatError, r"joints\[0\]\.type: must be one of revolute"),
+    (lambda p: io.convert_lengths({"points": [1.0]}, ""), FileFormatError, r"points\[0\]: must be a JSON object"),
+    (lambda p: io.convert_lengths({"units": {"length": "m"}, "dimensions": [1.0]}, "mm"), FileFormatError,
+     r"dimensions\[0\]: must be a JSON object"),
+    (lambda p: io.convert_lengths({**four_bar_doc(), "units": {"length": "m"}}, ""), FileFormatError,
+     r"units\.length: cannot convert lengths from 'm' to 'no unit'"),
+    (lambda p: io.load(p.with_name("m\x00.json")), FileFormatError,
+     r"'.*m\\x00\.json': a file name cannot hold a NUL byte \('\\x00'\); name the file without it"),
+    (lambda p: io.save(CATALOGUE["four_bar"](), "\x00"), planar.WriteError,
+     r"a file name cannot hold a NUL byte \('\\x00'\); name the file without it: '\\x00'"),
+])
+def test_bad_documents_and_paths_name_the_field_or_the_file(tmp_path, call, error, message):
+    with pytest.raises(error, match=message):
+        call(tmp_path / "m.json")
+
+
 def test_save_refuses_what_is_not_a_mechanism(tmp_path):
     with pytest.raises(FileFormatError, match="can only save"):
         io.save({"bodies": []}, tmp_path / "x.json")

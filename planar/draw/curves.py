@@ -5,9 +5,10 @@ import numpy as np
 
 from planar.analysis.outputs import OUTPUTS, output_values, specs
 from planar.analysis.ranges import runs
-from planar.draw.style import EVENT_MARK, PATH_COLOURS, as_axes, drawn, pyplot
+from planar.draw.style import EVENT_MARK, PATH_COLOURS, as_axes, drawn, flag, pyplot
 from planar.errors import InputError
 from planar.kinetostatics import as_forces
+from planar.model import Model
 from planar.results import POSED, as_sweep
 from planar.units import given
 
@@ -16,6 +17,9 @@ def default_outputs(model):
     """Outputs worth plotting for any mechanism ("kind:name", :data:`planar.analysis.outputs.OUTPUTS`):
     every moving body's angle, rate and acceleration, every slider's or slot's travel and its
     rates, and the speed and acceleration of the user-named points."""
+    if not isinstance(model, Model):
+        raise InputError(f"default_outputs needs a Model (Mechanism.compile(), or a sweep's .model), got "
+                         f"{type(model).__name__}")
     joint_names = {j.name for j in model.joints}
     named = [n for n in model.points if n not in joint_names]
     return (specs(model, ("angle", "omega", "alpha", "travel", "travel_rate", "travel_accel"))
@@ -24,7 +28,7 @@ def default_outputs(model):
 
 def input_axis(res, units=None):
     """The first input over the sweep in display units, and its axis label."""
-    units = given(units)
+    res, units = as_sweep(res, "input_axis"), given(units)
     m = res.model
     is_len = bool(m.input_lengths[0])
     x = units.input_from_internal(np.asarray(res.inputs[:, 0]), is_len)
@@ -42,6 +46,7 @@ def plot_outputs(res, outputs=None, *, ax=None, units=None, events=True):
     Returns the list of axes, one per panel.
     """
     res, units = as_sweep(res, "plot_outputs"), given(units)
+    events = flag(events, "plot_outputs events")
     if isinstance(outputs, str):  # (one output: not its letters)
         outputs = [outputs]
     try:

@@ -4,8 +4,8 @@ instant centres, and the poses of a sweep's events."""
 import numpy as np
 
 from planar.draw.scene import Scene, pose_index, world
-from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, drawn, finish,
-                               new_axes, pyplot)
+from planar.draw.style import (ACCELERATION, EVENT_MARK, FORCE, PATH_COLOURS, SAME, STILL, VELOCITY, drawn, figure_size,
+                               finish, flag, new_axes, pyplot)
 from planar.arguments import finite_number
 from planar.errors import InputError
 from planar.kinetostatics import as_forces
@@ -37,7 +37,7 @@ def draw(source, i=0, *, ax=None, labels=True, units=None, title=None):
     matplotlib.axes.Axes
     """
     ax = new_axes(ax)
-    scene = source if isinstance(source, Scene) else Scene(source, labels=labels)
+    scene = source if isinstance(source, Scene) else Scene(source, labels=flag(labels, "draw labels"))
     scene.draw(ax, i)
     ax.set_title(title if title is not None else pose_title(scene, i, given(units)))
     return finish(ax, units)
@@ -47,6 +47,7 @@ def figure(res, i=0, points=None, *, paths=True, vectors=True, ax=None, units=No
     """The usual picture of a sweep: pose ``i``, the paths of ``points`` over the sweep and
     their velocity and acceleration arrows at pose i (see :func:`draw`, :func:`draw_paths`,
     :func:`draw_vectors`). Returns the axes; save it with ``ax.figure.savefig(...)``."""
+    size, paths, vectors = figure_size(size, "figure"), flag(paths, "figure paths"), flag(vectors, "figure vectors")
     if ax is None:
         _, ax = pyplot().subplots(figsize=size, layout="constrained")
     draw(res, i, ax=ax, units=units)
@@ -73,14 +74,7 @@ def path_points(res, points):
     """The points to trace: as given, else the user-named points, else every labelled joint
     point that moves over the sweep."""
     if points is not None:
-        try:
-            points = [points] if isinstance(points, str) else list(points)
-        except TypeError:
-            points = [points]
-        unknown = [p for p in points if not isinstance(p, str) or p not in res.model.points]
-        if not points or unknown:
-            raise InputError(f"points to trace: name one or more of {sorted(res.model.points)}, got {points!r}")
-        return points
+        return _names(points, res.model.points, "points to trace")
     model = res.model
     joint_names = {j.name for j in model.joints}
     own = [n for n in model.points if n not in joint_names]
@@ -90,6 +84,18 @@ def path_points(res, points):
     scale = Scene(res, labels=False).L
     return [n for n in model.points if n in shown and model.points[n][0] != 0
             and _span(res.position(n)) > STILL * scale]
+
+
+def _names(given, known, what):
+    """``given`` (a name or a list of names) as a list, each one of ``known``, else an InputError
+    headed ``what``."""
+    try:
+        names = [given] if isinstance(given, str) else list(given)
+    except TypeError:
+        names = [given]
+    if not names or not all(isinstance(n, str) and n in known for n in names):
+        raise InputError(f"{what}: name one or more of {sorted(known)}, got {names!r}")
+    return names
 
 
 def _span(p):
@@ -105,7 +111,7 @@ def draw_paths(res, points=None, *, ax=None, events=True, units=None):
     ``points`` defaults to the user-named points (or, when there are none, every point on a
     moving body). Unsolved stretches of the sweep leave gaps. Returns the axes.
     """
-    res, ax = as_sweep(res, "draw_paths"), new_axes(ax)
+    res, ax, events = as_sweep(res, "draw_paths"), new_axes(ax), flag(events, "draw_paths events")
     for k, name in enumerate(path_points(res, points)):
         p = res.position(name)
         ax.plot(*drawn(res, p[:, 0], p[:, 1]), color=PATH_COLOURS[k % len(PATH_COLOURS)], lw=1.5, ls="--",
@@ -133,7 +139,9 @@ def arrow_scale(vectors, L):
     """Length units per unit of the quantity: the longest arrow a quarter of the drawing."""
     mags = np.hypot(vectors[..., 0], vectors[..., 1])
     top = np.nanmax(mags) if np.any(np.isfinite(mags)) else 0.0
-    return 0.25 * L / top if top > 0 else 1.0
+    with np.errstate(over="ignore"):  # (subnormal arrows: drawn at 1 rather than an infinite scale)
+        s = 0.25 * L / top if top > 0 else 1.0
+    return float(s) if np.isfinite(s) else 1.0
 
 
 def draw_vectors(res, i=0, points=None, *, ax=None, velocity=True, acceleration=True, scale=None,
@@ -153,8 +161,10 @@ def draw_vectors(res, i=0, points=None, *, ax=None, velocity=True, acceleration=
                                   and all(_scale(s) for s in scale)):
         raise InputError(f"draw_vectors scale must be (velocity scale, acceleration scale), two positive numbers, "
                          f"got {scale!r}")
-    names = points if points is not None else [n for n, (b, _) in res.model.points.items() if b != 0]
-    P = np.array([res.position(n)[i] for n in names])
+    velocity, acceleration = flag(velocity, "draw_vectors velocity"), flag(acceleration, "draw_vectors acceleration")
+    names = (_names(points, res.model.points, "draw_vectors points") if points is not None
+             else [n for n, (b, _) in res.model.points.items() if b != 0])
+    P = np.array([res.position(n)[i] for n in names]).reshape(-1, 2)
     L = Scene(res, labels=False).L
     length = units.length or "length unit"
     kinds = [(velocity, res.velocity, VELOCITY, "velocity", units.label("speed")),
@@ -162,14 +172,24 @@ def draw_vectors(res, i=0, points=None, *, ax=None, velocity=True, acceleration=
     for k, (on, get, colour, what, unit) in enumerate(kinds):
         if not on:
             continue
-        V = np.array([get(n)[i] for n in names])
+        V = np.array([get(n)[i] for n in names]).reshape(-1, 2)
         s = scale[k] if scale is not None else arrow_scale(V, L)
-        ax.quiver(P[:, 0], P[:, 1], V[:, 0] * s, V[:, 1] * s, angles="xy", scale_units="xy", scale=1,
-                  color=colour, width=0.006, zorder=7, label=f"{what}: 1 {length} = {_fmt(1 / s)} {unit}")
-        tips = P + V * s
-        ax.update_datalim(tips[np.all(np.isfinite(tips), axis=1)])
+        _arrows(ax, P, V, s, "draw_vectors", colour, f"{what}: 1 {length} = {_fmt(1 / s)} {unit}")
     _legend_below(ax)
     return finish(ax, units)
+
+
+def _arrows(ax, P, V, s, who, colour, label):
+    """Arrows ``V * s`` from points ``P`` (each (k, 2)); an InputError naming ``who``'s scale where
+    it takes them beyond float64."""
+    with np.errstate(over="ignore", invalid="ignore"):  # (checked just below)
+        D = V * s
+        tips = P + D
+    if np.any(np.isinf(tips) & np.isfinite(V)):
+        raise InputError(f"{who} scale {s!r} draws arrows beyond float64's largest number: give a smaller scale")
+    ax.quiver(P[:, 0], P[:, 1], D[:, 0], D[:, 1], angles="xy", scale_units="xy", scale=1, color=colour, width=0.006,
+              zorder=7, label=label)
+    ax.update_datalim(tips[np.all(np.isfinite(tips), axis=1)])
 
 
 def _scale(s):
@@ -193,7 +213,7 @@ def draw_instant_centres(source, i=0, *, ax=None, loci=False, units=None):
     (x, y). Centres at infinity (relative translation) are listed in a note. With ``loci``
     (sweeps only), the paths of the centres that move are drawn too. Returns the axes.
     """
-    ax = new_axes(ax)
+    ax, loci = new_axes(ax), flag(loci, "draw_instant_centres loci")
     paths = {}
     if not isinstance(source, dict):
         from planar.analysis import instant_centres
@@ -257,15 +277,13 @@ def draw_forces(forces, i=0, joints=None, *, ax=None, scale=None, units=None):
     res, units = as_forces(forces, "draw_forces").sweep, given(units)
     if scale is not None and not _scale(scale):
         raise InputError(f"draw_forces scale must be a positive number (drawing lengths per unit of force), got {scale!r}")
+    pointed = [j for j in forces.reactions if j in res.model.points]  # (joints with a point to draw at)
+    names = _names(joints, pointed, "draw_forces joints") if joints is not None else pointed
     ax = draw(res, i, ax=ax, units=units)
-    names = list(joints) if joints is not None else [j for j in forces.reactions if j in res.model.points]
     P = np.array([res.position(n)[i] for n in names]).reshape(-1, 2)
     V = np.array([forces.reaction(n)[i] for n in names]).reshape(-1, 2)
     s = scale if scale is not None else arrow_scale(V, Scene(res, labels=False).L)
-    ax.quiver(P[:, 0], P[:, 1], V[:, 0] * s, V[:, 1] * s, angles="xy", scale_units="xy", scale=1, color=FORCE,
-              width=0.006, zorder=7,
-              label=f"joint reactions: 1 {units.length or 'length unit'} = {_fmt(1 / s)} {units.label('force')}")
-    tips = P + V * s
-    ax.update_datalim(tips[np.all(np.isfinite(tips), axis=1)])
+    _arrows(ax, P, V, s, "draw_forces", FORCE,
+            f"joint reactions: 1 {units.length or 'length unit'} = {_fmt(1 / s)} {units.label('force')}")
     _legend_below(ax)
     return finish(ax, units)

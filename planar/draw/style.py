@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from planar.arguments import finite_number
 from planar.errors import InputError
 from planar.results import Status
 from planar.units import given
@@ -46,13 +47,30 @@ def new_axes(ax):
 
 
 def as_axes(ax):
-    """``ax`` where it is a matplotlib Axes, else an InputError."""
+    """``ax`` where it is a matplotlib Axes of x and y, else an InputError (polar or 3-D axes
+    cannot keep x and y at one scale)."""
     from matplotlib.axes import Axes
 
-    if not isinstance(ax, Axes):
-        raise InputError(f"ax must be matplotlib axes (such as plt.subplots()[1]) or None, got {ax!r}")
+    if not isinstance(ax, Axes) or ax.name != "rectilinear":
+        raise InputError(f"ax must be matplotlib axes of x and y (such as plt.subplots()[1]) or None, got {ax!r}")
     return ax
 
+
+def figure_size(size, who):
+    """``size`` where it is (width, height) in inches, each from 0.5 to 50, else an InputError
+    naming ``who``."""
+    if not (isinstance(size, (tuple, list)) and len(size) == 2
+            and all(finite_number(x) and 0.5 <= x <= 50 for x in size)):
+        raise InputError(f"{who} size must be (width, height) in inches, each from 0.5 to 50, got {size!r}")
+    return tuple(float(x) for x in size)
+
+
+def flag(value, name):
+    """``value`` where it is True or False, else an InputError naming ``name`` (an array's truth
+    is ambiguous)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def finish(ax, units=None):

@@ -24,6 +24,13 @@ def from_dict(data, source="<mechanism file>", length_unit=None):
     if length_unit is not None:
         data = convert_lengths(from_dict(data, source).data, length_unit, source)
     c = Checker(source)
+    if _depth(data) > MAX_DEPTH:
+        c.fail("file", f"lists or objects nested more than {MAX_DEPTH} levels deep: a mechanism file nests 4 "
+                       f"(file, joints, a joint, its point)")
+    bad = _not_json(data)
+    if bad is not None:
+        c.fail(bad[0], f"must be JSON (numbers, text, true, false, null, lists and objects), got {bad[1]}: give "
+                       f"plain Python numbers, strings, lists and dicts")
     c.mapping(data, "file", TOP_FIELDS)
     if data.get("version", VERSION) != VERSION:
         c.fail("version", f"this planar reads version {VERSION} files, got {json.dumps(data['version'])}")
@@ -166,9 +173,8 @@ def convert_lengths(data, unit, source="<mechanism file>"):
         raise FileFormatError(f"{source}: a mechanism document is a JSON object, got {type(data).__name__}")
     if not isinstance(unit, str):
         raise FileFormatError(f"{source}: a length unit is a name ('m', 'cm', 'mm' or 'in'), got {unit!r}")
-    units = data.get("units", {})
-    Checker(source).mapping(units, "units", ("length", "angle", "rate"))
-    have = units.get("length", "")
+    built = from_dict(data, source)  # (every field checked before the lengths are walked)
+    have = data.get("units", {}).get("length", "")
     try:
         convert_length(1.0, have, unit)
     except InputError as e:
@@ -203,7 +209,7 @@ def convert_lengths(data, unit, source="<mechanism file>"):
             if key in j and kind in ("point", "positive"):
                 j[key] = conv(j[key])
     # which inputs are lengths (a slider's or slot's travel, a point's coordinate): the built drivers say
-    lengths = [bool(d.length_rows[0]) for d in from_dict(data, source).mechanism.sketch().drivers]
+    lengths = [bool(d.length_rows[0]) for d in built.mechanism.sketch().drivers]
     for d, is_len in zip(out.get("drivers", []), lengths):
         if is_len and "start" in d:
             d["start"] = conv(d["start"])
@@ -246,10 +252,6 @@ def loads(text, source="<string>", length_unit=None):
                               f"(at most {MAX_DEPTH} levels)") from None
     except ValueError as e:  # (an integer of more digits than Python converts)
         raise FileFormatError(f"{source}: not a readable JSON number: {e}".split(";")[0]) from None
-    depth = _depth(data)
-    if depth > MAX_DEPTH:
-        raise FileFormatError(f"{source}: lists or objects nested more than {MAX_DEPTH} levels deep: "
-                              f"a mechanism file nests 4 (file, joints, a joint, its point)")
     return from_dict(data, source, length_unit)
 
 
@@ -271,12 +273,49 @@ def _depth(data):
     return deepest
 
 
+def _not_json(data):
+    """(where, what) of the first value or field name in ``data`` that JSON cannot hold (a complex
+    number, an array, an integer of more digits than Python writes), or None; ``data`` nests at
+    most MAX_DEPTH levels."""
+    try:
+        json.dumps(data)  # (one pass in C for the usual document: the walk only finds the culprit)
+        return None
+    except (TypeError, ValueError):
+        pass
+    todo = [("", data)]
+    while todo:
+        where, v = todo.pop()
+        if isinstance(v, dict):
+            names = [k for k in v if not isinstance(k, str)]
+            if names:
+                return where or "file", f"the field name {_shown(names[0])}"
+            todo.extend((f"{where}.{k}" if where else k, x) for k, x in reversed(v.items()))
+        elif isinstance(v, (list, tuple)):
+            todo.extend((f"{where}[{i}]", x) for i, x in reversed(list(enumerate(v))))
+        else:
+            try:
+                json.dumps(v)
+            except (TypeError, ValueError):
+                return where or "file", _shown(v)
+    return None
+
+
+def _shown(v):
+    """``v`` as a message shows it: its repr, at most 60 characters."""
+    try:
+        return repr(v)[:60]
+    except ValueError:  # (an integer of more digits than Python writes)
+        return f"an integer of {v.bit_length()} bits"
+
+
 def load(path, length_unit=None):
     """Read a mechanism file: a :class:`MechanismFile` (``.mechanism``, ``.units``, ``.sweep``),
     its lengths restated in ``length_unit`` ("m", "cm", "mm" or "in") when given."""
     if not isinstance(path, (str, os.PathLike)):
         raise FileFormatError(f"a mechanism file is named by a path, got {path!r}")
     path = Path(path)
+    if "\x00" in str(path):  # (no system names a file so)
+        raise FileFormatError(f"{str(path)!r}: a file name cannot hold a NUL byte ('\\x00'); name the file without it")
     try:
         # (only a regular file of at most MAX_BYTES: a device or a pipe may never end)
         if path.exists() and not path.is_file():

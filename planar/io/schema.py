@@ -91,7 +91,7 @@ class Checker:
     def mapping(self, obj, where, known):
         if not isinstance(obj, dict):
             self.fail(where, f"must be a JSON object {{...}}, got {json.dumps(obj)[:60]}")
-        unknown = sorted(set(obj) - set(known))
+        unknown = sorted(set(obj) - set(known), key=str)  # (a dict's keys may be other than text)
         if unknown:
             self.fail(where, f"unknown field {unknown[0]!r}: the fields here are {', '.join(sorted(known))}")
 

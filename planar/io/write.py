@@ -1,6 +1,7 @@
 """Writing mechanism files: a :class:`planar.Mechanism` (or a loaded file) to its document and
 to JSON text, one line per body, point, joint or driver; never a file that cannot be read back."""
 
+import errno
 import inspect
 import json
 import math
@@ -138,6 +139,9 @@ def save(obj, path, units=None, sweep=None):
     if not isinstance(path, (str, os.PathLike)):
         raise FileFormatError(f"a mechanism file is named by a path, got {path!r}")
     path = Path(path)
+    if "\x00" in str(path):  # (no system names a file so)
+        raise WriteError(errno.EINVAL, "a file name cannot hold a NUL byte ('\\x00'); name the file without it",
+                         str(path))
     text = dumps(obj, units, sweep)
     try:
         path.write_text(text, encoding="utf-8")
