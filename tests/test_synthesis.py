@@ -1,11 +1,14 @@
 """Synthesis against textbook closed forms and known linkages; every result is checked on the
 built mechanism by a sweep of its own, not by the formula that made it."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from planar.errors import InputError, SynthesisError
+from planar.errors import InputError, ModelError, SynthesisError
 from planar.mechanisms import four_bar, slider_crank
 from planar.synthesis import (burmester_curves, burmester_points, compatible, dyad, four_bar_lengths, freudenstein,
                               function_four_bar, function_slider_crank, motion_four_bar,
@@ -368,6 +371,101 @@ def test_draw_shows_the_targets():
     assert len(marks) == 1 and np.allclose(marks[0].get_xydata(), P[:, :2])
 
 
+# ---- bad arguments -----------------------------------------------------------------------------
+
+P4 = [(0, 0, 0), (1, 0.2, 0.3), (1.8, 0.6, 0.7), (2.4, 1.3, 1.0)]
+P5 = P4 + [(2.6, 2.0, 1.2)]
+THREE = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.3), (1.5, 0.5, 0.6)]
+FAR = [(1e308, 0.0, 0.0), (-1e308, 0.0, 0.3), (1.5, 0.5, 0.6)]
+DESIGN = dict(ground=4, crank=2, coupler=3, rocker=4, coupler_point=(1, 1))
+TWO = [(0.0, 0.0), (1.0, 0.6)]
+ANGLES = np.radians([45, 105]), np.radians([135, 225])
+SAMPLES = r"samples must be a whole number from 2 to 100000 \(values of beta_2 over a turn; the default is \d+\), got "
+
+BAD_SYNTHESIS_CALLS = [
+    # (call, message): each an InputError, no numpy warning on the way
+    (lambda: compatible(P4, None), r"beta2 must be a finite angle in radians .*, got None"),  # (a TypeError)
+    (lambda: compatible(P4, "x"), r"beta2 must be a finite angle .*, got 'x'"),
+    (lambda: compatible(P4, []), r"beta2 must be a finite angle .*, got \[\]"),
+    (lambda: compatible(P4, 10**400), r"beta2 must be a finite angle"),  # (an OverflowError)
+    (lambda: compatible(P4, np.array([])), r"beta2 must be a finite angle"),  # (a numpy ValueError)
+    (lambda: compatible(P4, np.nan), r"beta2 must be a finite angle .*, got nan"),  # (a RuntimeWarning)
+    (lambda: compatible(P4, np.inf), r"beta2 must be a finite angle .*, got inf"),
+    (lambda: compatible(P4, np.complex128(1)), r"beta2 must be a finite angle"),  # (its real part)
+    (lambda: compatible(np.array(P4) + 0j, 0.5), r"positions must be an \(N, 3\) array"),  # (a ComplexWarning)
+    (lambda: burmester_curves(P4, -1), SAMPLES + "-1"),  # (a ValueError from linspace)
+    (lambda: burmester_curves(P4, np.nan), SAMPLES + "nan"),
+    (lambda: burmester_curves(P4, 10**400), SAMPLES + "1000"),
+    (lambda: burmester_curves(P4, None), SAMPLES + "None"),  # (a TypeError)
+    (lambda: burmester_curves(P4, 10**7), SAMPLES + "10000000"),  # (minutes of work)
+    (lambda: burmester_curves(P4, 2.5), SAMPLES + "2.5"),
+    (lambda: burmester_points(P5, -1), SAMPLES + "-1"),  # (no points found)
+    (lambda: burmester_points(P5, None), SAMPLES + "None"),
+    (lambda: burmester_points(P5, 10**5 + 1), SAMPLES + "100001"),
+    (lambda: motion_four_bar(FAR, beta=[0.5, 1.0], gamma=[0.3, 0.7]),  # (a RuntimeWarning: overflow)
+     r"positions reach x, y = 1e\+308, .*: give x, y within \+-1e\+100"),
+    (lambda: dyad(FAR, [0.5, 1.0]), r"positions reach x, y = 1e\+308"),
+    (lambda: dyad(np.zeros((0, 3)), []), r"motion generation takes 3, 4 or 5 positions, got 0"),
+    (lambda: dyad(THREE, np.array([0.5, 1.0]) + 0j), r"rotations must be 2 finite angles"),  # (a ComplexWarning)
+    (lambda: path_check(DESIGN, None, TWO), r"inputs must hold one finite crank angle \(radians\) per target \(2\), "
+                                            r"got None"),  # (an IndexError)
+    (lambda: path_check(DESIGN, [0, 1, 2], TWO), r"inputs must hold one finite crank angle .*, got \[0, 1, 2\]"),
+    (lambda: path_check(DESIGN, "abc", TWO), r"inputs must hold one finite crank angle .*, got 'abc'"),
+    (lambda: path_check(DESIGN, [0, np.nan], TWO), r"inputs must hold one finite crank angle .*, got \[0, nan\]"),
+    (lambda: path_check(DESIGN, [[0], [1]], TWO), r"inputs must hold one finite crank angle"),  # (a TypeError)
+    (lambda: path_check(DESIGN, [0, 1], TWO, "x"), r"min_transmission must be an angle from 0 to pi/2 .*, got 'x'"),
+    (lambda: path_check(DESIGN, [0, 1], TWO, [0.5]), r"min_transmission must be an angle .*, got \[0.5\]"),
+    (lambda: path_check({**DESIGN, "bogus": 1}, [0, 1], TWO),  # (a TypeError from four_bar)
+     r"design has an unknown key 'bogus': give four_bar's keyword arguments \(ground, crank"),
+    (lambda: path_check({**DESIGN, "link_5": 3}, [0, 1], TWO), r"design lacks 'link_6': give stephenson_tracer's"),
+    (lambda: path_four_bar([(0, 0), (1e308, 0), (-1e308, 1)]),  # (a RuntimeWarning: overflow)
+     r"target points reach 1e\+308, beyond the numbers a sketch holds \(\+-1e\+100\)"),
+    (lambda: path_four_bar(np.zeros((3, 2)) + 0j), r"targets must be an \(N, 2\) array"),  # (a ComplexWarning)
+    (lambda: precision_points((1, 2), 3, spacing=np.array([1.0, 1.5, 2.0])),  # (a numpy ValueError)
+     r"spacing must be 'chebyshev' or 'even', got array"),
+    (lambda: function_four_bar(np.log10, (0, 7), *ANGLES),  # (a RuntimeWarning: log10(0))
+     r"f must take different finite values at the ends of x_range \(0.0, 7.0\), got -inf"),
+    (lambda: function_four_bar(lambda x: complex(x, 1), (1, 2), *ANGLES),  # (a ComplexWarning)
+     r"f must give one number for each x \(a real float\), got \(1.06698\d*\+1j\) at x = 1.06698"),
+    (lambda: function_four_bar(lambda x: np.complex128(x), (1, 2), *ANGLES), r"got (np.complex128)?\(1.06"),
+    (lambda: function_four_bar(lambda x: [x, x], (1, 2), *ANGLES),
+     r"f must give one number .*, got \[(np.float64\()?1.06"),
+    (lambda: function_four_bar(lambda x: 1e308 if x < 1.5 else -1e308, (1, 2), *ANGLES),  # (a RuntimeWarning)
+     r"f's values at the precision points .* overflow: give f in other units"),
+    (lambda: function_four_bar(np.sin, (-1e308, 1e308), *ANGLES),  # (a RuntimeWarning: overflow)
+     r"x_range must be within \+-1e\+100, got \(-1e\+308, 1e\+308\): give it in another unit"),
+    (lambda: function_slider_crank(np.sin, (0, 1), np.radians([45, 105]), (-1e308, 1e308)),
+     r"output_range must be within \+-1e\+100"),
+    (lambda: freudenstein(np.array([1, 2, 3]) + 0j, [1, 2, 3]), r"th2 must be a list of numbers"),  # (a ComplexWarning)
+]
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("call, message", BAD_SYNTHESIS_CALLS)
+def test_bad_synthesis_arguments_are_input_errors(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+@pytest.mark.parametrize("link, message", [
+    (None, "must be finite, got None"),  # (each a TypeError in dimensions.circle_circle)
+    ("x", "must be numeric, got 'x'"),
+    ((1, 2, 3), r"must have shape \(\), got \(1, 2, 3\)"),
+    (-3, "must be positive, got -3"),
+])
+@pytest.mark.parametrize("which", ["link_5", "link_6"])
+def test_stephenson_tracer_refuses_bad_links_by_name(which, link, message):
+    links = {"link_5": 3, "link_6": 3, which: link}
+    with pytest.raises(ModelError, match=which + " " + message):
+        stephenson_tracer(4, 2, 3, 4, coupler_point=(1, 1), pivot_6=(5, 3), tracer=(1, 0), **links)
+
+
+def test_burmester_samples_take_numpy_integers():
+    beta2, centre, circle = burmester_curves(P4, np.int64(4))
+    assert len(beta2) == 3 and centre.shape == circle.shape == (3, 2)
+    assert burmester_points(P5, np.int32(2)) == []
+
+
 # ---- command line ------------------------------------------------------------------------------
 
 
@@ -422,3 +520,17 @@ def test_cli_synth_reports_bad_files(tmp_path, capsys):
     csv.write_text("x,y\n1,2\n2,3\n3,1\n")
     assert main(["synth", "path", str(csv), "--timing"]) == 1
     assert "input column" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("problem, options, message", [
+    ("path", [], "target points reach 1e+308, beyond the numbers a sketch holds"),
+    ("function", ["--input-range", "0", "90", "--output-range", "0", "90"], "the x column must increase"),
+])
+def test_cli_synth_far_targets_print_one_error_line(tmp_path, problem, options, message):
+    # (numpy's overflow warnings came first)
+    (tmp_path / "huge.csv").write_text("x,y\n1e308,1e308\n-1e308,1e308\n0,0\n")
+    run = subprocess.run([sys.executable, "-m", "planar.cli", "synth", problem, "huge.csv", *options],
+                         capture_output=True, text=True, cwd=tmp_path)
+    assert run.returncode == 1
+    assert run.stderr.splitlines() == [run.stderr.strip()] and run.stderr.startswith("planar: error:")
+    assert message in run.stderr

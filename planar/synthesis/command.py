@@ -129,7 +129,7 @@ def cmd_synth(args):
             raise UsageError("function generation needs --input-range A0 A1 and --output-range B0 B1")
         cols = read_targets(args.file, ("x", "y"))
         x, y = cols["x"], cols["y"]
-        if len(x) < 2 or np.any(np.diff(x) <= 0):
+        if len(x) < 2 or np.any(x[1:] <= x[:-1]):  # (not np.diff: it overflows between far values)
             raise FileFormatError(f"{args.file}: the x column must increase from row to row (two rows at least)")
         build = function_slider_crank if args.slider else function_four_bar
         out = args.output_range if args.slider else units.angle_to_internal(args.output_range)

@@ -82,6 +82,7 @@ def stephenson_tracer(ground, crank, coupler, rocker, *, coupler_point, link_5, 
     m = four_bar(ground, crank, coupler, rocker, frame_angle=frame_angle, crossed=crossed, start=start,
                  pivot=pivot, name=name)
     coupler_point, tracer = checks.point(coupler_point, "coupler_point"), checks.point(tracer, "tracer")
+    link_5, link_6 = checks.length(link_5, "link_5"), checks.length(link_6, "link_6")
     pts = {k: v[1] for k, v in m.sketch().points.items()}
     C = along(pts["A"], pts["B"], *coupler_point)
     dyad(m, ("C", "D", "O6"), ("link5", "link6", "coupler", m.ground), C, checks.point(pivot_6, "pivot_6"), link_5,

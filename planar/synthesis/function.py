@@ -30,7 +30,7 @@ from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar, slider_crank
 from planar.mechanisms.sketch import left_of, polar
 from planar.model.checks import SCALE
-from planar.synthesis.result import check
+from planar.synthesis.result import check, floats
 
 MAX_POINTS = 10_000  # precision points: a least-squares fit of three constants needs no more
 
@@ -46,12 +46,12 @@ def precision_points(x_range, n=3, spacing="chebyshev"):
     x0, xf = _pair(x_range, "x_range")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_POINTS:
         raise InputError(f"the number of precision points must be a whole number from 1 to {MAX_POINTS}, got {n!r}")
+    if not (isinstance(spacing, str) and spacing in ("chebyshev", "even")):  # (an array compared element-wise)
+        raise InputError(f"spacing must be 'chebyshev' or 'even', got {spacing!r}")
     if spacing == "chebyshev":
         j = np.arange(1, int(n) + 1)
         return (x0 + xf) / 2 - (xf - x0) / 2 * np.cos((2 * j - 1) * np.pi / (2 * n))
-    if spacing == "even":
-        return np.linspace(x0, xf, int(n))
-    raise InputError(f"spacing must be 'chebyshev' or 'even', got {spacing!r}")
+    return np.linspace(x0, xf, int(n))
 
 
 def freudenstein(th2, th4):
@@ -155,8 +155,10 @@ def _checked(builder, design, th2, out, input_range, output_range, x_range, f, s
     # the whole range: the output asked for at every value of the checking sweep
     u = s.sweep.inputs[:, 0]
     xs = x_range[0] + (u - span[0]) / (span[1] - span[0]) * (x_range[1] - x_range[0])
-    want = _map(np.vectorize(f)(xs), f, x_range, output_range)
-    return replace(s, notes={"structural_error": float(np.max(error(read(s.sweep), want))), "shift": shift})
+    want = _map(_evaluate(f, xs), f, x_range, output_range)
+    with np.errstate(all="ignore"):  # (NaN where f is undefined between the precision points)
+        worst = float(np.max(error(read(s.sweep), want)))
+    return replace(s, notes={"structural_error": worst, "shift": shift})
 
 
 def _mapped(f, x_range, input_range, output_range, points, spacing):
@@ -172,33 +174,46 @@ def _mapped(f, x_range, input_range, output_range, points, spacing):
     if x.ndim != 1 or len(x) < 3 or not np.all(np.isfinite(x)):
         raise InputError(f"function generation needs at least three finite precision points, got {points!r}")
     th2 = a0 + (x - x0) / (xf - x0) * (af - a0)
-    try:
-        y = np.array([f(v) for v in x], float)
-    except (TypeError, ValueError):
-        raise InputError("f must give one number for each x (a float)") from None
+    y = _evaluate(f, x)
     if not np.all(np.isfinite(y)):
         raise InputError(f"f is not finite at the precision points {np.round(x[~np.isfinite(y)], 12).tolist()}: "
                          "give an f defined over all of x_range")
-    return x, th2, _map(y, f, (x0, xf), output_range)
+    out = _map(y, f, (x0, xf), output_range)
+    if not np.all(np.isfinite(out)):
+        raise InputError(f"f's values at the precision points {y.tolist()}, mapped onto output_range from its "
+                         "values at the ends of x_range, overflow: give f in other units")
+    return x, th2, out
+
+
+def _evaluate(f, x):
+    """f at each of x as a float array, f's numpy warnings silenced (its values are checked where used)."""
+    try:
+        with np.errstate(all="ignore"):
+            y = [f(v) for v in x]
+    except (TypeError, ValueError) as e:
+        raise InputError(f"f must give one number for each x (a real float); it raised {type(e).__name__}: "
+                         f"{e}") from None
+    a = floats(y)
+    if a is None or a.shape != (len(x),):
+        k = next((k for k, v in enumerate(y) if np.ndim(v) or floats(v) is None), 0)
+        raise InputError(f"f must give one number for each x (a real float), got {y[k]!r} at x = {float(x[k])!r}")
+    return a
 
 
 def _map(y, f, x_range, output_range):
-    try:
-        y0, yf = float(f(x_range[0])), float(f(x_range[1]))
-    except (TypeError, ValueError):
-        raise InputError("f must give one number for each x (a float)") from None
+    y0, yf = (float(v) for v in _evaluate(f, x_range))
     if not np.isfinite(y0) or not np.isfinite(yf) or y0 == yf:
         raise InputError(f"f must take different finite values at the ends of x_range {tuple(x_range)}, "
                          f"got {y0!r} and {yf!r}: the output range is mapped onto them")
-    return output_range[0] + (y - y0) / (yf - y0) * (output_range[1] - output_range[0])
+    with np.errstate(all="ignore"):  # (checked where used)
+        return output_range[0] + (y - y0) / (yf - y0) * (output_range[1] - output_range[0])
 
 
 def _angles(v, what, size=None):
     """``v`` as a 1-D array of at least three finite numbers (of ``size`` values where given)."""
-    try:
-        a = np.asarray(v, float)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{what} must be a list of numbers, got {v!r}") from None
+    a = floats(v)
+    if a is None:
+        raise InputError(f"{what} must be a list of numbers, got {v!r}")
     if a.ndim != 1 or not np.all(np.isfinite(a)) or (size is not None and a.size != size):
         raise InputError(f"{what} must be a list of finite numbers, one per precision point, got {v!r}")
     if a.size < 3:
@@ -208,12 +223,14 @@ def _angles(v, what, size=None):
 
 
 def _pair(v, what):
-    try:
-        a, b = (float(t) for t in v)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{what} must be a pair (start, end) of numbers, got {v!r}") from None
+    p = floats(v)
+    if p is None or p.shape != (2,):
+        raise InputError(f"{what} must be a pair (start, end) of numbers, got {v!r}")
+    a, b = float(p[0]), float(p[1])
     if not (np.isfinite(a) and np.isfinite(b)) or a == b:
         raise InputError(f"{what} must be two different finite numbers, got {v!r}")
+    if max(abs(a), abs(b)) > SCALE:  # (beyond, their difference overflows)
+        raise InputError(f"{what} must be within +-{SCALE:g}, got ({a:g}, {b:g}): give it in another unit")
     return a, b
 
 

@@ -25,22 +25,36 @@ Burmester points (:func:`burmester_points`).
 
 import numpy as np
 
+from planar.arguments import finite_number
 from planar.errors import InputError, SynthesisError
 from planar.mechanisms import four_bar
 from planar.mechanisms.sketch import left_of
-from planar.synthesis.result import check
+from planar.model.checks import MAX_ANGLE, SCALE
+from planar.synthesis.result import check, floats
+
+MAX_SAMPLES = 10**5  # values of beta_2 over a turn: ~0.1 ms each (burmester_points: ~0.3 ms), far finer than needed
 
 
 def positions_array(positions, count=None):
     """The positions as an (N, 3) float array of x, y, angle (radians)."""
-    try:
-        P = np.asarray(positions, float)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"positions must be an (N, 3) array of finite x, y, angle (radians), got {positions!r}") from None
+    P = floats(positions)
+    if P is None:
+        raise InputError(f"positions must be an (N, 3) array of finite x, y, angle (radians), got {positions!r}")
     if P.ndim != 2 or P.shape[1] != 3 or not np.all(np.isfinite(P)) or (count is not None and len(P) != count):
         need = f"{count}" if count is not None else "N"
         raise InputError(f"positions must be a ({need}, 3) array of finite x, y, angle (radians), got shape {P.shape}")
+    far, turned = np.abs(P[:, :2]).max(initial=0.0), np.abs(P[:, 2]).max(initial=0.0)
+    if far > SCALE or turned > MAX_ANGLE:  # (beyond, the displacements and their products overflow)
+        raise InputError(f"positions reach x, y = {far:.3g}, angle {turned:.3g} rad: give x, y within +-{SCALE:g} "
+                         f"(in another unit) and angles within +-{MAX_ANGLE:g} rad")
     return P
+
+
+def _samples(samples, default):
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 2 <= samples <= MAX_SAMPLES:
+        raise InputError(f"samples must be a whole number from 2 to {MAX_SAMPLES} (values of beta_2 over a turn; "
+                         f"the default is {default}), got {samples!r}")
+    return int(samples)
 
 
 def dyad(positions, rotations):
@@ -59,11 +73,8 @@ def dyad(positions, rotations):
     P = positions_array(positions)
     if not 3 <= len(P) <= 5:
         raise InputError(f"motion generation takes 3, 4 or 5 positions, got {len(P)}")
-    try:
-        b = np.asarray(rotations, float)
-    except (TypeError, ValueError, OverflowError):
-        b = np.array([np.nan])
-    if b.shape != (len(P) - 1,) or not np.all(np.isfinite(b)):
+    b = floats(rotations)
+    if b is None or b.shape != (len(P) - 1,) or not np.all(np.isfinite(b)):
         raise InputError(f"rotations must be {len(P) - 1} finite angles (beta_2 ... beta_{len(P)}) in radians, "
                          f"got {rotations!r}")
     M, d = _standard_form(P, b)
@@ -97,6 +108,9 @@ def compatible(positions, beta2):
     [[0.5, 0.711206, 1.11171], [0.5, -1.078987, -1.299932]]
     """
     P = positions_array(positions, 4)
+    if not finite_number(beta2):
+        raise InputError(f"beta2 must be a finite angle in radians (the dyad's rotation from position 1 to 2), "
+                         f"got {beta2!r}")
     a = np.exp(1j * (P[1:, 2] - P[0, 2])) - 1
     d = (P[1:, 0] + 1j * P[1:, 1]) - (P[0, 0] + 1j * P[0, 1])
     D = np.array([a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2], a[0] * d[1] - a[1] * d[0]])
@@ -121,7 +135,7 @@ def burmester_curves(positions, samples=360):
     (circle points) of the compatible dyads, as complex arrays (samples, 2) (NaN where there
     is none). Returns (beta2, centre, circle)."""
     P = positions_array(positions, 4)
-    beta2 = np.linspace(0, 2 * np.pi, int(samples), endpoint=False)[1:]
+    beta2 = np.linspace(0, 2 * np.pi, _samples(samples, 360), endpoint=False)[1:]
     centre = np.full((len(beta2), 2), np.nan + 0j)
     circle = centre.copy()
     P1 = complex(P[0, 0], P[0, 1])
@@ -150,7 +164,7 @@ def burmester_points(positions, samples=720):
             return np.nan
         return float(np.angle(np.exp(1j * (u[i][1] - v[j][1]))))
 
-    grid = np.linspace(0, 2 * np.pi, int(samples) + 1)[1:-1]
+    grid = np.linspace(0, 2 * np.pi, _samples(samples, 720) + 1)[1:-1]
     found = []
     for i in range(2):
         for j in range(2):

@@ -28,6 +28,7 @@ each through the three steps below; the first round with an answer ends it.
    answer.
 """
 
+import inspect
 from dataclasses import replace
 
 import numpy as np
@@ -36,8 +37,9 @@ from scipy.stats import qmc
 from planar import arguments
 from planar.analysis import transmission_angle
 from planar.errors import InputError, PlanarError, SynthesisError
+from planar.model.checks import SCALE
 from planar.synthesis.families import FOUR_BAR, STEPHENSON
-from planar.synthesis.result import check, ordered
+from planar.synthesis.result import check, floats, ordered
 
 GRID = 120  # crank angles per turn in the global search
 BATCH = 2000  # designs per batch
@@ -69,10 +71,21 @@ def path_check(design, inputs, targets, min_transmission=None):
         raise InputError(f"design must be a dict of four_bar's keyword arguments (with link_5, of "
                          f"stephenson_tracer's), got {type(design).__name__}")
     family = STEPHENSON if "link_5" in design else FOUR_BAR
+    params = inspect.signature(family.build).parameters
+    unknown = [k for k in design if k not in params]
+    missing = [k for k, p in params.items() if p.default is p.empty and k not in design]
+    if unknown or missing:
+        what = f"has an unknown key {unknown[0]!r}" if unknown else f"lacks {missing[0]!r}"
+        raise InputError(f"design {what}: give {family.build.__name__}'s keyword arguments "
+                         f"({', '.join(params)})")
     T = _targets(targets)
+    u = floats(inputs)
+    if u is None or u.shape != (len(T),) or not np.all(np.isfinite(u)):
+        raise InputError(f"inputs must hold one finite crank angle (radians) per target ({len(T)}), got {inputs!r}")
+    _min_transmission(min_transmission)
     mech = family.build(**design)
     size = float(np.ptp(T, axis=0).max())
-    s = check(mech, family.build, design, inputs, T, lambda res, i: res.position(family.point)[i],
+    s = check(mech, family.build, design, u, T, lambda res, i: res.position(family.point)[i],
               lambda got, want: np.hypot(*(got - want).T), period=2 * np.pi, point=family.point, size=size)
     mu = np.concatenate([transmission_angle(s.sweep, *pair) for pair in family.transmission])
     mu = np.minimum(mu, np.pi - mu)[np.isfinite(mu)]
@@ -156,9 +169,7 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
             raise InputError(f"{what} must be a whole number from 1 to {most:g}, got {v!r}")
     if not (arguments.finite_number(tol) and tol > 0):
         raise InputError(f"tol must be a positive number (relative to the targets' size), got {tol!r}")
-    if min_transmission is not None and not (arguments.finite_number(min_transmission)
-                                             and 0 <= min_transmission <= np.pi / 2):
-        raise InputError(f"min_transmission must be an angle from 0 to pi/2 radians, got {min_transmission!r}")
+    _min_transmission(min_transmission)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be a whole number of at least 0, got {seed!r}")
     if progress is not None and not callable(progress):
@@ -214,24 +225,30 @@ def _better(best, new):
     return new if best is None or new[0] < best[0] else best
 
 
+def _min_transmission(angle):
+    if angle is not None and not (arguments.finite_number(angle) and 0 <= angle <= np.pi / 2):
+        raise InputError(f"min_transmission must be an angle from 0 to pi/2 radians (or None), got {angle!r}")
+
+
 def _targets(targets):
-    try:
-        T = np.asarray(targets, float)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"targets must be an (N, 2) array of finite points, got {targets!r}") from None
+    T = floats(targets)
+    if T is None:
+        raise InputError(f"targets must be an (N, 2) array of finite points, got {targets!r}")
     if T.ndim and len(T) > MAX_TARGETS:
         raise InputError(f"{len(T)} target points, more than the limit of {MAX_TARGETS}: the search holds every "
                          f"design's error at every target")
     if T.ndim != 2 or T.shape[1] != 2 or len(T) < 2 or not np.all(np.isfinite(T)):
         raise InputError(f"targets must be an (N, 2) array of finite points with N >= 2, got shape {T.shape}")
+    if np.abs(T).max() > SCALE:  # (beyond, their spread overflows)
+        raise InputError(f"target points reach {np.abs(T).max():.3g}, beyond the numbers a sketch holds "
+                         f"(+-{SCALE:g}): give them in another unit")
     return T
 
 
 def _timing(timing, N):
-    try:
-        tau = np.asarray(timing, float)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"timing must hold one finite crank angle per target ({N}), got {timing!r}") from None
+    tau = floats(timing)
+    if tau is None:
+        raise InputError(f"timing must hold one finite crank angle per target ({N}), got {timing!r}")
     if tau.shape != (N,) or not np.all(np.isfinite(tau)):
         raise InputError(f"timing must hold one finite crank angle per target ({N}), got shape {tau.shape}")
     turn = np.sort(np.mod(tau - tau[0], 2 * np.pi))

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planar.errors import InputError, PlanarError
+from planar.model.checks import is_complex
 from planar.results import VALID, Status
 
 STEP = np.radians(2.0)  # largest input step of the checking sweep between targets
@@ -95,6 +96,17 @@ class Synthesis:
                     ax.plot([x - dx, x + dx], [y - dy, y + dy], color="#d62728", lw=1.6, zorder=7)
             ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3, frameon=False, fontsize=8)
         return ax
+
+
+def floats(value):
+    """``value`` as a float array, or None where it is not real numbers (numpy would read
+    complex ones as their real parts, with a warning)."""
+    if is_complex(value):
+        return None
+    try:
+        return np.asarray(value, float)
+    except (TypeError, ValueError, OverflowError):
+        return None
 
 
 def ordered(inputs, period=None):
