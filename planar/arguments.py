@@ -130,16 +130,17 @@ def _memory():
     return min(limits, default=None)
 
 
-def size(model, N, what="the sweep", per_coordinate=BYTES_PER_COORDINATE):
+def size(model, N, what="the sweep", per_coordinate=BYTES_PER_COORDINATE, fix="sweep fewer values, or in chunks"):
     """Refuse ``N`` values of ``model`` when their results cannot fit in memory (a count that is
-    not an integer is refused where it is read); ``per_coordinate``: bytes per value and coordinate."""
+    not an integer is refused where it is read); ``per_coordinate``: bytes per value and
+    coordinate; ``what`` names the work (its values counted after it), ``fix`` the way out."""
     if isinstance(N, bool) or not isinstance(N, Integral):
         return
     need = (float(max(N, 0)) if N < 2**1000 else math.inf) * max(model.n, 1) * per_coordinate
     have = _memory()
     if have is not None and need > have:
         raise InputError(f"{what} of {N if N < 10**15 else f'~1e{len(str(N)) - 1}'} values needs about {need / 2**30:.3g} GiB for its results, more than "
-                         f"the {have / 2**30:.3g} GiB of memory this process may have: sweep fewer values, or in chunks")
+                         f"the {have / 2**30:.3g} GiB of memory this process may have: {fix}")
 
 
 def values(model, U, step):

@@ -88,12 +88,14 @@ class Dyad:
     side: str = "left"
 
     def __post_init__(self):
-        if self.side not in ("left", "right"):
+        if not (isinstance(self.side, str) and self.side in ("left", "right")):
             raise ModelError(f"a dyad's side must be 'left' or 'right' of the line {self.a} -> {self.b}, "
                              f"got {self.side!r}")
         for key in ("length_a", "length_b"):
             v = getattr(self, key)
-            if not (isinstance(v, (int, float, np.floating, np.integer)) and -1e308 < v < 1e308 and np.isfinite(v)
+            # (a float32 compared with 1e308 would be cast to it, overflowing)
+            x = float(v) if isinstance(v, np.floating) else v
+            if not (isinstance(v, (int, float, np.floating, np.integer)) and -1e308 < x < 1e308 and np.isfinite(x)
                     and v > 0):  # (an integer beyond any float fails the bounds before isfinite)
                 raise ModelError(f"a dyad's {key} must be a positive number, got {v!r}")
 

@@ -76,7 +76,7 @@ class Forces:
         """(N,) the torque or force driver ``name`` applies along its coordinate (its power is
         this times the input rate): a joint's driver acts on the joint's second body."""
         model = self.sweep.model
-        if name not in model.input_names:
+        if not isinstance(name, str) or name not in model.input_names:
             raise ModelError(f"unknown driver {name!r}: the drivers are {list(model.input_names)}")
         return -self.multipliers[:, model.row_adr[len(model.joints) + model.input_names.index(name)]]
 
@@ -147,7 +147,12 @@ def forces(res):
     u = np.where(sound[:, None], res.inputs, model.u0)
     out, stand_in = None, _stand_ins(model)
     for sl in chunks(len(res)):
-        part = _values(model, q[sl], qd[sl], qdd[sl], u[sl], stand_in)
+        try:
+            with np.errstate(over="raise"):
+                part = _values(model, q[sl], qd[sl], qdd[sl], u[sl], stand_in)
+        except FloatingPointError:
+            raise InputError(f"the forces of {model.name!r} overflow float64 (masses, lengths and input rates this "
+                             f"large): give them in other units") from None
         if out is None:  # the whole arrays, shaped as the first chunk's
             out = [np.empty((len(res),) + a.shape[1:]) for a in part[:4]]
             reactions = {j: {c: np.empty((len(res),) + v.shape[1:]) for c, v in comps.items()}

@@ -19,6 +19,7 @@ import numpy as np
 
 from planar.errors import ModelError
 from planar.geometry import rotate
+from planar.model.checks import is_complex
 
 
 def _body_mass(mass, com, inertia):
@@ -91,9 +92,11 @@ def _per_value(value, inputs, shape, what):
     if callable(value):
         got = value(inputs)
         try:
+            if is_complex(got):  # (numpy would drop the imaginary parts, with a warning)
+                raise TypeError(got)
             out = np.asarray(got, dtype=float)
         except (TypeError, ValueError, OverflowError):
-            raise ModelError(f"a load's {what} function gave {type(got).__name__} {got!r:.60}; it must give numbers, "
+            raise ModelError(f"a load's {what} function gave {type(got).__name__} {got!r:.60}; it must give real numbers, "
                              f"shape {shape}") from None
         if out.shape != shape:
             raise ModelError(f"a load's {what} function gave shape {out.shape} for {inputs.shape[0]} input "

@@ -56,6 +56,12 @@ VALID = np.array([s.valid for s in Status])
 POSED = np.array([s.posed for s in Status])
 
 
+def is_derivative(order):
+    """Whether ``order`` is 0, 1 or 2: a whole number (an array compared with ``in`` is
+    ambiguous, a bool equals 0 or 1, and a float counts no derivatives)."""
+    return isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order in (0, 1, 2)
+
+
 def as_sweep(res, who):
     """``res`` where it is a :class:`Sweep`, else an InputError saying ``who`` needs one."""
     if not isinstance(res, Sweep):
@@ -178,7 +184,7 @@ class Sweep:
         coords = self.model.coordinates
         if not isinstance(joint, str) or joint not in coords:
             raise ModelError(f"joint {joint!r} has no coordinate: the joints with one are {sorted(coords)}")
-        if derivative not in (0, 1, 2) or isinstance(derivative, bool):
+        if not is_derivative(derivative):
             raise ModelError(f"derivative must be 0, 1 or 2, got {derivative!r}")
         sys_, row = coords[joint]
         q = np.nan_to_num(self.q)

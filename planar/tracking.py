@@ -387,12 +387,14 @@ class Tracker:
         if res is None:  # the sweep, with its checks of the arguments
             try:
                 # (numpy would take complex numbers' real parts, and read None, bools and strings as numbers)
-                if value is None or is_complex(value) or np.asarray(value).dtype.kind in "bmMSU":
+                given = np.asarray(value)
+                # (more numbers than inputs are refused before they are copied as floats)
+                if is_complex(value) or given.dtype.kind in "bmMSUO" or given.size > self.model.u0.size:
                     raise TypeError(value)
-                value = np.asarray(value, dtype=float)
+                given = given.astype(float)
             except (TypeError, ValueError, OverflowError):
                 raise InputError(f"move takes a number (one per input), got {value!r}") from None
-            res = self.model.sweep(value.reshape(1, -1) if value.ndim else [value], velocity, acceleration,
+            res = self.model.sweep(given.reshape(1, -1) if given.ndim else [given], velocity, acceleration,
                                    **self.options)
         self.pose = res
         return res

@@ -6,6 +6,8 @@ import json
 import math
 import os
 import re
+import tracemalloc
+import warnings
 
 import numpy as np
 import pytest
@@ -123,7 +125,7 @@ def test_a_tracker_move_to_no_number_is_an_input_error(value):
 
 @pytest.mark.parametrize("torque, message", [
     (lambda u: np.full(len(u), np.nan), "a load's torque function gave NaN or infinity"),  # (NaN forces, SOLVED)
-    (lambda u: "abc", "a load's torque function gave str 'abc'; it must give numbers"),  # (a ValueError)
+    (lambda u: "abc", "a load's torque function gave str 'abc'; it must give real numbers"),  # (a ValueError)
 ])
 def test_a_load_function_that_gives_no_finite_numbers_is_a_model_error(torque, message):
     m = four_bar()
@@ -143,6 +145,55 @@ def test_a_design_parameter_the_builder_does_not_take_is_an_input_error():
         planar.sweep_designs(four_bar, [{"nope": 1}], [0.1])
 
 
+def _loaded():
+    m = four_bar()
+    m.set_mass("crank", 1.0, (0.5, 0.0), 0.1)
+    return m
+
+
+# (each a numpy ValueError: an array compared with a tuple of names, or a numpy warning)
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: four_bar(coupler_point=(1, 0.5)).drive(point="C", axis=np.array(["x", "y"])), ModelError,
+     "needs axis='x' or axis='y'"),
+    (lambda: four_bar().add_load("crank", force=(1, 0), at=(0.5, 0.5), fixed=np.array(["world", "body"])), ModelError,
+     "fixed must be 'world' or 'body'"),
+    (lambda: planar.Dyad("A", 1.0, "B", 1.0, side=np.array(["left", "right"])), ModelError,
+     "a dyad's side must be 'left' or 'right'"),
+    (lambda: _loaded().sweep([0.1]).forces().driver_effort(np.array(["crank", "x"])), ModelError, "unknown driver"),
+    (lambda: planar.analysis.outputs.output(four_bar().sweep([0.1]), "x:B", np.array([0, 1])), InputError,
+     "derivative must be 0, 1 or 2"),
+    (lambda: planar.analysis.outputs.output(four_bar().sweep([0.1]), "x:B", 1.0), InputError,  # (a TypeError)
+     "derivative must be 0, 1 or 2, got 1.0"),
+    (lambda: _loaded().add_load("crank", force=lambda u: np.ones((len(u), 2)) * (1 + 5j), at=(0.5, 0.5)) or
+     _loaded().sweep([0.1]).forces(), None, None),
+    (lambda: four_bar().compile().circuit(engine="numba"), InputError,  # (a TypeError, as Mechanism.circuit's was not)
+     "unknown circuit option 'engine': the options are tol, max_step"),
+])
+def test_arrays_for_names_and_choices_are_refused_by_name(call, error, message):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        if error is None:
+            call()
+        else:
+            with pytest.raises(error, match=message):
+                call()
+
+
+def test_a_load_function_of_complex_numbers_and_forces_beyond_float64_are_refused():
+    m = _loaded()
+    m.add_load("crank", force=lambda u: np.ones((len(u), 2)) * (1 + 5j), at=(0.5, 0.5))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (numpy dropped the imaginary parts, with a ComplexWarning)
+        with pytest.raises(ModelError, match="a load's force function gave ndarray .* it must give real numbers"):
+            m.sweep([0.1]).forces()
+        m = four_bar()
+        m.set_mass("crank", 1.0, (1e100, 1e100), 0.0)
+        m.gravity = (0.0, -9.81)
+        with pytest.raises(InputError, match="the forces of 'four_bar' overflow float64"):  # (a RuntimeWarning)
+            m.sweep([0.1], velocity=1e100).forces()
+        assert planar.Dyad("A", np.float32(2.5), "B", 1.5).length_a == 2.5  # (its bounds test warned)
+
+
 def test_a_sweep_larger_than_memory_is_refused_with_the_limit(monkeypatch):
     monkeypatch.setattr(arguments, "_memory", lambda: 2**30)  # a machine with 1 GiB
     model = four_bar().compile()
@@ -152,6 +203,54 @@ def test_a_sweep_larger_than_memory_is_refused_with_the_limit(monkeypatch):
     with pytest.raises(InputError, match="the circuit of 100000000 values needs about"):
         model.circuit(samples=100_000_000)
     model.sweep(np.linspace(0.0, 1.0, 1000))  # what fits still runs
+
+
+def test_values_beyond_memory_are_refused_before_they_are_copied(monkeypatch):
+    monkeypatch.setattr(arguments, "_memory", lambda: 2**30)
+    model = four_bar().compile()
+    values = np.zeros(10**7, np.int8)  # 10 MB; 80 MB as floats
+    tracemalloc.start()
+    try:
+        with pytest.raises(InputError, match="the sweep of 10000000 values needs about"):
+            model.sweep(values)
+        with pytest.raises(InputError, match="move takes a number"):
+            model.track().move(values)
+        assert tracemalloc.get_traced_memory()[1] < 2e7
+    finally:
+        tracemalloc.stop()
+
+
+def test_a_design_study_beyond_memory_is_refused_before_it_is_swept(monkeypatch):
+    monkeypatch.setattr(arguments, "_memory", lambda: 2**20)  # 1 MiB: 1000 values of one four-bar fit
+    # (1000 designs x 1e6 values grew to 23.5 GB, then a numpy MemoryError)
+    with pytest.raises(InputError, match=r"a batch of 3 designs x 1000 values, a sweep of 3000 values needs about "
+                                         r".* GiB .*: sweep fewer designs a batch \(batch=\), or fewer values"):
+        planar.sweep_designs(four_bar, {"crank": [1.0, 1.1, 1.2]}, np.linspace(0, 1, 1000))
+    with pytest.raises(InputError, match=r"the study of 3 designs x 1000 values, a sweep of 3000 values .* "
+                                         r"on a cluster into a store"):
+        planar.sweep_designs(four_bar, {"crank": [1.0, 1.1, 1.2]}, np.linspace(0, 1, 1000), batch=1)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: planar.sweep_designs(four_bar, {"crank": [[1.0], [1.0, 2.0]]}, [0.1]), "design column 'crank' must hold"),
+    (lambda: planar.sweep_designs(four_bar, {"coupler_point": [(1, 0), (2,)]}, [0.1]),
+     "design column 'coupler_point' must hold one value per design"),
+    (lambda: planar.sweep_designs(four_bar, {"crank": np.ones((2, 2, 2))}, [0.1]),
+     r"got an array of shape \(2, 2, 2\)"),
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 1.1]}, [[0.1], [0.2, 0.3]]), "sweep values must be numbers"),
+    (lambda: planar.sweep_designs(lambda **k: open_chain() if k["crank"] > 1.2 else four_bar(),
+                                  {"crank": [1.0, 1.5]}, [0.1]), "has 9 coordinates and 3 inputs, design 0 9 and 1"),
+    (lambda: planar.sweep_designs(lambda **k: planar.Mechanism(), {"crank": [1.0]}, [0.1]),
+     "no design could be built: design 0 .* has no driver and nothing to drive"),
+    (lambda: planar.Vary(four_bar()).check(None), "a design's numbers are a dict of numbers by name, got None"),
+    (lambda: planar.Vary(four_bar()).check_all(None), "check_all takes a list of designs"),
+    (lambda: planar.Vary(four_bar()).check_all(["x"]), "check_all takes a list of designs"),
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0]}, [0.1]).velocity(["B"]), "unknown point or joint"),
+])
+def test_bad_design_study_arguments(call, message):
+    # (each a ValueError, TypeError or AttributeError of numpy or Python)
+    with pytest.raises(planar.PlanarError, match=message):
+        call()
 
 
 def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_limit(monkeypatch):
@@ -251,6 +350,7 @@ def test_a_length_that_cannot_be_converted_is_an_input_error(value, message):
     (dict(angle="grad"), "unknown angle unit 'grad': use one of rad, deg"),
     (dict(rate=60), "unknown rate unit 60"),
     (dict(length="m m"), "length unit must be a short label without spaces"),
+    (dict(length=10**5000), "got an integer of thousands of digits"),  # (a ValueError from its repr)
 ])
 def test_bad_units_are_input_errors(kwargs, message):
     from planar.units import Units
@@ -412,6 +512,9 @@ def test_a_six_bar_takes_its_numbers_as_four_bar_does():
     (lambda r: r.coordinate(["A"]), r"joint \['A'\] has no coordinate"),
     (lambda r: r.coordinate("A", "1"), "derivative must be 0, 1 or 2, got '1'"),
     (lambda r: r.coordinate("A", None), "derivative must be 0, 1 or 2"),
+    (lambda r: r.coordinate("A", np.array([0, 1])), "derivative must be 0, 1 or 2"),  # (a numpy ValueError)
+    (lambda r: r.coordinate("A", 1.0), "derivative must be 0, 1 or 2, got 1.0"),
+    (lambda r: r.model.joint(np.array(["A", "B"])), "unknown joint"),  # (a numpy ValueError)
 ])
 def test_bad_result_arguments(call, message):
     with pytest.raises(ModelError, match=message):

@@ -14,9 +14,10 @@ from planar.mechanisms import four_bar
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def test_version_from_the_package_and_the_command():
+@pytest.mark.parametrize("module", ["planar", "planar.cli"])
+def test_version_from_the_package_and_the_command(module):
     assert re.fullmatch(r"\d+(\.\d+)*\S*|0\+unknown", planar.__version__)
-    done = subprocess.run([sys.executable, "-m", "planar.cli", "--version"], capture_output=True, text=True,
+    done = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True, text=True,
                           cwd=ROOT, timeout=120)
     assert done.returncode == 0
     assert done.stdout.strip() == f"planar {planar.__version__}"

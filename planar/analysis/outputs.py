@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planar.errors import InputError
-from planar.results import as_sweep
+from planar.results import as_sweep, is_derivative
 from planar.units import given
 
 
@@ -80,10 +80,10 @@ def names_of(model, of):
 def specs(model, kinds, names=None):
     """Every ``"kind:name"`` of ``kinds`` that ``model`` has (or of the given ``names`` only),
     kind by kind and name by name in the model's order."""
-    out = []
+    out, wanted = [], None if names is None else set(names)
     for kind in kinds:
         have = names_of(model, OUTPUTS[kind].of)
-        out += [f"{kind}:{n}" for n in have if names is None or n in names]
+        out += [f"{kind}:{n}" for n in have if wanted is None or n in wanted]
     return out
 
 
@@ -96,8 +96,9 @@ def parse(model, spec):
     if kind not in OUTPUTS:
         raise InputError(f"unknown output {text!r}: write kind:name with kind one of {', '.join(OUTPUTS)}")
     of = OUTPUTS[kind].of
-    have = names_of(model, of)
-    if name not in have:
+    # (a point looked up by name: a file may name thousands)
+    if not (name in model.points if of == "point" else name in names_of(model, of)):
+        have = names_of(model, of)
         raise InputError(f"unknown output {text!r}: {kind} is an output of a {of}, and {model.name!r} has "
                          f"{', '.join(repr(n) for n in have) or 'none'}")
     return kind, name
@@ -125,7 +126,7 @@ def output(res, spec, derivative=0):
     the first and second kinematic coefficients d(output)/du and d2(output)/du2.
     """
     res = as_sweep(res, "output")
-    if derivative not in (0, 1, 2):
+    if not is_derivative(derivative):
         raise InputError(f"derivative must be 0, 1 or 2, got {derivative!r}")
     kind, name = parse(res.model, spec)
     for _ in range(derivative):

@@ -24,13 +24,19 @@ def table(res, units):
         cols.append((f"input:{name}", units.input_label(bool(is_len)), np.asarray(x, float)))
     cols.append(("status", "", np.array([Status(s).name for s in res.status])))
     moving = [p for p, (b, _) in model.points.items() if b != 0]
-    columns = [s for b in model.body_names[1:] for s in outputs.specs(model, ("angle", "omega", "alpha"), [b])]
-    columns += [s for j in model.coordinates
-                for s in outputs.specs(model, ("travel", "travel_rate", "travel_accel"), [j])]
-    columns += [s for p in moving for s in outputs.specs(model, ("x", "y", "vx", "vy", "ax", "ay"), [p])]
+    columns = _name_by_name(model, ("angle", "omega", "alpha"), model.body_names[1:])
+    columns += _name_by_name(model, ("travel", "travel_rate", "travel_accel"), model.coordinates)
+    columns += _name_by_name(model, ("x", "y", "vx", "vy", "ax", "ay"), moving)
     for spec in columns:
         cols.append((spec, outputs.label(spec, units), outputs.output_values(res, spec, units)))
     return cols
+
+
+def _name_by_name(model, kinds, names):
+    """The outputs ``kinds`` the model has of each of ``names``, name by name (from one
+    :func:`planar.analysis.outputs.specs`: a file may name thousands of points)."""
+    have = set(outputs.specs(model, kinds, names))
+    return [f"{k}:{n}" for n in names for k in kinds if f"{k}:{n}" in have]
 
 
 def force_table(forces, units):

@@ -123,8 +123,8 @@ class DesignSweep:
 
     def _point(self, name):
         """(body name, S): the point's world offset from its body's frame (D, N, 2)."""
-        if name not in self._offsets:
-            if name not in self.points:
+        if not isinstance(name, str) or name not in self._offsets:
+            if not isinstance(name, str) or name not in self.points:
                 self.template.point(name)  # raises, naming the points there are
             body, s = self.points[name]
             S = rotate(self._body(body, self.q)[2], s[:, None, :])

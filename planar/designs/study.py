@@ -14,7 +14,7 @@ import planar.designs.tables as design_tables
 from planar.designs.batch import Results, sweep_batch
 from planar.designs.results import DesignSweep, Models
 from planar.designs.tables import compile_unplanned
-from planar.errors import InputError, PlanarError
+from planar.errors import InputError, MobilityError, PlanarError
 from planar.model import Mechanism
 from planar.sweep import run_sweep
 
@@ -28,7 +28,14 @@ def design_table(designs):
     ({'crank': 1.0, 'coupler_point': (1, 0), 'rocker': 3.0}, {'crank': 2.0, 'coupler_point': (2, 0), 'rocker': 3.0})
     """
     if isinstance(designs, dict):
-        cols = {k: (None if np.ndim(v) == 0 else _column(v)) for k, v in designs.items()}
+        cols = {}
+        for k, v in designs.items():
+            try:
+                cols[k] = None if np.ndim(v) == 0 else _column(v)
+            except (TypeError, ValueError):  # (ragged, or nested deeper than a point per design)
+                got = f"an array of shape {v.shape}" if isinstance(v, np.ndarray) else repr(v)
+                raise InputError(f"design column {k!r} must hold one value per design (a number, or a point (x, y)), "
+                                 f"each of one shape: got {got}") from None
         sizes = {k: len(c) for k, c in cols.items() if c is not None}
         if not sizes or len(set(sizes.values())) != 1 or 0 in sizes.values():
             raise InputError("designs must be a dict of columns of equal, non-zero lengths (one value per design) "
@@ -94,6 +101,8 @@ class Vary:
     def check_all(self, designs, first=0):
         """:meth:`check` each of ``designs`` (dicts), the first wrong named as design first + d:
         a column at once where it is all finite floats."""
+        if not isinstance(designs, (list, tuple)) or not all(isinstance(x, dict) for x in designs):
+            raise InputError(f"check_all takes a list of designs, each a dict of numbers by name, got {designs!r}")
         for name in set().union(*designs):
             col = [x.get(name, 0.0) for x in designs]
             if name not in self.numbers or not all(type(v) is float for v in col) or not np.isfinite(col).all():
@@ -107,6 +116,9 @@ class Vary:
                 raise InputError(f"design {first + d}: {e}") from None
 
     def check(self, numbers):
+        """Refuse ``numbers`` (a dict: name -> value) that are no numbers of the mechanism or not finite."""
+        if not isinstance(numbers, dict):
+            raise InputError(f"a design's numbers are a dict of numbers by name, got {numbers!r}")
         unknown = sorted(set(numbers) - set(self.numbers))
         if unknown:
             raise InputError(f"{unknown} are no numbers of mechanism {self.mechanism.name!r}: it has "
@@ -164,6 +176,10 @@ def join(designs, parts, first=0):
         at = slice(p.lo - first, p.lo - first + len(p.errors))
         if out is None:
             whole = p.lo == first and len(p.errors) == len(designs)  # one batch: its arrays are the study's
+            if not whole:
+                arguments.size(p.template, len(designs) * dims[0], f"the study of {len(designs)} designs x {dims[0]} "
+                               "values, a sweep", fix="sweep fewer designs, or on a cluster into a store "
+                               "(planar.cluster.sweep_designs_to_store)")
             out, rates, template = p.out if whole else Results(len(designs), *dims), (p.Ud, p.Udd), p.template
         elif dims != out.q.shape[1:] + out.U.shape[2:]:
             raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
@@ -255,6 +271,8 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
         if d not in models:
             try:
                 models[d] = compile_unplanned(mechanism(d)) if mechanism(d) is not None else None
+                if models[d] is not None and not models[d].drivers:  # (as its sweep would refuse it)
+                    raise MobilityError(models[d]._undriven())
             except PlanarError as e:
                 models[d], errors[d] = None, f"design {lo + d} {table[lo + d]}: {e}"
         return models[d]
@@ -305,13 +323,16 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     shapes = {U[d].shape for d in U}
     if len(shapes) > 1:
         raise InputError(f"values give designs different numbers of points {sorted(shapes)}: a study needs one N")
+    N, f = next(iter(shapes))
+    arguments.size(ref, D * N, f"a batch of {D} designs x {N} values, a sweep", fix="sweep fewer designs a batch "
+                   "(batch=), or fewer values")
     for g in groups:
-        if g.model.n != ref.n:
+        if (g.model.n, len(g.model.drivers)) != (ref.n, len(ref.drivers)):
             d = g.index[0]
-            raise InputError(f"design {lo + d} {table[lo + d]} has {g.model.n} coordinates, design "
-                             f"{lo + groups[0].index[0]} {ref.n}: a study sweeps designs of one structure")
+            raise InputError(f"design {lo + d} {table[lo + d]} has {g.model.n} coordinates and "
+                             f"{len(g.model.drivers)} inputs, design {lo + groups[0].index[0]} {ref.n} and "
+                             f"{len(ref.drivers)}: a study sweeps designs of one structure")
         _check_walks(g, U, options["max_step"], alone)
-    N, f = shapes.pop()
     Ud, Udd = ref.as_inputs(velocity, "velocity", N), ref.as_inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
     out = Results(D, N, ref.n, f)
@@ -372,7 +393,10 @@ def _values_of(values, design, d, f):
     row per design, (D, N) for one input (f = 1) or (D, N, f); else ``values`` itself."""
     if callable(values):
         return values(design)
-    a = np.asarray(values) if isinstance(values, (list, tuple, np.ndarray)) else None
+    try:
+        a = np.asarray(values) if isinstance(values, (list, tuple, np.ndarray)) else None
+    except ValueError:  # (ragged: the values as they are, which the sweep's checks refuse by name)
+        a = None
     if a is not None and a.dtype != object and (a.ndim == 3 or (a.ndim == 2 and f == 1 and a.shape[1] != 1)):
         if d >= a.shape[0]:
             raise InputError(f"values of shape {a.shape} give {a.shape[0]} designs their values (one row each), "

@@ -153,7 +153,7 @@ class Model:
 
     def joint(self, name):
         for j in self.joints:
-            if j.name == name:
+            if isinstance(name, str) and j.name == name:  # (an array would compare element by element)
                 return j
         raise ModelError(f"unknown joint {name!r}: the joints are {[j.name for j in self.joints]}")
 
@@ -215,7 +215,7 @@ class Model:
         return Tracker(self, **options)
 
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
-                max_step: float = 0.05) -> "Sweep":
+                max_step: float = 0.05, **options: Any) -> "Sweep":
         """The whole circuit through the assembled sketch of a one-input model, in one sweep.
 
         The input starts at the sketch and rises; where it cannot go further (a limit
@@ -239,6 +239,8 @@ class Model:
         from planar import arguments
         from planar.circuit import circuit
 
+        if options:  # (the sweep's other options mean nothing to a circuit: named, not a bare TypeError)
+            raise InputError(f"unknown circuit option {sorted(options)[0]!r}: the options are tol, max_step")
         arguments.size(self, samples, "the circuit", arguments.CIRCUIT_BYTES_PER_COORDINATE)
         return circuit(self, samples, velocity, acceleration, tol=arguments.tolerance(tol),
                        max_step=arguments.max_step(max_step))
@@ -265,6 +267,10 @@ class Model:
                              f"{' with masked values' if np.ma.is_masked(values) else ''}")
         if is_complex(values):  # (numpy would read complex scalars in a list as their real parts)
             raise InputError(f"sweep {what} must be real numbers, got complex ones")
+        if N is None and getattr(read, "ndim", 1) >= 1 and hasattr(read, "__len__"):
+            from planar import arguments
+
+            arguments.size(self, len(read))  # (before the copy as floats: 1e9 values of int8 are 8 GB of them)
         try:
             a = np.array(read, dtype=float, order="C")
         except (TypeError, ValueError):
