@@ -53,3 +53,16 @@ class SynthesisError(PlanarError):
 
 class IndeterminateWarning(UserWarning):
     """Reactions that are not unique (redundant joints): the minimum-norm split is returned."""
+
+
+def shown(value):
+    """``value`` as an error message shows it: its repr, at most 60 characters (an integer of
+    more digits than Python writes, by its size).
+
+    >>> shown("mm"), shown(10**5000)
+    ("'mm'", 'an integer of 16610 bits')
+    """
+    try:
+        return repr(value)[:60]
+    except ValueError:
+        return f"an integer of {value.bit_length()} bits"

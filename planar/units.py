@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planar.errors import InputError
+from planar.errors import InputError, shown
 
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 RATE_UNITS = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "rpm": 2.0 * math.pi / 60.0}
@@ -62,16 +62,8 @@ def given(units):
 
 def _check(unit, table, what):
     if not isinstance(unit, str) or unit not in table:
-        raise InputError(f"unknown {what} unit {_shown(unit)}: use one of {', '.join(table)}")
+        raise InputError(f"unknown {what} unit {shown(unit)}: use one of {', '.join(table)}")
     return unit
-
-
-def _shown(unit):
-    """repr(unit) for a message (an integer of thousands of digits has none)."""
-    try:
-        return repr(unit)
-    except ValueError:
-        return "an integer of thousands of digits"
 
 
 def _scale(value, factor):
@@ -103,7 +95,7 @@ class Units:
 
     def __post_init__(self):
         if not isinstance(self.length, str) or len(self.length) > 16 or not re.fullmatch(r"[^\s\[\]]*", self.length):
-            raise InputError(f"length unit must be a short label without spaces, like 'mm', got {_shown(self.length)}")
+            raise InputError(f"length unit must be a short label without spaces, like 'mm', got {shown(self.length)}")
         _check(self.angle, ANGLE_UNITS, "angle")
         _check(self.rate, RATE_UNITS, "rate")
 

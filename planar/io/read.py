@@ -6,7 +6,7 @@ import math
 import os
 from pathlib import Path
 
-from planar.errors import FileFormatError, InputError, ModelError, PlanarError
+from planar.errors import FileFormatError, InputError, ModelError, PlanarError, shown
 from planar.io.document import NUM, MechanismFile, SweepSettings
 from planar.io.schema import LOAD_FIELDS, MASS_FIELDS, SWEEP_FIELDS, TOP_FIELDS, VERSION, Checker, valid
 from planar.joints import FILE_TYPES
@@ -288,7 +288,7 @@ def _not_json(data):
         if isinstance(v, dict):
             names = [k for k in v if not isinstance(k, str)]
             if names:
-                return where or "file", f"the field name {_shown(names[0])}"
+                return where or "file", f"the field name {shown(names[0])}"
             todo.extend((f"{where}.{k}" if where else k, x) for k, x in reversed(v.items()))
         elif isinstance(v, (list, tuple)):
             todo.extend((f"{where}[{i}]", x) for i, x in reversed(list(enumerate(v))))
@@ -296,16 +296,8 @@ def _not_json(data):
             try:
                 json.dumps(v)
             except (TypeError, ValueError):
-                return where or "file", _shown(v)
+                return where or "file", shown(v)
     return None
-
-
-def _shown(v):
-    """``v`` as a message shows it: its repr, at most 60 characters."""
-    try:
-        return repr(v)[:60]
-    except ValueError:  # (an integer of more digits than Python writes)
-        return f"an integer of {v.bit_length()} bits"
 
 
 def load(path, length_unit=None):
