@@ -90,7 +90,11 @@ class Load:
 
 def _per_value(value, inputs, shape, what):
     if callable(value):
-        got = value(inputs)
+        try:
+            got = value(inputs)
+        except TypeError as e:  # (a function that does not take the input values)
+            raise ModelError(f"a load's {what} function must take the input values, an (N, f) array, and give "
+                             f"shape {shape}; calling it raised TypeError: {e}") from None
         try:
             if is_complex(got):  # (numpy would drop the imaginary parts, with a warning)
                 raise TypeError(got)

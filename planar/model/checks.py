@@ -25,7 +25,8 @@ def finite(value, what, shape=None):
     if is_complex(value):  # (numpy would read a complex scalar as its real part)
         raise ModelError(f"{what} must be a real number, got {value!r}")
     try:
-        a = np.asarray(value, dtype=float)
+        with np.errstate(over="ignore"):  # (a longdouble beyond float64 reads inf: refused below)
+            a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be numeric, got {value!r}") from None
     except OverflowError:  # (an integer beyond any float)

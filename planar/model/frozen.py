@@ -272,7 +272,8 @@ class Model:
 
             arguments.size(self, len(read))  # (before the copy as floats: 1e9 values of int8 are 8 GB of them)
         try:
-            a = np.array(read, dtype=float, order="C")
+            with np.errstate(over="ignore"):  # (a longdouble beyond float64 reads inf: refused below)
+                a = np.array(read, dtype=float, order="C")
         except (TypeError, ValueError):
             raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
         except OverflowError:  # (an integer beyond any float)
