@@ -3,6 +3,7 @@ out for drawing, the single-value query, the exports, and the page's document dr
 (Bokeh needed for the last ones only)."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -216,6 +217,35 @@ def test_the_page_opens_a_file_in_its_units_and_refuses_a_bad_one(page):
     assert "distance O4-B = 30 cannot hold" in page.message.text
     page.open_text('{"version": 1, "bodies": 3}', "bad.json")
     assert "bad.json" in page.message.text and "planar-error" in page.message.text
+
+
+@pytest.mark.parametrize("change, message", [
+    # (each a traceback on the server's stderr and no message on the page)
+    (lambda p: setattr(p.choice, "value", "bogus"), "unknown mechanism 'bogus': choose one of four_bar"),  # (KeyError)
+    (lambda p: setattr(p.choice, "value", "mechanism file"), "no mechanism file is open"),  # (AttributeError)
+    (lambda p: setattr(p.output, "value", "bogus"), "unknown output 'bogus'"),  # (KeyError)
+    (lambda p: setattr(p.output, "value", "angle:nobody"), "unknown output 'angle:nobody'"),  # (the InputError, raised)
+    (lambda p: setattr(p.angle, "value", "grad"), "unknown angle unit 'grad'"),  # (the InputError, raised)
+    (lambda p: setattr(p.rate_unit, "value", "hz"), "unknown rate unit 'hz'"),
+    # (a binascii.Error; with no file name, bokeh's UnsetValueError)
+    (lambda p: p.opener.set_from_json("value", "!!!not base64") or p._shown(p.open_file), "not a text file"),
+    (lambda p: p.open_text('{"version": 1}', "x.json"), "has no driver and nothing to drive"),  # (an IndexError)
+    (lambda p: setattr(p.rate, "value_input", "1e-308"), "input rate: 1e-308 rad/s is beyond what the page times"),
+])
+def test_values_a_client_sends_that_the_page_did_not_offer_are_messages(page, change, message):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (a tiny rate overflowed the circuit's time axis)
+        change(page)
+    assert message in page.message.text and "planar-error" in page.message.text
+
+
+def test_a_start_that_overflows_in_another_angle_unit_stays_as_typed(page):
+    page.angle.value = "rad"
+    _field(page, "start").value_input = "1e308"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (1e308 rad in degrees overflowed, with numpy's warning)
+        page.angle.value = "deg"
+    assert _field(page, "start").value_input == "1e308" and "planar-error" in page.message.text
 
 
 def test_forces_are_offered_for_a_mechanism_with_masses_and_match_the_library():

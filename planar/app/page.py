@@ -20,7 +20,7 @@ from planar.app.forms import FORMS, Design, FileDesign
 from planar.app.frames import output_label, outputs, pose_lines, solve
 from planar.app.scripts import DOWNLOAD, PLAY, SHOW
 from planar.draw import ACCELERATION, EDGE, EVENT_MARK, PATH_COLOURS, VELOCITY
-from planar.errors import InputError, PlanarError
+from planar.errors import InputError, MobilityError, PlanarError
 from planar.results import Status
 from planar.units import ANGLE_UNITS, LENGTH_UNITS, RATE_UNITS, Units
 
@@ -166,20 +166,33 @@ class Page:
         doc.add_root(self.download)  # drawn by no figure: a root of its own, so that its changes reach the page
         doc.title = "planar app"
 
-        self.choice.on_change("value", lambda a, o, n: self.pick())
+        self.choice.on_change("value", self._guard(lambda a, o, n: self.pick()))
         # the page sends the file's content before its name: read both on the next tick
-        self.opener.on_change("value", lambda a, o, n: doc.add_next_tick_callback(self.open_file))
-        self.length.on_change("value", lambda a, o, n: self.restate(o, n))
-        self.angle.on_change("value", lambda a, o, n: self.reangle(o, n))
-        self.rate_unit.on_change("value", lambda a, o, n: self.rerate(o, n))
-        self.rate.on_change("value_input", lambda a, o, n: self.refresh())
-        self.modes.on_change("active", lambda a, o, n: self.refresh())
-        self.output.on_change("value", lambda a, o, n: self.replot())
-        self.axis.on_change("value", lambda a, o, n: self.replot())
-        self.query.on_change("value", lambda a, o, n: self.ask())
+        self.opener.on_change("value", lambda a, o, n: doc.add_next_tick_callback(lambda: self._shown(self.open_file)))
+        self.length.on_change("value", self._guard(lambda a, o, n: self.restate(o, n)))
+        self.angle.on_change("value", self._guard(lambda a, o, n: self.reangle(o, n)))
+        self.rate_unit.on_change("value", self._guard(lambda a, o, n: self.rerate(o, n)))
+        self.rate.on_change("value_input", self._guard(lambda a, o, n: self.refresh()))
+        self.modes.on_change("active", self._guard(lambda a, o, n: self.refresh()))
+        self.output.on_change("value", self._guard(lambda a, o, n: self.replot()))
+        self.axis.on_change("value", self._guard(lambda a, o, n: self.replot()))
+        self.query.on_change("value", self._guard(lambda a, o, n: self.ask()))
         if start is not None:
             self.set_units(start.units)
         self.pick()
+
+    def _guard(self, f):
+        """The change callback ``f(attr, old, new)`` with its PlanarError shown as the page's message:
+        a value the page did not offer (another mechanism, output or unit) may still come from a client."""
+        def run(attr, old, new):
+            self._shown(f, attr, old, new)
+        return run
+
+    def _shown(self, f, *args):
+        try:
+            f(*args)
+        except PlanarError as e:
+            self.message.text = _message([str(e)], "error")
 
     # ---- the design ------------------------------------------------------------------------
 
@@ -200,7 +213,7 @@ class Page:
             unit = self.angle.value if f.kind == "angle" else self.length.value
             w = self.TextInput(title=f"{f.name} [{unit}]", name=f.name, value=text, value_input=text, width=FIELD_WIDTH,
                                css_classes=[f"planar-field-{f.name.replace(' ', '-')}"])
-            w.on_change("value_input", lambda a, o, n: self.refresh())
+            w.on_change("value_input", self._guard(lambda a, o, n: self.refresh()))
             widgets.append(w)
         from bokeh.layouts import row
 
@@ -212,6 +225,10 @@ class Page:
 
     def pick(self):
         """A catalogue mechanism (at its default dimensions) or the opened file."""
+        if self.choice.value == FILE and self.file is None:
+            raise InputError("no mechanism file is open: open one with the file button first")
+        if self.choice.value != FILE and self.choice.value not in FORMS:
+            raise InputError(f"unknown mechanism {self.choice.value!r}: choose one of {', '.join(FORMS)}")
         if self.choice.value == FILE:
             self.design = self.file
             self.show_fields(self.file.fields, {f.name: f.default for f in self.file.fields})
@@ -225,10 +242,15 @@ class Page:
         self.refresh()
 
     def open_file(self):
-        name = self.opener.filename or "mechanism.json"
+        from bokeh.core.property.descriptors import UnsetValueError
+
         try:
-            text = base64.b64decode(self.opener.value).decode("utf-8")
-        except UnicodeDecodeError:
+            name = self.opener.filename or "mechanism.json"
+        except UnsetValueError:  # (a client that sent the content alone)
+            name = "mechanism.json"
+        try:
+            text = base64.b64decode(self.opener.value, validate=True).decode("utf-8")
+        except (ValueError, UnicodeDecodeError):  # (binascii.Error, a ValueError: not base64 at all)
             self.message.text = _message([f"{name}: not a text file (a mechanism file is UTF-8 JSON)"], "error")
             return
         self.open_text(text, name)
@@ -284,10 +306,14 @@ class Page:
 
     @staticmethod
     def _convert(text, to_internal, from_internal):
+        """A number typed in one unit, in another (as typed where it is no number, or overflows:
+        the field's check says so)."""
         try:
-            return _fmt(float(from_internal(to_internal(float(text)))))
+            with np.errstate(over="ignore"):
+                v = float(from_internal(to_internal(float(text))))
         except ValueError:
             return text
+        return _fmt(v) if np.isfinite(v) else text
 
     def current(self, units=None):
         """The design as typed now (raises the field's InputError)."""
@@ -305,6 +331,8 @@ class Page:
             self.checks.text = _message(design.checks(), "note")
             rate = _rate(self.rate.value_input, units)
             model = design.build().compile()
+            if not model.drivers:  # (a file of no input: nothing to sweep)
+                raise MobilityError(model._undriven())
             self.rate.title = f"input rate [{units.input_label(bool(model.input_lengths[0]), 1)}]"
             checks = design.checks() + _loop_checks(design, model)
             self.checks.text = _message(checks, "note")
@@ -373,6 +401,8 @@ class Page:
         if c is None:
             return
         spec = self.output.value
+        if spec not in outputs(c.model):
+            raise InputError(f"unknown output {spec!r}: choose one of the list")
         label = output_label(spec, c.units, c.model)
         y = c.series(spec)
         px = c.x if self.axis.value == "input" else c.time
@@ -443,6 +473,9 @@ def _rate(text, units):
     v = read_number(text, Field("input rate", "rate", 1.0, "signed"))
     if v == 0:
         raise InputError(f"input rate: 0 {units.rate} does not move the mechanism: type a non-zero rate like 10")
+    if not 1e-100 <= abs(v) <= 1e100:  # (the circuit's time axis, the input over the rate, would overflow)
+        raise InputError(f"input rate: {v:g} {units.rate} is beyond what the page times (1e-100 to 1e100): type a "
+                         f"rate like 10")
     return v
 
 
