@@ -47,6 +47,10 @@ from planar.sweep import Branch, input_scale
 TURN = 2 * np.pi
 MAX_TURNS = 12  # input travel, in turns, after which a circuit that has not closed is given up
 MAX_STEPS = 1e5  # tracer steps the circuit may take at most (one pose at a time: ~1 ms each)
+# coordinates a circuit traces at most: each tracer step takes SVDs of their Jacobian, and a train's
+# gears lengthen the curve (a planetary train of 30 planets, 96 coordinates: 4,300 steps, ~4 s; of
+# 50, 156 coordinates: a minute)
+MAX_COORDINATES = 120
 CLOSED = 1e-6  # scaled distance from the sketch's pose that counts as back at the start
 CHUNK = 8192
 
@@ -66,6 +70,9 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
     whole = not isinstance(samples, bool) and isinstance(samples, (int, np.integer))
     if not whole or samples < 2:
         raise InputError(f"circuit samples must be a whole number of at least 2, got {samples!r}")
+    if model.n > MAX_COORDINATES:
+        raise InputError(f"the circuit of {model.name!r} would trace its {model.n} coordinates one pose at a time, "
+                         f"more than {MAX_COORDINATES} (a minute and more): sweep it with Model.sweep")
     p = block_plan(model)
     tr = Tracer(model, p, model.q0, model.u0, model.u0 + TURN / input_scale(model)[0], max_step)
     Y, T, limits, marks = _trace(model, p, tr, max_step, tol)

@@ -116,6 +116,13 @@ def test_bad_circuit_arguments(kwargs, message):
         four_bar().circuit(**kwargs)
 
 
+def test_a_circuit_of_more_coordinates_than_it_traces_is_refused_up_front():
+    # (a planetary train of 50 planets, 156 coordinates: its circuit of 91 samples took 63 s)
+    with pytest.raises(InputError, match="would trace its 156 coordinates one pose at a time, more than 120 .* sweep "
+                                         "it with Model.sweep"):
+        planetary_gear_train(1.0, 0.5, planets=50).circuit(91)
+
+
 # (None, "1.0" and True were moves to NaN, 1.0 and 1.0)
 @pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]], 10**400, np.complex128(1 + 2j), "1.0", True,
                                    np.bool_(False), [True]])
@@ -327,6 +334,9 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     (lambda: slider_crank(offset=-1e300), "offset = -1e\\+300 is beyond the numbers a sketch holds"),
     (lambda: four_bar(ground=1e-300), "ground = 1e-300 is beyond the lengths a sketch holds"),
     (lambda: open_chain([1.0, 1.0], start="abc"), "start must hold 2 finite angles, one per link; got 'abc'"),
+    # (its centre circling 1e9 times a turn of the wheel: a sweep of two values ran on for minutes)
+    (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.0 + 1e-9),
+     "its centre would circle 1e\\+09 times a turn of the wheel, more than 10000"),
 ])
 def test_bad_catalogue_arguments(call, message):
     with pytest.raises(ModelError, match=message):
