@@ -2,6 +2,7 @@
 it and the fix; the command line prints one line and exits 2 for a bad command line, 1 for a bad
 file; sizes that cannot fit in memory or time are refused with the limit named."""
 
+import importlib.util
 import json
 import math
 import os
@@ -255,11 +256,23 @@ def test_a_design_study_beyond_memory_is_refused_before_it_is_swept(monkeypatch)
     (lambda: planar.Vary(four_bar()).check_all(None), "check_all takes a list of designs"),
     (lambda: planar.Vary(four_bar()).check_all(["x"]), "check_all takes a list of designs"),
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0]}, [0.1]).velocity(["B"]), "unknown point or joint"),
+    (lambda: planar.sweep_designs(planar.Vary(four_bar()), {"O2-A": [2.0**1023 * 1.9, 1.0]}, [0.1]),  # (a warning)
+     r"O2-A = .* is beyond \+-1e\+100: give the design's numbers in another unit"),
+    (lambda: planar.Vary(four_bar()).check_all([{"O2-A": 1.0}], first="x"), "check_all's first"),  # (a TypeError)
 ])
 def test_bad_design_study_arguments(call, message):
     # (each a ValueError, TypeError or AttributeError of numpy or Python)
     with pytest.raises(planar.PlanarError, match=message):
         call()
+
+
+def test_a_design_drawn_at_an_angle_beyond_the_sketch_keeps_its_error_and_the_others_are_swept():
+    # (its walk from 1e8 rad took 15 GB of stations on the compiled engine; from 1e300 it hung)
+    for engine in ("numpy", "numba") if importlib.util.find_spec("numba") else ("numpy",):
+        study = planar.sweep_designs(planar.Vary(four_bar()), {"O2-A": [1.0, 1.5], "crank": [0.0, 1e8]},
+                                     np.linspace(0.0, 1.0, 5), engine=engine)
+        assert study.errors[0] is None and "drawn at the angle 1e+08 rad, beyond" in study.errors[1]
+        assert study.ok[0].all() and not study.posed[1].any()
 
 
 def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_limit(monkeypatch):

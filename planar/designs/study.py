@@ -16,6 +16,7 @@ from planar.designs.results import DesignSweep, Models
 from planar.designs.tables import compile_unplanned
 from planar.errors import InputError, MobilityError, PlanarError
 from planar.model import Mechanism
+from planar.model.checks import SCALE
 from planar.sweep import run_sweep
 
 
@@ -103,9 +104,12 @@ class Vary:
         a column at once where it is all finite floats."""
         if not isinstance(designs, (list, tuple)) or not all(isinstance(x, dict) for x in designs):
             raise InputError(f"check_all takes a list of designs, each a dict of numbers by name, got {designs!r}")
+        if isinstance(first, bool) or not isinstance(first, (int, np.integer)):
+            raise InputError(f"check_all's first (the index of the first design) must be a whole number, got {first!r}")
         for name in set().union(*designs):
             col = [x.get(name, 0.0) for x in designs]
-            if name not in self.numbers or not all(type(v) is float for v in col) or not np.isfinite(col).all():
+            if (name not in self.numbers or not all(type(v) is float for v in col) or not np.isfinite(col).all()
+                    or np.abs(col).max() > SCALE):
                 break
         else:
             return
@@ -126,6 +130,8 @@ class Vary:
         for name, value in numbers.items():
             if not arguments.finite_number(value):
                 raise InputError(f"{name} must be a finite number, got {value!r}: give every design's numbers")
+            if abs(value) > SCALE:  # (as the builder refuses them: their squares overflow)
+                raise InputError(f"{name} = {value!r} is beyond +-{SCALE:g}: give the design's numbers in another unit")
 
     def __call__(self, **numbers):
         self.check(numbers)
@@ -326,13 +332,14 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     N, f = next(iter(shapes))
     arguments.size(ref, D * N, f"a batch of {D} designs x {N} values, a sweep", fix="sweep fewer designs a batch "
                    "(batch=), or fewer values")
-    for g in groups:
+    for k, g in enumerate(groups):
         if (g.model.n, len(g.model.drivers)) != (ref.n, len(ref.drivers)):
             d = g.index[0]
             raise InputError(f"design {lo + d} {table[lo + d]} has {g.model.n} coordinates and "
                              f"{len(g.model.drivers)} inputs, design {lo + groups[0].index[0]} {ref.n} and "
                              f"{len(ref.drivers)}: a study sweeps designs of one structure")
-        _check_walks(g, U, options["max_step"], alone)
+        groups[k] = _check_walks(g, U, options["max_step"], alone)
+    groups = [g for g in groups if g.index.size]
     Ud, Udd = ref.as_inputs(velocity, "velocity", N), ref.as_inputs(acceleration, "acceleration", N)
     arguments.rates(ref, Ud, Udd)
     out = Results(D, N, ref.n, f)
@@ -375,7 +382,9 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
 
 def _check_walks(g, U, step, alone):
     """Refuse the values (:func:`planar.arguments.values`) whose walk from a design's sketch is
-    too long, for the designs of tables ``g`` at once (the first refused raises)."""
+    too long, for the designs of tables ``g`` at once (the first refused raises). Returns ``g``
+    without the designs whose walk is too long because compiling them alone refuses them (a
+    start beyond +-2^23 rad): they keep that error, as a design that cannot be built does."""
     ref = g.model
     arguments.values(ref, U[g.index[0]], step)  # (no values, too many)
     scale = np.where(ref.input_lengths, g.L[:, None], 1.0)
@@ -383,9 +392,11 @@ def _check_walks(g, U, step, alone):
     with np.errstate(over="ignore", invalid="ignore"):
         jumps = np.abs(np.diff(np.concatenate([g.u0[:, None], u], axis=1), axis=1)) / scale[:, None]
         steps = np.sum(np.max(jumps, axis=2), axis=1) / step
-    for k in np.flatnonzero(~(steps <= arguments.MAX_STEPS)):
+    over = np.flatnonzero(~(steps <= arguments.MAX_STEPS))
+    for k in over:
         if alone(g.index[k]) is not None:
             arguments.values(alone(g.index[k]), U[g.index[k]], step)
+    return g.take(np.setdiff1d(np.arange(g.index.size), over)) if over.size else g
 
 
 def _values_of(values, design, d, f):
