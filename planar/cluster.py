@@ -19,6 +19,8 @@ points), the batches written, and the designs that could not be built, with why.
 """
 
 import itertools
+import os
+import warnings
 
 import numpy as np
 import zarr
@@ -47,14 +49,26 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
     table = design_table(designs)
     options = study_options(batch, options)
     check_fixed(fixed)
+    if isinstance(points, str) or not all(isinstance(p, str) for p in _listed(points, "points")):
+        raise InputError(f"points must be a list of point names, got {points!r}")
     points = tuple(points)
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not 1 <= workers <= MAX_WORKERS:
+        raise InputError(f"workers must be a whole number from 1 to {MAX_WORKERS} (processes of the LocalCluster "
+                         f"made for the call), got {workers!r}")
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress must be a function progress(done, total) or None, got {progress!r}")
     D = len(table)
-    study = dict(D=D, batch=int(batch), points=list(points))
-    group = zarr.open_group(str(store), mode="a")
+    batch = min(int(batch), D)  # (the store's chunks: a batch larger than the study is the study)
+    study = dict(D=D, batch=batch, points=list(points))
+    group = _open(store, "a")
     if "study" in group.attrs and group.attrs["study"] != study:
         raise InputError(f"store {store} holds another study {group.attrs['study']}, not {study}: give a new "
                          "store, or delete this one")
-    group.attrs.update(study=study, done=sorted(group.attrs.get("done", [])), failed=group.attrs.get("failed", {}))
+    done, failed = group.attrs.get("done", []), group.attrs.get("failed", {})
+    if not (isinstance(done, list) and all(isinstance(lo, int) for lo in done) and isinstance(failed, dict)):
+        raise InputError(f"store {store} holds this study with damaged records (done {done!r}, failed {failed!r}): give "
+                         f"a new store, or delete this one")
+    group.attrs.update(study=study, done=sorted(done), failed=failed)
     todo = [lo for lo in range(0, D, batch) if lo not in set(group.attrs["done"])]
     total = -(-D // batch)
     report = progress or Progress("design batches")
@@ -76,6 +90,32 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
             for lo in itertools.islice(waiting, 1):
                 running.add(submit(lo))
     return todo
+
+
+MAX_WORKERS = 256  # processes of a LocalCluster made for a call
+
+
+def _listed(value, what):
+    try:
+        return list(value)
+    except TypeError:
+        raise InputError(f"{what} must be a list, got {value!r}") from None
+
+
+def _open(store, mode):
+    """The Zarr group at ``store`` (a path), or an InputError naming it: a file, a folder that
+    cannot be made or read, a store of other contents."""
+    if not isinstance(store, (str, os.PathLike)) or not str(store) or "\x00" in str(store):
+        raise InputError(f"store must be the path of a folder for the study (no NUL byte), got {store!r}")
+    try:
+        with warnings.catch_warnings():  # (zarr's note on files of other kinds in the folder: not the study's)
+            warnings.simplefilter("ignore", UserWarning)
+            return zarr.open_group(str(store), mode=mode)
+    except FileNotFoundError:
+        raise InputError(f"no store at {store}: give the path a study was written to") from None
+    except (OSError, ValueError, TypeError, ImportError) as e:  # (a file, an array, unreadable metadata, a URL)
+        raise InputError(f"store {store} cannot be opened as a study's Zarr folder ({type(e).__name__}: {e}): "
+                         f"give a new folder, or the one a study was written to") from None
 
 
 class _client:
@@ -136,18 +176,19 @@ def load(store):
     """The study in ``store``: a dict of numpy arrays (the names of the layout above),
     ``failed`` {design index: why} and ``done`` (the first design of each batch written).
     Raises :class:`planar.InputError` while batches are missing."""
-    try:
-        group = zarr.open_group(str(store), mode="r")
-    except FileNotFoundError:
-        raise InputError(f"no store at {store}: give the path a study was written to") from None
+    group = _open(store, "r")
     study = group.attrs.get("study")
-    if study is None:
-        raise InputError(f"{store} is no store of a design study (no 'study' attribute)")
+    if not (isinstance(study, dict) and isinstance(study.get("D"), int) and isinstance(study.get("batch"), int)
+            and study["batch"] > 0 and isinstance(group.attrs.get("done"), list)):
+        raise InputError(f"{store} is no store of a design study (its 'study' and 'done' records are missing or "
+                         f"damaged): give the path a study was written to")
     missing = sorted(set(range(0, study["D"], study["batch"])) - set(group.attrs["done"]))
     if missing:
         raise InputError(f"store {store} misses the batches of designs {missing}: run the study again on it to "
                          "compute them")
-    out = {k: group[k][:] for k in group.array_keys()}
+    with warnings.catch_warnings():  # (as in _open)
+        warnings.simplefilter("ignore", UserWarning)
+        out = {k: group[k][:] for k in group.array_keys()}
     out.update({f"position/{k}": group["position"][k][:] for k in study["points"]})
     out.update(failed={int(k): v for k, v in group.attrs["failed"].items()}, done=list(group.attrs["done"]))
     return out

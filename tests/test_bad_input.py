@@ -259,6 +259,8 @@ def test_a_design_study_beyond_memory_is_refused_before_it_is_swept(monkeypatch)
     (lambda: planar.sweep_designs(planar.Vary(four_bar()), {"O2-A": [2.0**1023 * 1.9, 1.0]}, [0.1]),  # (a warning)
      r"O2-A = .* is beyond \+-1e\+100: give the design's numbers in another unit"),
     (lambda: planar.Vary(four_bar()).check_all([{"O2-A": 1.0}], first="x"), "check_all's first"),  # (a TypeError)
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0]}, lambda d: 1 / 0),  # (the ZeroDivisionError itself)
+     r"values\(\{'crank': 1.0\}\) raised ZeroDivisionError: division by zero: give a function of the design"),
 ])
 def test_bad_design_study_arguments(call, message):
     # (each a ValueError, TypeError or AttributeError of numpy or Python)
@@ -273,6 +275,16 @@ def test_a_design_drawn_at_an_angle_beyond_the_sketch_keeps_its_error_and_the_ot
                                      np.linspace(0.0, 1.0, 5), engine=engine)
         assert study.errors[0] is None and "drawn at the angle 1e+08 rad, beyond" in study.errors[1]
         assert study.ok[0].all() and not study.posed[1].any()
+
+
+def test_a_design_started_far_from_its_values_is_swept_alone():
+    # (the batch walked every step from 1e6 rad: minutes; the sweep solves the values whole turns back)
+    for engine in ("numpy", "numba") if importlib.util.find_spec("numba") else ("numpy",):
+        study = planar.sweep_designs(four_bar, {"crank": [2.0, 1.5], "start": [1e6, 0.0]},
+                                     np.linspace(0.0, 2 * np.pi, 12), engine=engine)
+        assert study.batched.tolist() == [False, True] and study.ok.all()
+        np.testing.assert_allclose(study.q[0], four_bar(crank=2.0, start=1e6).sweep(np.linspace(0.0, 2 * np.pi, 12)).q,
+                                   rtol=0, atol=1e-9)
 
 
 def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_limit(monkeypatch):

@@ -83,3 +83,35 @@ def test_batches_agree_with_one_batch_to_rounding():
     np.testing.assert_allclose(one.q, two.q, rtol=0, atol=1e-12)
     with pytest.raises(planar.InputError, match="batch must be"):
         planar.sweep_designs(four_bar, DESIGNS, TH, fixed=FIXED, batch=0)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    # (each raised by zarr, dask or Python, most after the cluster had started)
+    (dict(store="{file}"), "cannot be opened as a study's Zarr folder"),  # (FileExistsError)
+    (dict(store="{file}/sub"), "cannot be opened as a study's Zarr folder"),  # (NotADirectoryError)
+    (dict(store="a\x00b"), "store must be the path of a folder"),  # (ValueError)
+    (dict(store=""), "store must be the path of a folder"),  # (it wrote into the working folder)
+    (dict(store=3), "store must be the path of a folder"),  # (a folder named 3)
+    (dict(workers=0), "workers must be a whole number from 1 to 256"),  # (returned as if computed)
+    (dict(workers=10**9), "workers must be a whole number from 1 to 256"),  # (a MemoryError)
+    (dict(progress=5), "progress must be a function"),  # (a TypeError after the first batch)
+    (dict(points=5), "points must be a list"),
+    (dict(points=[b"C"]), "points must be a list of point names"),  # (the store's attributes: not JSON)
+])
+def test_bad_store_arguments_are_refused_before_the_cluster_starts(tmp_path, kwargs, message):
+    (tmp_path / "file").write_text("x")
+    store = kwargs.pop("store", str(tmp_path / "study.zarr"))
+    store = store.format(file=tmp_path / "file") if isinstance(store, str) else store
+    with pytest.raises(planar.InputError, match=message):
+        cluster.sweep_designs_to_store(four_bar, {"crank": [1.0, 1.1]}, TH, store=store, **dict(dict(batch=1, workers=1),
+                                                                                                **kwargs))
+
+
+def test_a_store_that_is_no_study_is_refused_by_load(tmp_path):
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(planar.InputError, match="no store at"):
+        cluster.load(tmp_path / "file")
+    group = __import__("zarr").open_group(str(tmp_path / "odd.zarr"), mode="w")
+    group.attrs.update(study=5)  # (a TypeError, then KeyErrors for other records)
+    with pytest.raises(planar.InputError, match="is no store of a design study"):
+        cluster.load(tmp_path / "odd.zarr")

@@ -18,6 +18,7 @@ from planar.errors import InputError, MobilityError, PlanarError
 from planar.model import Mechanism
 from planar.model.checks import SCALE
 from planar.sweep import run_sweep
+from planar.sweep.walk import WALK_STEPS
 
 
 def design_table(designs):
@@ -383,8 +384,9 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
 def _check_walks(g, U, step, alone):
     """Refuse the values (:func:`planar.arguments.values`) whose walk from a design's sketch is
     too long, for the designs of tables ``g`` at once (the first refused raises). Returns ``g``
-    without the designs whose walk is too long because compiling them alone refuses them (a
-    start beyond +-2^23 rad): they keep that error, as a design that cannot be built does."""
+    without the designs whose walk is longer than WALK_STEPS: those are swept alone (the sweep
+    solves far values whole periods back; the batch walks every step: from a start of 1e6 rad,
+    for minutes), or keep the error that compiling them alone gives (a start beyond +-2^23 rad)."""
     ref = g.model
     arguments.values(ref, U[g.index[0]], step)  # (no values, too many)
     scale = np.where(ref.input_lengths, g.L[:, None], 1.0)
@@ -392,18 +394,22 @@ def _check_walks(g, U, step, alone):
     with np.errstate(over="ignore", invalid="ignore"):
         jumps = np.abs(np.diff(np.concatenate([g.u0[:, None], u], axis=1), axis=1)) / scale[:, None]
         steps = np.sum(np.max(jumps, axis=2), axis=1) / step
-    over = np.flatnonzero(~(steps <= arguments.MAX_STEPS))
-    for k in over:
+    for k in np.flatnonzero(~(steps <= arguments.MAX_STEPS)):
         if alone(g.index[k]) is not None:
             arguments.values(alone(g.index[k]), U[g.index[k]], step)
-    return g.take(np.setdiff1d(np.arange(g.index.size), over)) if over.size else g
+    far = np.flatnonzero(~(steps <= WALK_STEPS))
+    return g.take(np.setdiff1d(np.arange(g.index.size), far)) if far.size else g
 
 
 def _values_of(values, design, d, f):
     """Design d's input values: ``values(design)`` for a function; row d of an array of one
     row per design, (D, N) for one input (f = 1) or (D, N, f); else ``values`` itself."""
     if callable(values):
-        return values(design)
+        try:
+            return values(design)
+        except Exception as e:  # (the user's function: its error, named with the design it was given)
+            raise InputError(f"values({design}) raised {type(e).__name__}: {e}: give a function of the design dict "
+                             f"that returns its input values") from e
     try:
         a = np.asarray(values) if isinstance(values, (list, tuple, np.ndarray)) else None
     except ValueError:  # (ragged: the values as they are, which the sweep's checks refuse by name)
