@@ -23,6 +23,11 @@ complete coupler curve:
    Rates come from the linear solves, with input rate ``+velocity`` where the input rises
    and ``-velocity`` where it falls (``acceleration`` likewise).
 
+An angle input that turns fully with nothing met on the way (every value of a turn's sweep
+``SOLVED``, no event) is swept instead, a turn at a time until the pose is back at the
+sketch's, and its samples spaced evenly along the chords of those poses: a sweep solves every
+pose of a turn in batches, where the tracer steps one pose at a time.
+
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
 >>> res = circuit(four_bar(4, 3, 3, 3).compile(), samples=9)   # a triple rocker
@@ -47,9 +52,9 @@ from planar.sweep import Branch, input_scale
 TURN = 2 * np.pi
 MAX_TURNS = 12  # input travel, in turns, after which a circuit that has not closed is given up
 MAX_STEPS = 1e5  # tracer steps the circuit may take at most (one pose at a time: ~1 ms each)
-# coordinates a circuit traces at most: each tracer step takes SVDs of their Jacobian, and a train's
-# gears lengthen the curve (a planetary train of 30 planets, 96 coordinates: 4,300 steps, ~4 s; of
-# 50, 156 coordinates: a minute)
+# coordinates a circuit traces at most (an input that turns fully is swept instead): each tracer
+# step takes SVDs of their Jacobian, and a train's gears lengthen the curve (a planetary train of
+# 30 planets, 96 coordinates: 4,300 steps, ~4 s; of 50, 156 coordinates: a minute)
 MAX_COORDINATES = 120
 CLOSED = 1e-6  # scaled distance from the sketch's pose that counts as back at the start
 CHUNK = 8192
@@ -70,10 +75,15 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
     whole = not isinstance(samples, bool) and isinstance(samples, (int, np.integer))
     if not whole or samples < 2:
         raise InputError(f"circuit samples must be a whole number of at least 2, got {samples!r}")
-    if model.n > MAX_COORDINATES:
-        raise InputError(f"the circuit of {model.name!r} would trace its {model.n} coordinates one pose at a time, "
-                         f"more than {MAX_COORDINATES} (a minute and more): sweep it with Model.sweep")
     p = block_plan(model)
+    if not model.input_lengths[0]:
+        res = _turns(model, p, samples, v, a, tol, max_step)
+        if res is not None:
+            return res
+    if model.n > MAX_COORDINATES:
+        raise InputError(f"the circuit of {model.name!r} would trace its {model.n} coordinates one pose at a time "
+                         f"(its input does not turn fully, or its sweep meets an event), more than "
+                         f"{MAX_COORDINATES} (a minute and more): sweep it with Model.sweep")
     tr = Tracer(model, p, model.q0, model.u0, model.u0 + TURN / input_scale(model)[0], max_step)
     Y, T, limits, marks = _trace(model, p, tr, max_step, tol)
     bounds = np.r_[0, limits, len(Y) - 1].astype(int)
@@ -114,6 +124,36 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
         events.append(Event(kind, float(tr.u_of(ym)[0]), min(i, samples - 1), tr.q_of(ym), note=note))
     events.sort(key=lambda e: e.index)
     return Sweep(model, U, Ud, Udd, *out, np.full(samples, np.nan), tuple(events))
+
+
+def _turns(model, p, samples, v, a, tol, max_step):
+    """The circuit of an angle input that turns fully with nothing met on the way, as a
+    sweep over its period: whole turns, swept one at a time, until the pose is back at the
+    sketch's (angles modulo a turn); the samples evenly spaced along the swept curve (chords
+    in the tracer's scaled coordinates). None where a turn's sweep meets a limit, an event
+    or any status but SOLVED: the trace follows those."""
+    u0, cs = float(model.u0[0]), model.col_scale[p.cols]
+    step = np.linspace(0.0, TURN, int(np.ceil(TURN / max_step)) + 1)
+    U, Q = [np.array([u0])], [model.q0[None]]
+    for k in range(MAX_TURNS):
+        res = model.sweep(u0 + k * TURN + step[1:], tol=tol, max_step=max_step)
+        if res.events or np.any(res.status != Status.SOLVED):
+            return None
+        U.append(res.inputs[:, 0])
+        Q.append(res.q)
+        if _off_sketch(model, res.q[-1]) <= CLOSED:
+            break
+    else:
+        raise AssemblyError(f"the circuit of {model.name!r} does not come back to its sketch within {MAX_TURNS} "
+                            f"turns of the input (a gear ratio that is not a whole number?): sweep it with "
+                            f"Model.sweep")
+    U, Q = np.concatenate(U), np.concatenate(Q)
+    Y = np.concatenate((Q[:, p.cols] / cs, (U - u0)[:, None]), axis=1)
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(Y, axis=0), axis=1))]
+    values = np.interp(np.linspace(0.0, arc[-1], samples), arc, U)
+    values[[0, -1]] = U[[0, -1]]
+    res = model.sweep(values, velocity=v, acceleration=a, tol=tol, max_step=max_step)
+    return None if res.events or np.any(res.status != Status.SOLVED) else res
 
 
 def _rate(x, what):
@@ -171,8 +211,6 @@ def _trace(model, p, tr, max_step, tol):
     Y, T, limits, marks = [y], [t], [], []
     dets = tr.block_dets(y)
     h, travel, gap = min(max_step, 0.1 * tr.d), 0.0, None
-    phi = np.zeros(model.n, bool)
-    phi[2::3] = True
     for _ in range(int(40 * MAX_TURNS * TURN / max_step)):
         st = tr.step(y, t, h, gap)
         if st is None:
@@ -199,7 +237,7 @@ def _trace(model, p, tr, max_step, tol):
             if pt is not None:
                 marks.append(("singular", len(Y) - 1, pt, "a singular position the circuit passes smoothly"))
         travel += abs(y1[-1] - y[-1])
-        back = _back_at_start(model, p, tr, y, y1, t1, phi, tol)
+        back = _back_at_start(model, p, tr, y, y1, t1, tol)
         if back is not None:
             Y.append(back)
             T.append(tr.tangent(tr.H(back)[1], t1)[0])
@@ -224,7 +262,14 @@ def _zero(tr, y, t, h, max_step, f):
     return (got or pt)[0]
 
 
-def _back_at_start(model, p, tr, y, y1, t1, phi, tol):
+def _off_sketch(model, q):
+    """The scaled distance of pose q (n,) from the sketch's, its angles modulo a turn."""
+    d = (q - model.q0) / model.col_scale
+    d[2::3] = np.angle(np.exp(1j * (q - model.q0)[2::3]))
+    return float(np.max(np.abs(d)))
+
+
+def _back_at_start(model, p, tr, y, y1, t1, tol):
     """The curve point at the sketch's pose if the step y -> y1 passes it with the input
     rising (the sketch's input, or whole turns on for an angle input), else None."""
     if t1[-1] <= 0:
@@ -236,9 +281,7 @@ def _back_at_start(model, p, tr, y, y1, t1, phi, tol):
     w = (s - y[-1]) / (y1[-1] - y[-1])
     u = (model.u0 + s / input_scale(model)[0])[None]
     q, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u, tol=tol, max_iter=ALONG_TANGENT, plan=p)
-    d = (q[0] - model.q0) / model.col_scale
-    d[phi] = np.angle(np.exp(1j * (q[0] - model.q0)[phi]))
-    if not conv[0] or np.max(np.abs(d)) > CLOSED:
+    if not conv[0] or _off_sketch(model, q[0]) > CLOSED:
         return None
     return np.append(q[0][p.cols] / tr.cs, s)
 

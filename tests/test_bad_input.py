@@ -117,11 +117,35 @@ def test_bad_circuit_arguments(kwargs, message):
         four_bar().circuit(**kwargs)
 
 
+def _rocker_driving_a_train(gears):
+    """A triple rocker whose rocker drives a train of ``gears`` gears on fixed axes."""
+    m = four_bar(4, 3, 3, 3)
+    x = 4.0
+    for k in range(1, gears + 1):
+        m.add_body(f"g{k}")
+        x += 1.5
+        m.add_revolute(f"G{k}", m.ground, f"g{k}", at=(x, 0.0))
+        m.add_gear(f"mesh{k}", "rocker" if k == 1 else f"g{k - 1}", f"g{k}", 0.5 if k == 1 else 0.75, 1.0 if k == 1
+                   else 0.75, carrier=m.ground)
+    return m
+
+
 def test_a_circuit_of_more_coordinates_than_it_traces_is_refused_up_front():
-    # (a planetary train of 50 planets, 156 coordinates: its circuit of 91 samples took 63 s)
-    with pytest.raises(InputError, match="would trace its 156 coordinates one pose at a time, more than 120 .* sweep "
-                                         "it with Model.sweep"):
-        planetary_gear_train(1.0, 0.5, planets=50).circuit(91)
+    # (a planetary train of 50 planets, 156 coordinates, traced its circuit of 91 samples in 63 s; an
+    # input that turns fully is now swept, and the trace keeps to what has limits or events)
+    with pytest.raises(InputError, match="would trace its 129 coordinates one pose at a time .*, more than 120 .* "
+                                         "sweep it with Model.sweep"):
+        _rocker_driving_a_train(40).circuit(91)
+
+
+def test_a_circuit_of_an_input_that_turns_fully_is_swept_whatever_its_coordinates():
+    res = planetary_gear_train(1.0, 0.5, planets=50).circuit(91)
+    assert res.model.n == 156 and res.ok.all() and res.events == ()
+    # the carrier turns at a third of the sun's rate (Willis, the ring held): back after three turns
+    assert res.inputs[-1, 0] == 6 * np.pi
+    np.testing.assert_allclose(res.omega("carrier"), 1 / 3, rtol=1e-12)
+    # its poses lie on a straight line in the scaled coordinates: evenly spaced inputs
+    np.testing.assert_allclose(np.diff(res.inputs[:, 0]), 6 * np.pi / 90, rtol=1e-9)
 
 
 # (None, "1.0" and True were moves to NaN, 1.0 and 1.0)
