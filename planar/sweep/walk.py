@@ -14,6 +14,9 @@ HALVINGS = 5  # natural-parameter step halvings before the arclength tracer take
 ROUNDS = 5
 SPREAD = 4  # walk steps between the values a search past a gap tries, at most (0.2 rad by default)
 MAX_SPREAD = 256  # values it tries spread over the rest, at most
+# inputs tried between the neighbours of a dip of the gap that has no target between them, and
+# such dips tried a search, at most (see _folds)
+BETWEEN, MAX_DIPS = 8, 4
 PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
 MODE_PERIODS = 4  # periods the walk from the sketch may go on in other modes before it comes back
 SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
@@ -274,6 +277,8 @@ class Walker:
                     break
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick], decide=GAP)
             pick, ql, gap = _dips(br.m, g, targets, pick, ql, gap)
+            if not np.any(gap <= GAP):
+                ql, gap = self._folds(g, signs, targets, pick, ql, gap, poses, circuit)
             near = np.flatnonzero(gap <= GAP)
             assembles |= near.size > 0
             # the first few, and a few spread over the rest: next to a limit's far side Newton
@@ -287,6 +292,47 @@ class Walker:
                     best = (int(pick[c]), qe)
                     break
         return best, assembles
+
+    def _folds(self, g, signs, targets, pick, ql, gap, poses, circuit):
+        """The least-squares poses ``ql`` and gaps of the search's values ``pick`` (indices into
+        ``targets``), where none assembles from ``g``, with a pose of the branch at the first
+        pick past an input that assembles between the neighbours of a dip of the gap with no
+        target between them: least squares from ``g`` at BETWEEN inputs between them, the first
+        that assembles entered (:meth:`enter`) and walked on from. Past the fold at a gap's far
+        end the minimum least squares finds from a pose before the gap may touch zero only
+        within a few hundredths of a radian (a Watt six-bar, there in other modes: its values a
+        walk step apart past a gap of 0.73 rad were all NOT_ASSEMBLABLE, where values 0.02 apart
+        entered the range at its far end)."""
+        if pick.size < 2:
+            return ql, gap
+        # inner minima (next to the limit the gap is least for the limit's sake) steep enough
+        # to reach zero between the neighbours, as a V: the minimum at most as far above zero
+        # as the steeper side rises over one step
+        mid, lo, hi = gap[1:-1], gap[:-2], gap[2:]
+        inner = np.flatnonzero((mid < lo) & (mid < hi) & (2 * mid <= np.maximum(lo, hi))) + 1
+        w = np.linspace(0.0, 1.0, BETWEEN + 2)[1:-1]
+        for d in inner[:MAX_DIPS]:
+            a, b = d - 1, d + 1
+            if pick[b] - pick[a] > 2:  # (targets between them: _dips searched those)
+                continue
+            ua, ub = targets[pick[a]], targets[pick[b]]
+            qm, gm = least_squares_gap(self.br.m, np.repeat(g[None], BETWEEN, 0), ua + w[:, None] * (ub - ua),
+                                       decide=GAP)
+            ok = np.flatnonzero(gm <= GAP)
+            if not ok.size:
+                continue
+            u_e = ua + w[ok[0]] * (ub - ua)
+            qe = self.enter([qm[ok[0]]], signs, u_e, poses, circuit)
+            if qe is None:
+                continue
+            # the first pick past the entry, walked to from it
+            c = next(k for k in range(a, b + 1) if k == b or (targets[pick[k]] - ua) @ (ub - ua) >= w[ok[0]] * (ub - ua) @ (ub - ua))
+            got = self.walk(qe, u_e, signs, targets[pick[c]], int(pick[c]))
+            if got[0] == "ok":
+                ql, gap = ql.copy(), gap.copy()
+                ql[c], gap[c] = got[1], 0.0
+                return ql, gap
+        return ql, gap
 
     def enter_by_period(self, qs, us, signs, targets, tries=8):
         """(index, pose, modes) of the first of ``targets`` (M, 1) within a step of a pose solved
