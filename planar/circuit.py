@@ -23,10 +23,10 @@ complete coupler curve:
    Rates come from the linear solves, with input rate ``+velocity`` where the input rises
    and ``-velocity`` where it falls (``acceleration`` likewise).
 
-An angle input that turns fully with nothing met on the way (every value of a turn's sweep
-``SOLVED``, no event) is swept instead, a turn at a time until the pose is back at the
-sketch's, and its samples spaced evenly along the chords of those poses: a sweep solves every
-pose of a turn in batches, where the tracer steps one pose at a time.
+An angle input that turns fully with nothing met on the way (every walk step ``SOLVED`` and
+certified, no event) is swept instead, a few walk steps at a time until the pose is back at
+the sketch's, and its samples spaced evenly along the chords of those poses: each step is one
+Newton solve of a few poses at once, where the tracer steps one pose at a time, with SVDs.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -128,20 +128,29 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
 
 def _turns(model, p, samples, v, a, tol, max_step):
     """The circuit of an angle input that turns fully with nothing met on the way, as a
-    sweep over its period: whole turns, swept one at a time, until the pose is back at the
-    sketch's (angles modulo a turn); the samples evenly spaced along the swept curve (chords
-    in the tracer's scaled coordinates). None where a turn's sweep meets a limit, an event
-    or any status but SOLVED: the trace follows those."""
+    sweep over its period: whole turns, walked SPARSE steps of ``max_step`` at a time by the
+    direct path (:func:`planar.tracking.direct`: each value one walk step from the pose before,
+    with the sweep's acceptance test), until the pose is back at the sketch's (angles modulo a
+    turn); the samples evenly spaced along the chords of those poses, swept. None where a
+    step is not certified or not SOLVED, or meets an event (a limit, a singular position: the
+    trace follows those, and only the steps up to there were spent)."""
+    from planar.sweep import SPARSE
+    from planar.tracking import direct
+
     u0, cs = float(model.u0[0]), model.col_scale[p.cols]
-    step = np.linspace(0.0, TURN, int(np.ceil(TURN / max_step)) + 1)
+    step = np.linspace(0.0, TURN, int(np.ceil(TURN / max_step)) + 1)[1:]
+    options = dict(tol=tol, max_step=max_step)
+    one, zero = np.ones((SPARSE, 1)), np.zeros((SPARSE, 1))
     U, Q = [np.array([u0])], [model.q0[None]]
     for k in range(MAX_TURNS):
-        res = model.sweep(u0 + k * TURN + step[1:], tol=tol, max_step=max_step)
-        if res.events or np.any(res.status != Status.SOLVED):
-            return None
-        U.append(res.inputs[:, 0])
-        Q.append(res.q)
-        if _off_sketch(model, res.q[-1]) <= CLOSED:
+        for j in range(0, step.size, SPARSE):
+            u = (u0 + k * TURN + step[j : j + SPARSE])[:, None]
+            res = direct(model, u, one[: len(u)], zero[: len(u)], options)
+            if res is None or res.events or np.any(res.status != Status.SOLVED):
+                return None
+            U.append(u[:, 0])
+            Q.append(res.q)
+        if _off_sketch(model, Q[-1][-1]) <= CLOSED:
             break
     else:
         raise AssemblyError(f"the circuit of {model.name!r} does not come back to its sketch within {MAX_TURNS} "
