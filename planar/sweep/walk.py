@@ -325,8 +325,9 @@ class Walker:
             qe = self.enter([qm[ok[0]]], signs, u_e, poses, circuit)
             if qe is None:
                 continue
-            # the first pick past the entry, walked to from it
-            c = next(k for k in range(a, b + 1) if k == b or (targets[pick[k]] - ua) @ (ub - ua) >= w[ok[0]] * (ub - ua) @ (ub - ua))
+            # the first pick past the entry (the dip's, or its far neighbour's), walked to from it
+            span = ub - ua
+            c = d if w[ok[0]] <= (targets[pick[d]] - ua) @ span / (span @ span) else b
             got = self.walk(qe, u_e, signs, targets[pick[c]], int(pick[c]))
             if got[0] == "ok":
                 ql, gap = ql.copy(), gap.copy()
