@@ -675,6 +675,25 @@ def test_a_watt_six_bar_enters_the_range_past_its_gap_where_least_squares_reache
     np.testing.assert_allclose(res.q, dense.q[-10:], rtol=0, atol=1e-9)
 
 
+def test_an_input_that_assembles_between_the_searched_values_sends_the_search_to_the_images_a_period_on():
+    # (found by a fuzz campaign) a Stephenson six-bar whose crank's range has a gap (-2.3983,
+    # -0.7178). Past it, least squares from the limit assembles only at -1.86..-1.89, in other
+    # modes, between the values searched: the search read as if nothing there assembled at all,
+    # and left out the sweep of the values' images a period on, which enters the range past the
+    # gap (values 0.02 apart, one of them in -1.86..-1.89, had it)
+    kw = dict(coupler_point=(1.532247435573936, 4.492026060434459), link_5=11.216623194224695,
+              link_6=4.500564635513335, pivot_6=(2.440664695924962, 12.043715461032779),
+              frame_angle=-1.9503721200850885, start=0.46761932012844554)
+    r = (2.146922210982076, 2.6071143222829, 5.40101809669295, 5.876598222667723)
+    U = np.linspace(-0.8, -3.5, 40)
+    res = stephenson_six_bar(*r, **kw).sweep(U)
+    dense = stephenson_six_bar(*r, **kw).sweep(np.r_[np.arange(0.46, -0.8, -0.02), U])
+    past = U < -2.3983
+    assert [e.kind for e in res.events] == ["limit", "limit"] and past.sum() == 16
+    assert (res.status[past] == Status.SOLVED).all() and (dense.status[-40:][past] == Status.SOLVED).all()
+    np.testing.assert_allclose(res.q[past], dense.q[-40:][past], rtol=0, atol=1e-9)
+
+
 def test_values_out_of_reach_one_by_one_cost_what_one_search_does():
     # (found by a fuzz campaign) a Stephenson six-bar sketched 2e-9 from a limit: 166 of 181
     # shuffled values are out of the branch's reach, and the values tried one by one past the

@@ -277,10 +277,11 @@ class Walker:
                     break
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick], decide=GAP)
             pick, ql, gap = _dips(br.m, g, targets, pick, ql, gap)
+            between = False
             if not np.any(gap <= GAP):
-                ql, gap = self._folds(g, signs, targets, pick, ql, gap, poses, circuit)
+                ql, gap, between = self._folds(g, signs, targets, pick, ql, gap, poses, circuit)
             near = np.flatnonzero(gap <= GAP)
-            assembles |= near.size > 0
+            assembles |= near.size > 0 or between
             # the first few, and a few spread over the rest: next to a limit's far side Newton
             # may find only the other mode, where a value further on enters the branch
             for c in np.unique(np.r_[near[:tries], near[np.linspace(0, near.size - 1, tries).astype(int)]]
@@ -298,13 +299,15 @@ class Walker:
         ``targets``), where none assembles from ``g``, with a pose of the branch at the first
         pick past an input that assembles between the neighbours of a dip of the gap with no
         target between them: least squares from ``g`` at BETWEEN inputs between them, the first
-        that assembles entered (:meth:`enter`) and walked on from. Past the fold at a gap's far
+        that assembles entered (:meth:`enter`) and walked on from; and whether any input between
+        assembles, in any modes (as a target there would have: the search's ``assembles``). Past the fold at a gap's far
         end the minimum least squares finds from a pose before the gap may touch zero only
         within a few hundredths of a radian (a Watt six-bar, there in other modes: its values a
         walk step apart past a gap of 0.73 rad were all NOT_ASSEMBLABLE, where values 0.02 apart
         entered the range at its far end)."""
+        met = False
         if pick.size < 2:
-            return ql, gap
+            return ql, gap, met
         # inner minima (next to the limit the gap is least for the limit's sake) steep enough
         # to reach zero between the neighbours, as a V: the minimum at most as far above zero
         # as the steeper side rises over one step
@@ -321,6 +324,7 @@ class Walker:
             ok = np.flatnonzero(gm <= GAP)
             if not ok.size:
                 continue
+            met = True
             u_e = ua + w[ok[0]] * (ub - ua)
             qe = self.enter([qm[ok[0]]], signs, u_e, poses, circuit)
             if qe is None:
@@ -332,8 +336,8 @@ class Walker:
             if got[0] == "ok":
                 ql, gap = ql.copy(), gap.copy()
                 ql[c], gap[c] = got[1], 0.0
-                return ql, gap
-        return ql, gap
+                return ql, gap, met
+        return ql, gap, met
 
     def enter_by_period(self, qs, us, signs, targets, tries=8):
         """(index, pose, modes) of the first of ``targets`` (M, 1) within a step of a pose solved
