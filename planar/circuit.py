@@ -82,7 +82,7 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
             return res
     if model.n > MAX_COORDINATES:
         raise InputError(f"the circuit of {model.name!r} would trace its {model.n} coordinates one pose at a time "
-                         f"(its input does not turn fully, or its sweep meets an event), more than "
+                         f"(its input does not turn fully, or its walk meets an event), more than "
                          f"{MAX_COORDINATES} (a minute and more): sweep it with Model.sweep")
     tr = Tracer(model, p, model.q0, model.u0, model.u0 + TURN / input_scale(model)[0], max_step)
     Y, T, limits, marks = _trace(model, p, tr, max_step, tol)

@@ -300,11 +300,11 @@ class Walker:
         pick past an input that assembles between the neighbours of a dip of the gap with no
         target between them: least squares from ``g`` at BETWEEN inputs between them, the first
         that assembles entered (:meth:`enter`) and walked on from; and whether any input between
-        assembles, in any modes (as a target there would have: the search's ``assembles``). Past the fold at a gap's far
-        end the minimum least squares finds from a pose before the gap may touch zero only
-        within a few hundredths of a radian (a Watt six-bar, there in other modes: its values a
-        walk step apart past a gap of 0.73 rad were all NOT_ASSEMBLABLE, where values 0.02 apart
-        entered the range at its far end)."""
+        assembles, in any modes (as a target there would have: the search's ``assembles``).
+        Past the fold at a gap's far end the minimum least squares finds from a pose before the
+        gap may touch zero only within a few hundredths of a radian (a Watt six-bar, there in
+        other modes: its values a walk step apart past a gap of 0.73 rad were all
+        NOT_ASSEMBLABLE, where values 0.02 apart entered the range at its far end)."""
         met = False
         if pick.size < 2:
             return ql, gap, met
