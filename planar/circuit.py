@@ -153,9 +153,7 @@ def _turns(model, p, samples, v, a, tol, max_step):
         if _off_sketch(model, Q[-1][-1]) <= CLOSED:
             break
     else:
-        raise AssemblyError(f"the circuit of {model.name!r} does not come back to its sketch within {MAX_TURNS} "
-                            f"turns of the input (a gear ratio that is not a whole number?): sweep it with "
-                            f"Model.sweep")
+        raise _not_closed(model)
     U, Q = np.concatenate(U), np.concatenate(Q)
     Y = np.concatenate((Q[:, p.cols] / cs, (U - u0)[:, None]), axis=1)
     arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(Y, axis=0), axis=1))]
@@ -256,8 +254,12 @@ def _trace(model, p, tr, max_step, tol):
         if travel > MAX_TURNS * TURN:
             break
         y, t, det, dets = y1, t1, det1, dets1
-    raise AssemblyError(f"the circuit of {model.name!r} does not come back to its sketch within {MAX_TURNS} turns "
-                        f"of the input (a gear ratio that is not a whole number?): sweep it with Model.sweep")
+    raise _not_closed(model)
+
+
+def _not_closed(model):
+    return AssemblyError(f"the circuit of {model.name!r} does not come back to its sketch within {MAX_TURNS} turns "
+                         f"of the input (a gear ratio that is not a whole number?): sweep it with Model.sweep")
 
 
 def _zero(tr, y, t, h, max_step, f):

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from planar import InputError, Status
+from planar import AssemblyError, InputError, Status
 from planar.analysis import grashof
-from planar.mechanisms import four_bar, geared_five_bar, open_chain
+from planar.mechanisms import four_bar, geared_five_bar, open_chain, rack_and_pinion
 from tests import oracles
 
 PQ = (1.2, 0.8)  # coupler point: 1.2 along A -> B, 0.8 to its left
@@ -233,5 +233,7 @@ def test_circuit_refuses_what_it_cannot_do():
         four_bar(4, 2, 3, 4).circuit(velocity=[1.0, 2.0])
     with pytest.raises(InputError, match="acceleration must be one finite number"):
         four_bar(4, 2, 3, 4).circuit(acceleration=np.nan)
+    with pytest.raises(AssemblyError, match="does not come back to its sketch within 12 turns"):
+        rack_and_pinion().circuit(samples=9)  # (the rack moves on for ever)
     res = four_bar(4, 3, 3, 3).circuit(samples=4)  # the ends and the limits, nothing between
     assert res.status.tolist() == [Status.SOLVED, Status.LIMIT, Status.LIMIT, Status.SOLVED]
