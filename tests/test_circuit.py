@@ -7,7 +7,7 @@ from scipy.optimize import fsolve
 
 from planar import AssemblyError, InputError, Status
 from planar.analysis import grashof
-from planar.mechanisms import four_bar, geared_five_bar, open_chain, rack_and_pinion
+from planar.mechanisms import four_bar, geared_five_bar, open_chain, planetary_gear_train, rack_and_pinion
 from tests import oracles
 
 PQ = (1.2, 0.8)  # coupler point: 1.2 along A -> B, 0.8 to its left
@@ -205,6 +205,16 @@ def test_a_crank_that_turns_fully_gives_one_turn_on_one_assembly_mode():
     for key, got in (("C", res.position("C")), ("C_vel", res.velocity("C")), ("C_acc", res.acceleration("C"))):
         np.testing.assert_allclose(got, want[key], atol=1e-11 * (1 + np.max(np.abs(want[key]))))
     _closes(res)
+
+
+def test_a_circuit_of_an_input_that_turns_fully_is_swept_whatever_its_coordinates():
+    res = planetary_gear_train(1.0, 0.5, planets=50).circuit(91)
+    assert res.model.n == 156 and res.ok.all() and res.events == ()
+    # the carrier turns at a third of the sun's rate (Willis, the ring held): back after three turns
+    assert res.inputs[-1, 0] == 6 * np.pi
+    np.testing.assert_allclose(res.omega("carrier"), 1 / 3, rtol=1e-12)
+    # its poses lie on a straight line in the scaled coordinates: evenly spaced inputs
+    np.testing.assert_allclose(np.diff(res.inputs[:, 0]), 6 * np.pi / 90, rtol=1e-9)
 
 
 def test_a_parallelogram_keeps_to_the_smooth_branch_through_its_change_points():
