@@ -692,6 +692,13 @@ def test_an_input_that_assembles_between_the_searched_values_sends_the_search_to
     assert [e.kind for e in res.events] == ["limit", "limit"] and past.sum() == 16
     assert (res.status[past] == Status.SOLVED).all() and (dense.status[-40:][past] == Status.SOLVED).all()
     np.testing.assert_allclose(res.q[past], dense.q[-40:][past], rtol=0, atol=1e-9)
+    # 0.3 apart, least squares between the values misses -1.86..-1.89 too: the walk's steps out to
+    # them find it, which is as good a sign
+    V = np.linspace(-0.8, -3.5, 10)
+    sparse = stephenson_six_bar(*r, **kw).sweep(V)
+    assert (sparse.status[V < -2.3983] == Status.SOLVED).sum() == 4
+    np.testing.assert_allclose(sparse.q[V < -2.3983], stephenson_six_bar(*r, **kw).sweep(
+        np.r_[np.arange(0.46, -0.8, -0.02), V]).q[-10:][V < -2.3983], rtol=0, atol=1e-9)
 
 
 def test_values_out_of_reach_one_by_one_cost_what_one_search_does():

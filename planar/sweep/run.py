@@ -374,7 +374,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             # where no value asked assembles at all (the first in the gap, least squares from
             # there lands nowhere beyond it), the walk steps from the limit out to the values: a
             # sweep with values all the way enters the range between them
-            ahead = walker.enter_any(guesses, chosen, steps, poses=solved_poses())[0] if steps is not None else None
+            ahead = None
+            if steps is not None:
+                # (what assembles there, in any modes, is as good a sign for the images below)
+                ahead, assembles = walker.enter_any(guesses, chosen, steps, poses=solved_poses())
             if ahead is not None:
                 entries += 1
                 gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
