@@ -338,6 +338,13 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
     # (read by truthiness: "no" made an internal mesh)
     (lambda m: (m.add_body("b"), m.add_gear("G", m.ground, "b", 1.0, 2.0, internal="no")),
      "gear 'G' internal must be True or False, got 'no'"),
+    # (a hand-built wheel in a track 1e-9 wider than itself: its sweep ran on for minutes)
+    (lambda m: (m.add_body("b"), m.add_gear("G", m.ground, "b", 1.0 + 1e-9, 1.0, internal=True, centre_a=(0, 0),
+                                            centre_b=(0, -1e-9), hold_distance=True)),
+     "gear 'G': the internal radii 1 and 1.000000001 .* would circle 1e\\+09 times .* more than 10000"),
+    (lambda m: (m.add_body("b"), m.add_gear("G", m.ground, "b", 1.0, 1.0, internal=True, carrier=m.ground,
+                                            centre_a=(0, 0), centre_b=(0, 0))),
+     "gear 'G': an internal mesh needs different radii"),
 ])
 def test_bad_builder_arguments(call, message):
     with pytest.raises(ModelError, match=message):
@@ -375,7 +382,7 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     (lambda: open_chain([1.0, 1.0], start="abc"), "start must hold 2 finite angles, one per link; got 'abc'"),
     # (its centre circling 1e9 times a turn of the wheel: a sweep of two values ran on for minutes)
     (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.0 + 1e-9),
-     "its centre would circle 1e\\+09 times a turn of the wheel, more than 10000"),
+     "the inner wheel's centre would circle 1e\\+09 times a turn of the wheel, more than 10000"),
 ])
 def test_bad_catalogue_arguments(call, message):
     with pytest.raises(ModelError, match=message):

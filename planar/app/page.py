@@ -20,7 +20,7 @@ from planar.app.forms import FORMS, Design, FileDesign
 from planar.app.frames import output_label, outputs, pose_lines, solve
 from planar.app.scripts import DOWNLOAD, PLAY, SHOW
 from planar.draw import ACCELERATION, EDGE, EVENT_MARK, PATH_COLOURS, VELOCITY
-from planar.errors import InputError, MobilityError, PlanarError
+from planar.errors import InputError, PlanarError
 from planar.results import Status
 from planar.units import ANGLE_UNITS, LENGTH_UNITS, RATE_UNITS, Units
 
@@ -331,8 +331,7 @@ class Page:
             self.checks.text = _message(design.checks(), "note")
             rate = _rate(self.rate.value_input, units)
             model = design.build().compile()
-            if not model.drivers:  # (a file of no input: nothing to sweep)
-                raise MobilityError(model._undriven())
+            model.require_driver()  # (a file of no input: nothing to sweep)
             self.rate.title = f"input rate [{units.input_label(bool(model.input_lengths[0]), 1)}]"
             checks = design.checks() + _loop_checks(design, model)
             self.checks.text = _message(checks, "note")

@@ -14,7 +14,7 @@ import planar.designs.tables as design_tables
 from planar.designs.batch import Results, sweep_batch
 from planar.designs.results import DesignSweep, Models
 from planar.designs.tables import compile_unplanned
-from planar.errors import InputError, MobilityError, PlanarError
+from planar.errors import InputError, PlanarError
 from planar.model import Mechanism
 from planar.model.checks import SCALE
 from planar.sweep import run_sweep
@@ -278,8 +278,8 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
         if d not in models:
             try:
                 models[d] = compile_unplanned(mechanism(d)) if mechanism(d) is not None else None
-                if models[d] is not None and not models[d].drivers:  # (as its sweep would refuse it)
-                    raise MobilityError(models[d]._undriven())
+                if models[d] is not None:  # (refused as its sweep would refuse it)
+                    models[d].require_driver()
             except PlanarError as e:
                 models[d], errors[d] = None, f"design {lo + d} {table[lo + d]}: {e}"
         return models[d]

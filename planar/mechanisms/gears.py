@@ -82,9 +82,6 @@ def rack_and_pinion(radius: float = 1.0, *, rack_angle: float = 0.0, driver: str
     return m
 
 
-MAX_ORBITS = 1e4  # turns of a wheel's centre round its track a turn of the wheel
-
-
 def rolling_wheel(radius: float = 1.0, *, track_radius: float | None = None, driver: str = "wheel",
                   start: float = 0.0, name: str = "rolling_wheel") -> Mechanism:
     """A wheel rolling without slip on the ground line y = 0 (above it) or, with
@@ -125,12 +122,6 @@ def rolling_wheel(radius: float = 1.0, *, track_radius: float | None = None, dri
         if Rt <= r:
             raise ModelError(f"track_radius {Rt:.12g} must exceed the wheel's radius {r:.12g} for the wheel "
                              f"to roll inside it")
-        if r > MAX_ORBITS * (Rt - r):
-            # (its centre circles r / (Rt - r) times a turn of the wheel: a sweep's steps grow as many
-            # times, 0.3 s for 73 values over a turn at 10, 21 s at 1000, hours at 1e9)
-            raise ModelError(f"track_radius {Rt:.12g} is within {Rt - r:.3g} of the wheel's radius {r:.12g}: its "
-                             f"centre would circle {r / (Rt - r):.3g} times a turn of the wheel, more than "
-                             f"{MAX_ORBITS:g}; give a track more than {r / MAX_ORBITS:.3g} wider")
     # wheel angle phi of the sketch (rolled from angle 0), and where its centre is then
     if track_radius is None:
         phi = start if driver == "wheel" else -start / r

@@ -373,8 +373,8 @@ class Mechanism:
         data = dict(radius_a=checks.length(radius_a, f"gear {name!r} radius_a"),
                     radius_b=checks.length(radius_b, f"gear {name!r} radius_b"),
                     sign=-1.0 if internal else 1.0, pressure_angle=checks.pressure_angle(pressure_angle, name))
-        if internal and data["radius_a"] == data["radius_b"]:
-            raise ModelError(f"gear {name!r}: an internal mesh needs different radii")
+        if internal:
+            checks.internal_radii(data["radius_a"], data["radius_b"], name)
         for key, value in (("centre_a", centre_a), ("centre_b", centre_b)):
             data[key] = None if value is None else checks.point(value, f"gear {name!r} {key}")
         cls: type

@@ -9,6 +9,9 @@ SCALE = 1e100  # sketch coordinates and lengths within +-SCALE: their squares st
 # angles (bodies', angle drivers' starts and inputs) within +-MAX_ANGLE radians: float64's
 # spacing there (1.9e-9 rad) is the most rounding an angle may add to the rows' 1e-9 tolerance
 MAX_ANGLE = 2.0**23
+# turns the inner wheel's centre may circle its internal mesh a turn of the wheel: r / (R - r);
+# a sweep's steps grow as many times (0.3 s for 73 values over a turn at 10, 21 s at 1000)
+MAX_ORBITS = 1e4
 
 
 def is_complex(value):
@@ -20,13 +23,20 @@ def is_complex(value):
         return False
 
 
+def floats(value):
+    """``value`` as a C-ordered float64 array; a longdouble beyond float64 reads inf, for the
+    caller to refuse. Raises what numpy raises for no numbers, OverflowError for an integer
+    beyond any float."""
+    with np.errstate(over="ignore"):
+        return np.array(value, dtype=float, order="C")
+
+
 def finite(value, what, shape=None):
     """``value`` as a float array, finite (and of ``shape`` if given), else a ModelError naming ``what``."""
     if is_complex(value):  # (numpy would read a complex scalar as its real part)
         raise ModelError(f"{what} must be a real number, got {value!r}")
     try:
-        with np.errstate(over="ignore"):  # (a longdouble beyond float64 reads inf: refused below)
-            a = np.asarray(value, dtype=float)
+        a = floats(value)
     except (TypeError, ValueError):
         raise ModelError(f"{what} must be numeric, got {value!r}") from None
     except OverflowError:  # (an integer beyond any float)
@@ -71,6 +81,18 @@ def pressure_angle(value, joint):
     if not 0 <= a < np.pi / 2:
         raise ModelError(f"joint {joint!r}: pressure_angle must be in [0, pi/2) radians, got {a!r}")
     return a
+
+
+def internal_radii(r_a, r_b, joint):
+    """Refuse an internal mesh of equal radii, or of radii so close that the inner wheel's
+    centre circles more than MAX_ORBITS times a turn of the wheel."""
+    r, R = sorted((r_a, r_b))
+    if R == r:
+        raise ModelError(f"gear {joint!r}: an internal mesh needs different radii")
+    if r > MAX_ORBITS * (R - r):
+        raise ModelError(f"gear {joint!r}: the internal radii {r:.12g} and {R:.12g} are {R - r:.3g} apart: the inner "
+                         f"wheel's centre would circle {r / (R - r):.3g} times a turn of the wheel, more than "
+                         f"{MAX_ORBITS:g}; give radii more than {r / MAX_ORBITS:.3g} apart")
 
 
 def direction(value, what):

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from planar.errors import InputError, MobilityError, ModelError
-from planar.model.checks import is_complex
+from planar.model.checks import floats, is_complex
 
 if TYPE_CHECKING:
     from planar.results import Sweep
@@ -157,12 +157,15 @@ class Model:
                 return j
         raise ModelError(f"unknown joint {name!r}: the joints are {[j.name for j in self.joints]}")
 
-    def _undriven(self):
-        """The message of the error that says the model has no driver, and what to do."""
+    def require_driver(self):
+        """Raise the :class:`planar.errors.MobilityError` that says what to do if the model has no
+        driver, as a sweep would (for callers that check before they sweep)."""
+        if self.drivers:
+            return
         if self.dof == 0:
-            return (f"mechanism {self.name!r} has no driver and nothing to drive (no degree of freedom): add "
-                    f"moving bodies")
-        return f"mechanism {self.name!r} has no driver: add {self.dof} with drive()"
+            raise MobilityError(f"mechanism {self.name!r} has no driver and nothing to drive (no degree of "
+                                f"freedom): add moving bodies")
+        raise MobilityError(f"mechanism {self.name!r} has no driver: add {self.dof} with drive()")
 
     def sweep(self, values: ArrayLike, velocity: ArrayLike = 1.0, acceleration: ArrayLike = 0.0,
               **options: Any) -> "Sweep":
@@ -188,8 +191,7 @@ class Model:
         from planar import arguments, tracking
         from planar.sweep import run_sweep
 
-        if not self.drivers:
-            raise MobilityError(self._undriven())
+        self.require_driver()
         options = arguments.sweep_options(options, run_sweep)
         U = self.as_inputs(values, "values")
         arguments.values(self, U, options["max_step"])
@@ -210,8 +212,7 @@ class Model:
         """
         from planar.tracking import Tracker
 
-        if not self.drivers:
-            raise MobilityError(self._undriven())
+        self.require_driver()
         return Tracker(self, **options)
 
     def circuit(self, samples: int = 361, velocity: float = 1.0, acceleration: float = 0.0, tol: float = 1e-12,
@@ -272,8 +273,7 @@ class Model:
 
             arguments.size(self, len(read))  # (before the copy as floats: 1e9 values of int8 are 8 GB of them)
         try:
-            with np.errstate(over="ignore"):  # (a longdouble beyond float64 reads inf: refused below)
-                a = np.array(read, dtype=float, order="C")
+            a = floats(read)  # (inf where beyond float64: refused below)
         except (TypeError, ValueError):
             raise InputError(f"sweep {what} must be numbers, got {type(values).__name__}") from None
         except OverflowError:  # (an integer beyond any float)
