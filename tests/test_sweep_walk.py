@@ -675,6 +675,28 @@ def test_a_watt_six_bar_enters_the_range_past_its_gap_where_least_squares_reache
     np.testing.assert_allclose(res.q, dense.q[-10:], rtol=0, atol=1e-9)
 
 
+@pytest.mark.parametrize("spacing", [0.045, 0.07, 0.1])
+def test_a_stephenson_six_bar_enters_an_interval_narrower_than_its_values_spacing_inside_a_gap(spacing):
+    # (found by a fuzz campaign) the crank's range has a gap (1.1163, 2.5611) with an interval
+    # [1.8379, 1.9416] of the branch inside it, on another circuit. Least squares from the limit
+    # reaches it only between the values, next to a dip of the gap past its far end: the search
+    # there found it past the last value inside it (and walked on into the limit), or not at all
+    # (its least gap 1.7e-4 at 1.946), and those values were NOT_ASSEMBLABLE
+    kw = dict(coupler_point=(2.8245546285097127, 2.4123119703874774), link_5=9.967642148921762,
+              link_6=5.026526879103095, pivot_6=(5.828478578930505, 6.911488258798285),
+              frame_angle=2.251305330107381, start=0.6347294124023541)
+    r = (3.0545989285969135, 3.8657984915018018, 8.898028677891755, 10.232943273242189)
+    U = np.arange(0.6, 3.0, spacing)
+    res = stephenson_six_bar(*r, **kw).sweep(U)
+    inside = (U > 1.8379) & (U < 1.9416)
+    assert inside.any() and (res.status[inside] == Status.SOLVED).all()
+    limits = [float(e.input) for e in res.events if e.kind == "limit"]
+    assert np.round(limits[:3], 4).tolist() == [1.1163, 1.8379, 1.9416]
+    dense = stephenson_six_bar(*r, **kw).sweep(np.r_[np.arange(0.6, 3.0, 0.02), U[inside]])
+    assert (dense.status[-inside.sum():] == Status.SOLVED).all()
+    np.testing.assert_allclose(res.q[inside], dense.q[-inside.sum():], rtol=0, atol=1e-9)
+
+
 def test_an_input_that_assembles_between_the_searched_values_sends_the_search_to_the_images_a_period_on():
     # (found by a fuzz campaign) a Stephenson six-bar whose crank's range has a gap (-2.3983,
     # -0.7178). Past it, least squares from the limit assembles only at -1.86..-1.89, in other
