@@ -273,6 +273,8 @@ def test_a_design_study_beyond_memory_is_refused_before_it_is_swept(monkeypatch)
     (lambda: planar.sweep_designs(planar.Vary(four_bar()), {"O2-A": [2.0**1023 * 1.9, 1.0]}, [0.1]),  # (a warning)
      r"O2-A = .* is beyond \+-1e\+100: give the design's numbers in another unit"),
     (lambda: planar.Vary(four_bar()).check_all([{"O2-A": 1.0}], first="x"), "check_all's first"),  # (a TypeError)
+    (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{1: 1.5, "x": 2.0}], [0.1]),  # (a TypeError)
+     r"design 0: \['x', 1\] are no numbers of mechanism 'four_bar'"),
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0]}, lambda d: 1 / 0),  # (the ZeroDivisionError itself)
      r"values\(\{'crank': 1.0\}\) raised ZeroDivisionError: division by zero: give a function of the design"),
 ])
@@ -422,6 +424,9 @@ def test_bad_units_are_input_errors(kwargs, message):
     (lambda: grashof(4, 2, 3, 4, rtol=None), "rtol must be a number from 0 to 1"),  # (a TypeError)
     (lambda: stroke(four_bar(), "angle:rocker", samples=10.0), "stroke samples must be a whole number"),  # (TypeError)
     (lambda: stroke(four_bar(), "angle:rocker", samples=10**30), "stroke samples must be a whole number from 2"),
+    # (its sketch at an extreme, two samples bracket it alone: a stroke of 0 and a time ratio of inf)
+    (lambda: stroke(planar.mechanisms.inverted_slider_crank(), "travel:slide", samples=2),
+     "the 2 values over the turn bracket one extreme only .* give more samples"),
 ])
 def test_bad_analysis_options(call, message):
     with pytest.raises(InputError, match=message):
@@ -545,13 +550,18 @@ def test_bad_function_synthesis_arguments(call, message):
         call()
 
 
-def test_angles_float64_rounds_coarser_than_the_tolerance_are_refused():
+def test_angles_and_points_float64_rounds_coarser_than_the_tolerance_are_refused():
     # (a start of 1e15 was SOLVED with a residual of 2e-5, one of 3e15 walked for minutes; a
     # body drawn at 1e20 rad SOLVED with 4e-4)
     with pytest.raises(ModelError, match=r"body 'crank' is drawn at the angle 3e\+15 rad, beyond \+-8.38861e\+06"):
         four_bar(start=3e15).compile()
     with pytest.raises(ModelError, match=r"body 'slider' is drawn at the angle 1e\+16 rad"):
         slider_crank(slide_angle=1e16).compile()
+    # (so are points: a four-bar of size 4 drawn 1e15 from the origin was SOLVED with a residual
+    # of 0.03, its crank 3 % off)
+    with pytest.raises(ModelError, match=r"the sketch lies 1e\+15 from the world origin, 2.5e\+14 times its size 4"):
+        four_bar(pivot=(1e15, 0.0)).compile()
+    assert four_bar(pivot=(3e7, 0.0)).sweep([0.5]).status[0] == planar.Status.SOLVED
     m = four_bar(start=8e6)
     assert m.sweep([8e6 + 0.5]).status[0] == planar.Status.SOLVED
     with pytest.raises(InputError, match=r"sweep values of input 'crank' reach 8.5e\+06 rad, beyond"):

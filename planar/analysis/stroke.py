@@ -171,6 +171,10 @@ def stroke(source, output_name, *, samples=360, **options):
     k = np.argsort(x)
     x, yx = x[k], yx[k]
     a, b = int(np.argmin(yx)), int(np.argmax(yx))
+    if yx[a] == yx[b]:  # (an output that comes back after a turn turns back at least twice)
+        raise InputError(f"output {output_name!r}: the {n} values over the turn bracket one extreme only "
+                         f"(at {x[a]:.12g} rad), too few to find its minimum and maximum: give more samples "
+                         f"(or a sweep of more values)")
     forward = (x[b] - x[a]) % TURN
     back = TURN - forward
     return Stroke(output=output_name, stroke=float(yx[b] - yx[a]), time_ratio=float(max(forward, back) / min(forward, back)),

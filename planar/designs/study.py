@@ -124,7 +124,7 @@ class Vary:
         """Refuse ``numbers`` (a dict: name -> value) that are no numbers of the mechanism or not finite."""
         if not isinstance(numbers, dict):
             raise InputError(f"a design's numbers are a dict of numbers by name, got {numbers!r}")
-        unknown = sorted(set(numbers) - set(self.numbers))
+        unknown = sorted(set(numbers) - set(self.numbers), key=repr)
         if unknown:
             raise InputError(f"{unknown} are no numbers of mechanism {self.mechanism.name!r}: it has "
                              f"{sorted(self.numbers)} (stated distances 'a-b' and drivers' starts)")
@@ -288,7 +288,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     # can be (planar.designs.tables), else from each design compiled alone
     groups, left = [], []
     if vary:  # no Mechanism per design: the tables from the numbers
-        numbers = [dict(fixed, **table[lo + d]) for d in range(D)]
+        numbers = [{**fixed, **table[lo + d]} for d in range(D)]  # (names checked next: any key)
         build.check_all(numbers, lo)
         t, rest = design_tables.varied(build.mechanism, build.model, numbers, options.get("engine", "numpy"))
         left = [d for d in rest if alone(d) is not None]

@@ -38,6 +38,12 @@ def compile_sketch(name, sk, plan=True):
 
     # the named points enter no row (a driven point enters as its driver's): they leave the scale alone
     L = char_length({}, constraints)
+    far = max([float(np.max(np.abs(q0.reshape(-1, 3)[:, :2]), initial=0.0))]
+              + [float(np.max(np.abs(p))) for c in joints for _, p in c.touch_points()])
+    if far > MAX_ANGLE * L:  # (as for angles: float64's spacing there is 1.9e-9 of the size)
+        raise ModelError(f"the sketch lies {far:.3g} from the world origin, {far / L:.3g} times its size {L:.3g}: "
+                         f"float64 holds its points to {np.spacing(far) / L:.2g} of its size, beyond the rows' "
+                         f"tolerance; move it within {MAX_ANGLE * L:.3g} of the origin")
     lengths = np.concatenate([np.array(c.length_rows, bool) for c in constraints]) if m else np.zeros(0, bool)
     row_scale = np.where(lengths, 1.0 / L, 1.0)
     col_scale = np.tile([L, L, 1.0], len(bodies) - 1)
