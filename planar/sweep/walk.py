@@ -297,11 +297,12 @@ class Walker:
 
     def _folds(self, g, signs, targets, pick, ql, gap, poses, circuit):
         """The least-squares poses ``ql`` and gaps of the search's values ``pick`` (indices into
-        ``targets``), where none assembles from ``g``, with a pose of the branch at the first
-        pick past an input that assembles between the neighbours of a dip of the gap with no
-        target between them: least squares from ``g`` at BETWEEN inputs between them, the first
-        that assembles entered (:meth:`enter`) and walked on from; and whether any input between
-        assembles, in any modes (as a target there would have: the search's ``assembles``).
+        ``targets``), where none assembles from ``g``, with a pose of the branch at the pick next
+        to an input that assembles between the neighbours of a dip of the gap with no target
+        between them: least squares from ``g`` at inputs between them (:meth:`_fold`), the first
+        that assembles entered (:meth:`enter`) and walked on from to the pick past it, else back
+        to the one before; and whether any input between assembles, in any modes (as a target
+        there would have: the search's ``assembles``).
         Past the fold at a gap's far end the minimum least squares finds from a pose before the
         gap may touch zero only within a few hundredths of a radian (a Watt six-bar, there in
         other modes: its values a walk step apart past a gap of 0.73 rad were all
@@ -360,7 +361,6 @@ class Walker:
                 return None
             ua, ub, ga, gb = V[j - 1], V[j + 1], G[j - 1], G[j + 1]
         return None
-        return ql, gap, met
 
     def enter_by_period(self, qs, us, signs, targets, tries=8):
         """(index, pose, modes) of the first of ``targets`` (M, 1) within a step of a pose solved
