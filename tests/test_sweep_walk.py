@@ -526,6 +526,22 @@ def assert_limits_named(res, ranges):
         assert off.max() < 1e-9, off.max()
 
 
+def test_a_fold_entered_far_from_the_value_before_it_walks_no_further_back():
+    # (found by the property test below in CI) the search between two values past a gap entered
+    # the crank's other interval [-1.2281, -0.8874], which holds no value: the walk from the
+    # entry to the value past it met a limit, and the walk back to the value before it, 0.9 rad
+    # away, met the other (2,001 evaluations where 1,393 were enough)
+    r, start = (3.1175782842445776, 3.9091430404448197, 0.5, 3.6), 0.8873927598944861
+    U = start + np.array(sorted([1e-13, -3.1415926535897927, 1.1537900842808648, -0.902294081496438,
+                                 -2.575635792658225, -3.141592653589793, -2.495844518746499, 0.15164967405108687,
+                                 0.3249863062482974, -2.399383369643451, 0.0, -0.902294081496438,
+                                 -0.18907418215956628]))
+    with Evaluations() as count:
+        res = four_bar(*r, start=start).sweep(U)
+    assert_no_lost_value(res, oracles.four_bar_input_limits(*r), oracles.four_bar(*r, res.inputs[:, 0])["th3"])
+    assert count.calls <= work_two_intervals(res), count.calls
+
+
 @PROPS
 @given(case=two_interval_four_bars(), crossed=st.booleans(), data=st.data())
 def test_a_four_bar_whose_crank_reaches_two_intervals_loses_no_value(case, crossed, data):
@@ -936,6 +952,23 @@ def test_a_circuit_traced_round_is_not_traced_again_whole_periods_on():
     dense = m.sweep(np.sort(U))
     order = np.argsort(U)
     assert np.array_equal(POSED[res.status[order]], POSED[dense.status])
+
+
+def test_the_other_side_of_a_circuit_traced_round_is_not_traced_again():
+    # (found by benchmarks/fuzz_campaign.py, seed 787) a Stephenson six-bar whose crank meets a
+    # limit at -0.2786 going up: past it least squares lands in other modes, on the two sides of
+    # one circuit over [1.1414, 3.4396], and each side was traced round (0.2 s each). A tracing
+    # that comes back in the same modes both ways has gone round the other side too
+    m = stephenson_six_bar(2.1823783136744317, 2.2597611642248254, 7.396286419699198, 8.652065412395118,
+                           coupler_point=(3.885817004830795, 3.3453612719582475), link_5=8.719188193865417,
+                           link_6=6.387628948101717, pivot_6=(1.0131519037765613, 14.31175729630554),
+                           frame_angle=0.5691483568788915, crossed=True, start=-0.46618861794995015)
+    U = np.linspace(-0.2, 3.5, 40)  # (none in the branch's narrow interval [1.1413, 1.1964] past the gap)
+    with Evaluations(walk_module, "around") as count:
+        res = m.sweep(U)
+    assert count.calls <= 2, count.calls
+    assert (res.status == Status.NOT_ASSEMBLABLE).all()
+    assert [round(float(e.input), 4) for e in res.events] == [-0.2786]
 
 
 def test_a_walk_into_a_limit_hands_it_to_the_tracer_without_creeping_up_on_it():

@@ -238,12 +238,14 @@ def around(model, plan, q, u, signs, max_step, reach):
     """From the pose q at input u (one input), follow its circuit through the next limit
     position and back to the same input: (the pose there if its block signs are ``signs``
     (the other assembly mode of a dyad, say), else None; the inputs (lo, hi) the tracing
-    covered). Tries both ways, each within ``reach`` (scaled input distance) of u."""
+    covered; the block signs it came back in, where it came back both ways in the same ones,
+    else None). Tries both ways, each within ``reach`` (scaled input distance) of u."""
     from planar.solver import DISTANT, newton
 
     u = np.atleast_1d(np.asarray(u, float))
     s = 1.0 / model.L if model.input_lengths[0] else 1.0
     span = [float(u[0]), float(u[0])]
+    back = []  # the signs it came back in, each way
     for way in (1.0, -1.0):
         # steps up to 4 max_step: the circuit is only being traced, the acceptance test of
         # Tracer.step still keeps it from jumping to another one
@@ -251,7 +253,7 @@ def around(model, plan, q, u, signs, max_step, reach):
         try:
             y, t, _ = tr.start(q)
         except np.linalg.LinAlgError:
-            return None, tuple(span)
+            return None, tuple(span), None
         h, turned, gap = min(max_step, 0.1 * tr.d), False, None
         stall = _Stall()
         for _ in range(int(2 * reach / max_step) + 50):
@@ -266,13 +268,16 @@ def around(model, plan, q, u, signs, max_step, reach):
                 w = y[-1] / (y[-1] - y1[-1])
                 qn, conv, _, _ = newton(model, tr.q_of(y + w * (y1 - y))[None], u[None], max_iter=DISTANT, plan=plan)
                 # a diverged Newton reads non-finite: its modes are not asked for
-                if conv[0] and np.all(plan.factor(plan.evaluate(qn, u[None])[2]).signs[0] == signs):
-                    return qn[0], tuple(span)
+                if conv[0]:
+                    back.append(plan.factor(plan.evaluate(qn, u[None])[2]).signs[0])
+                    if np.all(back[-1] == signs):
+                        return qn[0], tuple(span), None
                 break
             if y1[-1] >= tr.d:
                 break
             y, t = y1, t1
-    return None, tuple(span)
+    both = len(back) == 2 and np.array_equal(back[0], back[1])
+    return None, tuple(span), back[0] if both else None
 
 
 __all__ = ["Crossing", "cross", "tangent_cone", "around"]

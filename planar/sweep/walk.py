@@ -329,11 +329,13 @@ class Walker:
             if qe is None:
                 continue
             # the pick past the entry (the dip's, or its far neighbour's) walked to from it, else
-            # the pick before it: the entry may lie in an interval narrower than the picks'
-            # spacing, past the last pick in it (a Stephenson six-bar's [1.838, 1.942] inside a
-            # gap, entered at 1.931 from picks 1.918 and 2.006)
+            # the pick before it, within SPREAD walk steps: the entry may lie in an interval
+            # narrower than the picks' spacing, past the last pick in it (a Stephenson six-bar's
+            # [1.838, 1.942] inside a gap, entered at 1.931 from picks 1.918 and 2.006)
             past_dip = (u_e - targets[pick[d]]) @ span > 0
-            for c in ((b, d) if past_dip else (d, a)):
+            after, before = (b, d) if past_dip else (d, a)
+            back = scaled_norm(self.br.m, targets[pick[before]] - u_e) <= SPREAD * self.max_step
+            for c in (after, before) if back else (after,):
                 got = self.walk(qe, u_e, signs, targets[pick[c]], int(pick[c]))
                 if got[0] == "ok":
                     ql, gap = ql.copy(), gap.copy()
@@ -449,14 +451,18 @@ class Walker:
             # another mode of the same circuit: go round through a limit to ours; not again in
             # modes and inputs a tracing that did not come back to ours has covered, or whole
             # periods of the input from those (the same circuit, most likely: the tracings are
-            # few, each costs ~100s of solves)
+            # few, each costs ~100s of solves). Where it came back in the same modes both ways,
+            # it has covered the other side of the circuit too, from limit to limit: a tracing
+            # from there would go round the same way (a Stephenson six-bar traced one circuit
+            # four times from its two sides, 0.2 s each)
             covered = any(np.array_equal(found, f) and _within(target[0], lo, hi, P) for f, (lo, hi), P in self._round)
             if circuit and target.size == 1 and self.rounds > 0 and not covered:
                 self.rounds -= 1
-                got, span = around(br.m, br.p, qn, target, signs, self.max_step, np.pi)
+                got, span, back = around(br.m, br.p, qn, target, signs, self.max_step, np.pi)
                 if got is not None:
                     return got
-                self._round.append((found, span, self._period[0] if self._period else None))
+                P = self._period[0] if self._period else None
+                self._round += [(f, span, P) for f in (found, back) if f is not None]
         return None
 
 
