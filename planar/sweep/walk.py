@@ -301,8 +301,8 @@ class Walker:
         to an input that assembles between the neighbours of a dip of the gap with no target
         between them: least squares from ``g`` at inputs between them (:meth:`_fold`), the first
         that assembles entered (:meth:`enter`) and walked on from to the pick past it, else back
-        to the one before; and whether any input between assembles, in any modes (as a target
-        there would have: the search's ``assembles``).
+        to the one before within SPREAD walk steps; and whether any input between assembles, in
+        any modes (as a target there would have: the search's ``assembles``).
         Past the fold at a gap's far end the minimum least squares finds from a pose before the
         gap may touch zero only within a few hundredths of a radian (a Watt six-bar, there in
         other modes: its values a walk step apart past a gap of 0.73 rad were all
