@@ -129,23 +129,23 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
 def _turns(model, p, samples, v, a, tol, max_step):
     """The circuit of an angle input that turns fully with nothing met on the way, as a
     sweep over its period: whole turns, walked SPARSE steps of ``max_step`` at a time by the
-    direct path (:func:`planar.tracking.direct`: each value one walk step from the pose before,
+    direct path (:class:`planar.tracking.Direct`: each value one walk step from the pose before,
     with the sweep's acceptance test), until the pose is back at the sketch's (angles modulo a
     turn); the samples evenly spaced along the chords of those poses, swept. None where a
     step is not certified or not SOLVED, or meets an event (a limit, a singular position: the
     trace follows those, and only the steps up to there were spent)."""
     from planar.sweep import SPARSE
-    from planar.tracking import direct
+    from planar.tracking import Direct
 
     u0, cs = float(model.u0[0]), model.col_scale[p.cols]
     step = np.linspace(0.0, TURN, int(np.ceil(TURN / max_step)) + 1)[1:]
-    options = dict(tol=tol, max_step=max_step)
+    direct = Direct(model, dict(tol=tol, max_step=max_step))  # (its solves made once, for every step)
     one, zero = np.ones((SPARSE, 1)), np.zeros((SPARSE, 1))
     U, Q = [np.array([u0])], [model.q0[None]]
     for k in range(MAX_TURNS):
         for j in range(0, step.size, SPARSE):
             u = (u0 + k * TURN + step[j : j + SPARSE])[:, None]
-            res = direct(model, u, one[: len(u)], zero[: len(u)], options)
+            res = direct(u, one[: len(u)], zero[: len(u)])
             if res is None or res.events or np.any(res.status != Status.SOLVED):
                 return None
             U.append(u[:, 0])
