@@ -19,6 +19,7 @@ PROJECTED = 10  # a point of a traced curve, moved onto a value of the input
 ALONG_TANGENT = 20  # a guess along a tangent or a secant of a traced curve, next to a singular position
 DISTANT = 30  # a pose from the tracer, a period away, or a batch value off its guess
 REENTRY = 40  # a guess across a gap of the motion range, or a least-squares minimum
+RESTARTED = 20  # a solved pose with some angles drawn at random (those that converge take 7-20 steps)
 # Newton's steps at a pose solved to the rounding of its coordinates (:func:`rounding`), over
 # that rounding: they solve the rows' rounding noise through the Jacobian's inverse
 WANDER = 10.0

@@ -713,6 +713,27 @@ def test_a_stephenson_six_bar_enters_an_interval_narrower_than_its_values_spacin
     np.testing.assert_allclose(res.q[inside], dense.q[-inside.sum():], rtol=0, atol=1e-9)
 
 
+def test_a_stephenson_six_bar_enters_an_interval_past_a_gap_where_newton_lands_in_other_modes():
+    # (found by a fuzz campaign) past the gap above the limit at 1.9152 the crank's range holds an
+    # interval [3.3403, 3.3986] in the sketch's modes, on another circuit. Least squares from the
+    # limit reaches it, but Newton from there lands in other modes (of four closures there), and
+    # the way round through a limit from those does not come back: its values were NOT_ASSEMBLABLE.
+    # Newton from that pose with its loops' angles drawn anew lands in ours
+    kw = dict(coupler_point=(5.933588960402289, 3.0722284624144147), link_5=11.306866589896003,
+              link_6=4.680509817462655, pivot_6=(5.314053815320511, 7.963644758061742),
+              frame_angle=2.683524310792004, crossed=False, crossed_2=True)
+    r = (9.756321914606612, 4.384579308040071, 1.4319310029500771, 8.262266623155677)
+    U = np.arange(1.64, 3.5, 0.02)
+    res = stephenson_six_bar(*r, start=1.6497819007361905, **kw).sweep(U)
+    inside = (U > 3.3403) & (U < 3.3986)
+    assert inside.sum() == 2 and (res.status[inside] == Status.SOLVED).all()
+    limits = [float(e.input) for e in res.events if e.kind == "limit"]
+    assert np.round(limits, 4).tolist() == [1.9152, 3.3403, 3.3986]
+    # the same poses as a sketch drawn inside the interval with the same closures gives
+    ref = stephenson_six_bar(*r, start=3.37, **kw).sweep(U[inside])
+    np.testing.assert_allclose(res.q[inside], ref.q, rtol=0, atol=1e-9)
+
+
 def test_an_input_that_assembles_between_the_searched_values_sends_the_search_to_the_images_a_period_on():
     # (found by a fuzz campaign) a Stephenson six-bar whose crank's range has a gap (-2.3983,
     # -0.7178). Past it, least squares from the limit assembles only at -1.86..-1.89, in other
@@ -933,13 +954,14 @@ def test_a_far_value_where_the_search_finds_only_other_modes_is_out_of_reach():
     assert np.isfinite(res.gap[2]) and res.nearest_limit[2] == res.nearest_limit[1]
 
 
-def test_a_circuit_traced_round_is_not_traced_again_whole_periods_on():
+def test_a_linkage_past_a_gap_where_least_squares_finds_other_modes_is_not_traced_round():
     # (found by benchmarks/fuzz_campaign.py) a two-loop six-bar whose crank reaches [0.281,
     # 0.324] and [1.081, 3.198] a turn, 60 values over +-3 rad asked three times each: past the
     # limit at 0.281 least squares finds only other modes, and the tracing round from there
     # (0.4 s) does not come back to the branch's; the sweep of the values' images a period on
-    # then traced the same circuit a turn on again (4 tracings before, 2 after; and one from
-    # where least squares assembles next to a dip of the gap at 6.63, by the narrow interval a turn on)
+    # then traced the same circuit a turn on again (4 tracings, then 2 once a tracing was
+    # remembered). Newton from the landing with its angles drawn anew finds every closure
+    # there, none in ours: no tracing
     m = two_loop_six_bar((3.7241086415196696, 3.521626096754349, 6.349303661027999, 5.001675931394739,
                           9.622399160856425, 1.2380605853546698, 5.757440868377968, 3.6388399284965374),
                          frame_angle=0.6938550937791534, frame_angle_2=-1.7279331802441251, phase=-2.8438273054641607,
@@ -948,17 +970,18 @@ def test_a_circuit_traced_round_is_not_traced_again_whole_periods_on():
     U = rng.permutation(np.repeat(1.724989098190794 + rng.uniform(-3, 3, 60), 3))
     with Evaluations(walk_module, "around") as count:
         res = m.sweep(U)
-    assert count.calls <= 3, count.calls
+    assert count.calls == 0, count.calls
     dense = m.sweep(np.sort(U))
     order = np.argsort(U)
     assert np.array_equal(POSED[res.status[order]], POSED[dense.status])
 
 
-def test_the_other_side_of_a_circuit_traced_round_is_not_traced_again():
+def test_a_linkage_landing_in_other_modes_on_both_sides_of_a_circuit_is_not_traced_round():
     # (found by benchmarks/fuzz_campaign.py, seed 787) a Stephenson six-bar whose crank meets a
     # limit at -0.2786 going up: past it least squares lands in other modes, on the two sides of
-    # one circuit over [1.1414, 3.4396], and each side was traced round (0.2 s each). A tracing
-    # that comes back in the same modes both ways has gone round the other side too
+    # one circuit over [1.1414, 3.4396], and each side was traced round (0.2 s each; then 2
+    # tracings, once a tracing that came back in the same modes both ways was remembered for
+    # both sides). Newton from a landing with its angles drawn anew finds every closure there
     m = stephenson_six_bar(2.1823783136744317, 2.2597611642248254, 7.396286419699198, 8.652065412395118,
                            coupler_point=(3.885817004830795, 3.3453612719582475), link_5=8.719188193865417,
                            link_6=6.387628948101717, pivot_6=(1.0131519037765613, 14.31175729630554),
@@ -966,9 +989,30 @@ def test_the_other_side_of_a_circuit_traced_round_is_not_traced_again():
     U = np.linspace(-0.2, 3.5, 40)  # (none in the branch's narrow interval [1.1413, 1.1964] past the gap)
     with Evaluations(walk_module, "around") as count:
         res = m.sweep(U)
-    assert count.calls <= 2, count.calls
+    assert count.calls == 0, count.calls
     assert (res.status == Status.NOT_ASSEMBLABLE).all()
-    assert [round(float(e.input), 4) for e in res.events] == [-0.2786]
+    # (the search past the gap enters the interval between the values, and walks into its limit)
+    assert [round(float(e.input), 4) for e in res.events] == [-0.2786, 1.1964]
+
+
+def test_a_value_in_a_narrow_interval_where_least_squares_lands_in_other_modes_is_solved():
+    # the six-bar above: least squares from the limit at -0.2786 reaches 1.1709, in the interval
+    # [1.1413, 1.1964], but lands in other modes, on the circuit traced round already, and the
+    # value was NOT_ASSEMBLABLE (values 0.01 apart posed it). Newton from there with the loops'
+    # angles drawn anew lands in ours
+    kw = dict(coupler_point=(3.885817004830795, 3.3453612719582475), link_5=8.719188193865417,
+              link_6=6.387628948101717, pivot_6=(1.0131519037765613, 14.31175729630554),
+              frame_angle=0.5691483568788915, crossed=True)
+    r = (2.1823783136744317, 2.2597611642248254, 7.396286419699198, 8.652065412395118)
+    U = np.linspace(-0.28, 3.5, 100)
+    res = stephenson_six_bar(*r, start=-0.46618861794995015, **kw).sweep(U)
+    inside = (U > 1.1413) & (U < 1.1964)
+    assert inside.sum() == 1 and res.status[inside][0] == Status.SOLVED
+    assert (res.status[~inside][1:] == Status.NOT_ASSEMBLABLE).all()
+    assert [round(float(e.input), 4) for e in res.events] == [-0.2786, 1.1413, 1.1964]
+    # the pose a sketch drawn inside the interval with the same closures gives (to whole turns)
+    ref = stephenson_six_bar(*r, start=1.17, **kw).sweep(U[inside])
+    np.testing.assert_allclose(np.angle(np.exp(1j * (res.q[inside] - ref.q))), 0.0, rtol=0, atol=1e-9)
 
 
 def test_a_walk_into_a_limit_hands_it_to_the_tracer_without_creeping_up_on_it():

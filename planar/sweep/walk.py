@@ -4,7 +4,7 @@ past a gap, the input's period and whole turns of angles; one class with the hel
 import numpy as np
 
 from planar.events.crossing import around, cross
-from planar.solver import DISTANT, GAP, REENTRY, least_squares_gap, newton, rounding
+from planar.solver import DISTANT, GAP, REENTRY, RESTARTED, least_squares_gap, newton, rounding
 from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
 from planar.sweep.branch import input_scale, scaled_norm
 
@@ -21,6 +21,7 @@ FOLD_LEVELS = 3  # narrowings of a fold's search onto its least gap (8 inputs, t
 PERIODS = 12  # whole turns of an angle input within which the pose is looked for returning to itself
 MODE_PERIODS = 4  # periods the walk from the sketch may go on in other modes before it comes back
 SAME = 1e-8  # scaled distance within which a pose after a period is the pose it started from
+RESTARTS = 64  # guesses of a re-entry that landed in other modes, from its pose with angles drawn at random
 WALK_STEPS = 2000  # steps of one walk without a period to shorten it: farther targets are entered directly
 
 
@@ -32,6 +33,7 @@ class Walker:
         self.events = []
         self.rounds = rounds  # tracings round a circuit left to this sweep (each costs ~100s of solves)
         self._symmetry = self._period = None  # (P, D) or False, found when first asked
+        self._periodic = None  # whether the rows read every angle through its cosine and sine (periodic)
         self.turns = False  # the walk went round a whole period (no limit): the input turns fully
         self.limit = None  # else the input of a limit the walk over a period met (one input)
         # the last walk moved by whole periods of an input that does not turn fully: past the
@@ -415,9 +417,10 @@ class Walker:
         Newton (from a least-squares minimum where Newton from it fails); where each lands in
         other modes, from ``poses`` (G, n) in one batch (poses of the branch solved elsewhere:
         where the loop closes at many poses in the same modes, as a geared linkage's, one of
-        them lands in ours), and only then (``circuit``) round through a limit from the modes
-        found. The pose found has its angles counted within half a turn of its guess's where it
-        can (:meth:`near_turns`)."""
+        them lands in ours); then, for a :meth:`periodic` linkage, from a landing with its
+        angles drawn anew (:meth:`_restarts`), else (``circuit``) round through a limit from
+        the modes found. The pose found has its angles counted within half a turn of its
+        guess's where it can (:meth:`near_turns`)."""
         br = self.br
         other = []
         for g in guesses:
@@ -433,7 +436,7 @@ class Walker:
             found = br.signs(qn, target[None])[0]
             if np.all(found == signs):
                 return self.near_turns(qn[0], target, signs, g)
-            other.append((qn[0], found))
+            other.append((qn[0], found, g))
         if poses is not None and len(poses):
             T = np.repeat(target[None], len(poses), 0)
             # (undamped: its first step puts the coordinates the rows read linearly, the driven
@@ -447,7 +450,15 @@ class Walker:
                 move = np.max(np.abs(qn[ours][:, c] - poses[ours][:, c]) / br.m.col_scale[c], axis=1)
                 k = ours[np.argmin(move)]
                 return self.near_turns(qn[k], target, signs, poses[k])
-        for qn, found in other:
+        if other and self.periodic():
+            # a linkage whose rows read its angles through their cosines and sines closes in a
+            # few ways at one input, and Newton from one landing with its angles drawn anew
+            # finds them all: ours, or none, and then no way round a circuit comes to ours
+            # there either (over a fuzz campaign's slowest sweeps, 123 tracings round, 19 s,
+            # came back to ours once)
+            got = self._restarts(other[0][0], signs, target)
+            return None if got is None else self.near_turns(got, target, signs, other[0][2])
+        for qn, found, _ in other:
             # another mode of the same circuit: go round through a limit to ours; not again in
             # modes and inputs a tracing that did not come back to ours has covered, or whole
             # periods of the input from those (the same circuit, most likely: the tracings are
@@ -464,6 +475,41 @@ class Walker:
                 P = self._period[0] if self._period else None
                 self._round += [(f, span, P) for f in (found, back) if f is not None]
         return None
+
+    def periodic(self):
+        """Whether the rows but the drivers' (which set the inputs) read every angle the plan
+        solves through its cosine and sine: a turn of any one of them leaves them as they
+        were. So a linkage of revolutes and pins in slots; not one with a slider, which locks
+        its angle, or with gears, whose rolling rows read their angles as they are (a geared
+        train closes at many poses in the same modes at one input, a turn of its gears apart)."""
+        if self._periodic is None:
+            m, p = self.br.m, self.br.p
+            angles = p.cols[p.cols % 3 == 2]
+            turned = np.repeat(m.q0[None], angles.size, 0)
+            turned[np.arange(angles.size), angles] += 2 * np.pi
+            with np.errstate(all="ignore"):
+                Phi, _ = p.system.evaluate(turned, np.repeat(m.u0[None], angles.size, 0))
+            rows = np.delete(p.rows, p.drivers)
+            self._periodic = bool(np.max(np.abs(Phi[:, rows]) * m.row_scale[rows], initial=0.0) <= SAME)
+        return self._periodic
+
+    def _restarts(self, root, signs, target):
+        """A pose at ``target`` in the modes ``signs`` of a :meth:`periodic` linkage, where
+        ``root`` is one there in other modes: Newton in one batch from RESTARTS guesses, each
+        ``root`` with its angles drawn at random (a loop's other closure lies a reflection
+        away: no step from ``root`` reaches it); of those that land in our modes, the nearest
+        ``root``, else None."""
+        br = self.br
+        p = br.p
+        cols = p.cols[p.cols % 3 == 2]
+        G = np.repeat(root[None], RESTARTS, 0)
+        G[:, cols] += np.random.default_rng(0).uniform(-np.pi, np.pi, (RESTARTS, cols.size))
+        T = np.repeat(target[None], RESTARTS, 0)
+        qn, conv, _, _ = newton(br.m, G, T, tol=br.tol, max_iter=RESTARTED, plan=p)
+        ours = np.flatnonzero(_in_modes(br, qn, T, conv, signs))
+        if not ours.size:
+            return None
+        return qn[ours[np.argmin(np.max(np.abs(qn[ours][:, p.cols] - root[p.cols]) / br.m.col_scale[p.cols], axis=1))]]
 
 
 # 2 pi = A1 + A2 + B: A1 with 27 significant bits (n A1 is exact for |n| < 2^26 turns), B the
