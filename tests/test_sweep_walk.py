@@ -718,7 +718,7 @@ def test_a_stephenson_six_bar_enters_an_interval_past_a_gap_where_newton_lands_i
     # interval [3.3403, 3.3986] in the sketch's modes, on another circuit. Least squares from the
     # limit reaches it, but Newton from there lands in other modes (of four closures there), and
     # the way round through a limit from those does not come back: its values were NOT_ASSEMBLABLE.
-    # Newton from that pose with its loops' angles drawn anew lands in ours
+    # Newton from that pose with its angles drawn anew lands in ours
     kw = dict(coupler_point=(5.933588960402289, 3.0722284624144147), link_5=11.306866589896003,
               link_6=4.680509817462655, pivot_6=(5.314053815320511, 7.963644758061742),
               frame_angle=2.683524310792004, crossed=False, crossed_2=True)
@@ -998,7 +998,7 @@ def test_a_linkage_landing_in_other_modes_on_both_sides_of_a_circuit_is_not_trac
 def test_a_value_in_a_narrow_interval_where_least_squares_lands_in_other_modes_is_solved():
     # the six-bar above: least squares from the limit at -0.2786 reaches 1.1709, in the interval
     # [1.1413, 1.1964], but lands in other modes, on the circuit traced round already, and the
-    # value was NOT_ASSEMBLABLE (values 0.01 apart posed it). Newton from there with the loops'
+    # value was NOT_ASSEMBLABLE (values 0.01 apart posed it). Newton from there with its
     # angles drawn anew lands in ours
     kw = dict(coupler_point=(3.885817004830795, 3.3453612719582475), link_5=8.719188193865417,
               link_6=6.387628948101717, pivot_6=(1.0131519037765613, 14.31175729630554),
