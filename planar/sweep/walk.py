@@ -453,9 +453,8 @@ class Walker:
         if other and self.periodic():
             # a linkage whose rows read its angles through their cosines and sines closes in a
             # few ways at one input, and Newton from one landing with its angles drawn anew
-            # finds them all: ours, or none, and then no way round a circuit comes to ours
-            # there either (over a fuzz campaign's slowest sweeps, 123 tracings round, 19 s,
-            # came back to ours once)
+            # finds them all: ours, or none, and then no way round a circuit (hundreds of
+            # solves) comes to ours there either
             got = self._restarts(other[0][0], signs, target)
             return None if got is None else self.near_turns(got, target, signs, other[0][2])
         for qn, found, _ in other:
