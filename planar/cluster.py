@@ -48,7 +48,7 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
     """
     table = design_table(designs)
     options = study_options(batch, options)
-    check_fixed(fixed)
+    check_fixed(fixed, table)
     if isinstance(points, str) or not all(isinstance(p, str) for p in _listed(points, "points")):
         raise InputError(f"points must be a list of point names, got {points!r}")
     points = tuple(points)

@@ -386,10 +386,12 @@ class Tracker:
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             try:
-                # (numpy would take complex numbers' real parts, and read None, bools and strings as numbers)
+                # (numpy would take complex numbers' real parts, read None, bools, strings and a
+                # bytearray's characters as numbers, and masked values as the numbers under the mask)
                 given = np.asarray(value)
                 # (more numbers than inputs are refused before they are copied as floats)
-                if is_complex(value) or given.dtype.kind in "bmMSUO" or given.size > self.model.u0.size:
+                if (is_complex(value) or given.dtype.kind in "bmMSUO" or given.size > self.model.u0.size
+                        or np.ma.is_masked(value) or isinstance(value, (bytearray, memoryview))):
                     raise TypeError(value)
                 given = given.astype(float)
             except (TypeError, ValueError, OverflowError):

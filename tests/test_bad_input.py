@@ -24,6 +24,7 @@ from tests.test_cli import run_or_exit
 SWEEP_CALLS = [
     # (values, options, error, message)
     ([], {}, InputError, "the sweep has no values: give at least one"),
+    (bytearray(b"12"), {}, InputError, "sweep values must be real numbers, got bytearray"),  # (its codes 49, 50)
     (np.zeros((0, 1)), {}, InputError, "the sweep has no values"),
     ([0.1], {"max_step": 0}, InputError, "max_step must be a positive number"),
     ([0.1], {"max_step": -0.1}, InputError, "max_step must be a positive number"),
@@ -139,8 +140,10 @@ def test_a_circuit_of_more_coordinates_than_it_traces_is_refused_up_front():
 
 
 # (None, "1.0" and True were moves to NaN, 1.0 and 1.0)
+# (a masked value was the number under the mask, a bytearray its characters' codes)
 @pytest.mark.parametrize("value", ["a", None, object(), [[1.0], [2.0]], 10**400, np.complex128(1 + 2j), "1.0", True,
-                                   np.bool_(False), [True]])
+                                   np.bool_(False), [True], np.ma.masked, np.ma.masked_array(0.5, mask=True),
+                                   bytearray(b"1"), memoryview(b"\x01")])
 def test_a_tracker_move_to_no_number_is_an_input_error(value):
     with pytest.raises(InputError, match="move takes a number|sweep values"):
         four_bar().compile().track().move(value)
@@ -275,6 +278,11 @@ def test_a_design_study_beyond_memory_is_refused_before_it_is_swept(monkeypatch)
     (lambda: planar.Vary(four_bar()).check_all([{"O2-A": 1.0}], first="x"), "check_all's first"),  # (a TypeError)
     (lambda: planar.sweep_designs(planar.Vary(four_bar()), [{1: 1.5, "x": 2.0}], [0.1]),  # (a TypeError)
      r"design 0: \['x', 1\] are no numbers of mechanism 'four_bar'"),
+    # (a Vary took the design's number; a builder's TypeError named it as a parameter it does not take)
+    (lambda: planar.sweep_designs(planar.Vary(four_bar()), {"O2-A": [1.0, 1.2]}, [0.1], fixed={"O2-A": 1.0}),
+     r"\['O2-A'\] given both in fixed and in the designs: give each parameter once"),
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0, 1.2]}, [0.1], fixed={"crank": 1.0}),
+     r"\['crank'\] given both in fixed and in the designs"),
     (lambda: planar.sweep_designs(four_bar, {"crank": [1.0]}, lambda d: 1 / 0),  # (the ZeroDivisionError itself)
      r"values\(\{'crank': 1.0\}\) raised ZeroDivisionError: division by zero: give a function of the design"),
 ])
@@ -282,6 +290,13 @@ def test_bad_design_study_arguments(call, message):
     # (each a ValueError, TypeError or AttributeError of numpy or Python)
     with pytest.raises(planar.PlanarError, match=message):
         call()
+
+
+def test_a_vary_takes_a_float32_number_without_a_warning():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (its size test cast 1e100 to float32: an overflow warning)
+        m = planar.Vary(four_bar())(**{"O2-A": np.float32(1.5)})
+    assert m.compile().sweep([0.1]).ok.all()
 
 
 def test_a_design_drawn_at_an_angle_beyond_the_sketch_keeps_its_error_and_the_others_are_swept():
@@ -373,6 +388,7 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     (lambda: four_bar(driver=np.array(["crank", "x"])), "driver must be one of"),  # (a numpy ValueError)
     (lambda: planar.Dyad("A", 10**400, "B", 1.0, side="left"), "a dyad's length_a must be a positive number"),
     (lambda: four_bar(ground=np.complex128(4 + 3j)), r"ground must be a number, got np.complex128\(4\+3j\)"),  # (ground 4)
+    (lambda: four_bar(ground=np.complex64(4)), r"ground must be a number, got np.complex64"),  # (a ComplexWarning; 4)
     (lambda: four_bar(crossed="no"), "crossed must be True or False, got 'no'"),  # (it built the crossed one)
     (lambda: four_bar(crossed=2), "crossed must be True or False"),
     (lambda: slider_crank(crossed="False"), "crossed must be True or False"),
@@ -424,6 +440,7 @@ def test_bad_units_are_input_errors(kwargs, message):
     (lambda: grashof(4, 2, 3, 4, rtol=None), "rtol must be a number from 0 to 1"),  # (a TypeError)
     (lambda: stroke(four_bar(), "angle:rocker", samples=10.0), "stroke samples must be a whole number"),  # (TypeError)
     (lambda: stroke(four_bar(), "angle:rocker", samples=10**30), "stroke samples must be a whole number from 2"),
+    (lambda: stroke(four_bar(), "angle:rocker", samples=10**5), "stroke samples must be a whole number from 2 to 10000"),
     # (its sketch at an extreme, two samples bracket it alone: a stroke of 0 and a time ratio of inf)
     (lambda: stroke(planar.mechanisms.inverted_slider_crank(), "travel:slide", samples=2),
      "the 2 values over the turn bracket one extreme only .* give more samples"),
@@ -607,7 +624,8 @@ def test_an_analysis_of_the_wrong_object_is_an_input_error(call, message):
 
 @pytest.mark.parametrize("kwargs, message", [
     ({"samples": 1}, "samples must be a whole number from 2"),  # (a triple rocker came back a full turn)
-    ({"samples": 10**9}, "samples must be a whole number from 2 to 1e\\+06"),
+    ({"samples": 10**9}, "samples must be a whole number from 2 to 10000"),
+    ({"samples": 10**6}, "samples must be a whole number from 2 to 10000"),  # (over 40 s and 640 MB)
     ({"samples": 7.5}, "samples must be a whole number"),
     ({"max_step": -1}, "max_step must be a positive number"),
 ])

@@ -169,6 +169,17 @@ def test_failing_designs_keep_their_statuses_and_reasons_and_the_others_are_batc
     assert study.ok[[0, 3]].all() and study.events[0] == study.events[3] == ()
 
 
+def test_a_design_whose_walk_is_too_long_for_the_batch_keeps_its_points():
+    # a start 1e6 rad away is swept alone (its sweep solves the values whole periods back): its
+    # points' positions were NaN under SOLVED, and a study of it alone raised a KeyError
+    study = sweep_designs(four_bar, {"start": [1e6, 0.5]}, [0.1, 0.2])
+    assert study.batched.tolist() == [False, True] and study.ok.all()
+    for name in ("A", "B"):
+        np.testing.assert_array_equal(study.position(name)[0], _alone(four_bar, dict(start=1e6), [0.1, 0.2]).position(name))
+    alone = sweep_designs(four_bar, {"start": [1e6]}, [0.1, 0.2])
+    np.testing.assert_array_equal(alone.velocity("B")[0], study.velocity("B")[0])
+
+
 def _dimensioned_four_bar(crank, coupler, rocker):
     """A four-bar drawn roughly once, its lengths stated with Mechanism.distance."""
     m = planar.Mechanism("dimensioned")

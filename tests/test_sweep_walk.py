@@ -734,6 +734,31 @@ def test_a_stephenson_six_bar_enters_an_interval_past_a_gap_where_newton_lands_i
     np.testing.assert_allclose(res.q[inside], ref.q, rtol=0, atol=1e-9)
 
 
+def test_the_search_past_a_gap_tries_the_values_before_the_first_that_assembles_in_other_modes():
+    # (found by a fuzz campaign, seed 1277 b) past the limit at 1.9534 the crank's range holds an
+    # interval [2.6174, 2.7456] in the sketch's modes; of the values past the gap the search tried
+    # every fourth or so, the first that assembles (2.8031) only in other modes, and 2.6388,
+    # between it and the one tried before, stayed NOT_ASSEMBLABLE
+    kw = dict(coupler_point=(4.900347492389165, 3.994331942951912), link_5=10.144619514253412,
+              link_6=5.149950944187592, pivot_6=(4.435594657600698, 8.36817924311202), frame_angle=2.2854070388344203,
+              crossed=True, crossed_2=False)
+    r = (3.844088722956988, 3.5722253875960144, 11.354829691971652, 10.100441012152055)
+    U = np.array([2.437174311023695, 2.871477204912551, 2.0953902754187816, 2.266591740120233, 3.0228646933910084,
+                  3.5363280184778145, 2.129963102433884, 4.612893032762155, 2.433202349637074, 4.002501523310011,
+                  2.638784132461956, 2.365540529260023, 2.5873534158523683, 3.1509648878065932, 2.156381159794084,
+                  2.2282794982012786, 2.157532919238603, 2.342330491262896, 2.127980292812501, 2.2016869905483794,
+                  -2.9317155596119275, 2.3924426651894977, 3.100883519231196, 4.013994650256485, 2.4876689592921912,
+                  1.9675858943247913])
+    res = stephenson_six_bar(*r, start=0.8062058935025926, **kw).sweep(U)
+    inside = (U > 2.6174) & (U < 2.7456)
+    assert inside.sum() == 1 and POSED[res.status[inside]].all(), res.status[inside]
+    limits = [float(e.input) for e in res.events if e.kind == "limit"]
+    assert np.round(limits, 4).tolist() == [1.9534, 2.6174, 2.7456, 3.014]
+    # the pose a sketch drawn inside the interval with the same closures gives (to whole turns)
+    ref = stephenson_six_bar(*r, start=2.68, **kw).sweep(U[inside])
+    np.testing.assert_allclose(np.angle(np.exp(1j * (res.q[inside] - ref.q))), 0.0, rtol=0, atol=1e-9)
+
+
 def test_an_input_that_assembles_between_the_searched_values_sends_the_search_to_the_images_a_period_on():
     # (found by a fuzz campaign) a Stephenson six-bar whose crank's range has a gap (-2.3983,
     # -0.7178). Past it, least squares from the limit assembles only at -1.86..-1.89, in other

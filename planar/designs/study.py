@@ -131,7 +131,7 @@ class Vary:
         for name, value in numbers.items():
             if not arguments.finite_number(value):
                 raise InputError(f"{name} must be a finite number, got {value!r}: give every design's numbers")
-            if abs(value) > SCALE:  # (as the builder refuses them: their squares overflow)
+            if abs(float(value)) > SCALE:  # (as the builder refuses them: their squares overflow; a float32 as a float)
                 raise InputError(f"{name} = {value!r} is beyond +-{SCALE:g}: give the design's numbers in another unit")
 
     def __call__(self, **numbers):
@@ -159,7 +159,7 @@ def sweep_designs(build, designs, values, velocity=1.0, acceleration=0.0, *, fix
     """
     table = design_table(designs)
     options = study_options(batch, options)
-    check_fixed(fixed)
+    check_fixed(fixed, table)
     rows = np.shape(values)[0] if isinstance(values, np.ndarray) and values.ndim == 3 else None
     if rows is not None and rows != len(table):
         raise InputError(f"values of shape {np.shape(values)} give {rows} designs their values (one row each), but "
@@ -208,10 +208,14 @@ def join(designs, parts, first=0):
                        points=points, template=template, **out.arrays())
 
 
-def check_fixed(fixed):
-    """Refuse ``fixed`` (the numbers every design shares) that is no dict of parameter names."""
+def check_fixed(fixed, table):
+    """Refuse ``fixed`` (the numbers every design shares) that is no dict of parameter names, or
+    names a parameter a design of ``table`` gives too (a Vary's numbers would take the design's)."""
     if fixed is not None and not (isinstance(fixed, dict) and all(isinstance(k, str) for k in fixed)):
         raise InputError(f"fixed must be a dict of the builder's parameters by name, got {fixed!r}")
+    both = sorted(set(fixed or ()) & set().union(*table), key=repr)
+    if both:
+        raise InputError(f"{both} given both in fixed and in the designs: give each parameter once")
 
 
 def study_options(batch, options):
@@ -333,6 +337,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     N, f = next(iter(shapes))
     arguments.size(ref, D * N, f"a batch of {D} designs x {N} values, a sweep", fix="sweep fewer designs a batch "
                    "(batch=), or fewer values")
+    tables = list(groups)  # (with the designs whose walk is too long for the batch: their points too)
     for k, g in enumerate(groups):
         if (g.model.n, len(g.model.drivers)) != (ref.n, len(ref.drivers)):
             d = g.index[0]
@@ -347,7 +352,6 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     for d in U:
         out.U[d] = U[d]
     batched = np.zeros(D, bool)
-    tables = list(groups)
     while groups:  # each group on its first design's plan; the designs it does not fit, again
         g = groups.pop(0)
         try:

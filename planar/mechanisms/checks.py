@@ -12,9 +12,9 @@ MAX_LINKS = 256
 
 
 def _real(value):
-    """float(value), a TypeError for a complex number (numpy's complex128 is one, and float()
-    would take its real part)."""
-    if isinstance(value, complex):
+    """float(value), a TypeError for a complex number (numpy's complex64 too: float() would
+    take its real part)."""
+    if model_checks.is_complex(value):
         raise TypeError(value)
     return float(value)
 

@@ -262,8 +262,10 @@ class Model:
                 dtype = np.dtype(float)
             if dtype.kind == "O" and any(v is None for v in read.ravel()):
                 raise InputError(f"sweep {what} must be numbers, got None among them")
-        if dtype.kind in "bcmMSU" or np.ma.is_masked(values):  # (read as numbers, they would be other numbers)
-            got = f"an array of {dtype}" if hasattr(values, "dtype") else _WORDS.get(dtype.kind, str(dtype))
+        # (read as numbers, they would be other numbers: a bytearray's characters' codes)
+        if dtype.kind in "bcmMSU" or np.ma.is_masked(values) or isinstance(values, (bytearray, memoryview)):
+            got = (f"an array of {dtype}" if hasattr(values, "dtype") else type(values).__name__
+                   if isinstance(values, (bytearray, memoryview)) else _WORDS.get(dtype.kind, str(dtype)))
             raise InputError(f"sweep {what} must be real numbers, got {got}"
                              f"{' with masked values' if np.ma.is_masked(values) else ''}")
         if is_complex(values):  # (numpy would read complex scalars in a list as their real parts)

@@ -279,7 +279,7 @@ class Walker:
                 if not pick.size:
                     break
             ql, gap = least_squares_gap(br.m, np.repeat(g[None], pick.size, 0), targets[pick], decide=GAP)
-            pick, ql, gap = _dips(br.m, g, targets, pick, ql, gap)
+            pick, ql, gap = _dips(br.m, g, targets, pick, ql, gap, self.periodic())
             between = False
             if not np.any(gap <= GAP):
                 ql, gap, between = self._folds(g, signs, targets, pick, ql, gap, poses, circuit)
@@ -566,13 +566,18 @@ def _within(u, lo, hi, P=None):
     return lo <= u <= hi if P is None else (u - lo) % P <= hi - lo
 
 
-def _dips(model, g, targets, pick, ql, gap):
+def _dips(model, g, targets, pick, ql, gap, edge=True):
     """The search past a gap's values ``pick`` (indices into ``targets``), their least-squares
     poses ``ql`` and gaps, with every target between the neighbours of each local minimum of
-    the gap, before the first value that assembles, searched from ``g`` too and merged in order.
-    An interval of the range narrower than the picks' spacing lies next to such a minimum:
-    the gap falls towards it from both sides (a slider-crank whose short coupler reaches two
-    intervals a turn, each 0.04-0.2 rad wide: values tried every fourth walk step miss them).
+    the gap, before the first value that assembles, and (``edge``) between that value and the
+    one before it, searched from ``g`` too and merged in order. An interval of the range
+    narrower than the picks' spacing lies next to such a minimum: the gap falls towards it from
+    both sides (a slider-crank whose short coupler reaches two intervals a turn, each 0.04-0.2
+    rad wide: values tried every fourth walk step miss them); or just before the first value
+    that assembles, where that assembles only in other modes (a Stephenson six-bar's interval
+    [2.6174, 2.7456] in ours, the first pick that assembles at 2.803 in others). Not ``edge``
+    for a linkage that is not :meth:`Walker.periodic`: a geared one closes at many poses in
+    our modes, and an earlier value tried would choose another of its stretches to enter.
 
     >>> from planar.mechanisms import slider_crank
     >>> m = slider_crank(4.0, 0.15, offset=0.0, start=0.0).compile()
@@ -593,6 +598,8 @@ def _dips(model, g, targets, pick, ql, gap):
     dips = np.flatnonzero((gap <= left) & (gap <= right))
     dips = dips[dips < end]
     lo, hi = pick[np.maximum(dips - 1, 0)], pick[np.minimum(dips + 1, pick.size - 1)]
+    if edge and end < pick.size:  # (and those before the first that assembles: the range may begin there in ours)
+        lo, hi = np.r_[lo, pick[end - 1]], np.r_[hi, pick[end]]
     more = np.setdiff1d(np.concatenate([np.arange(a + 1, b) for a, b in zip(lo, hi)] + [np.zeros(0, int)]), pick)
     if not more.size:
         return pick, ql, gap
