@@ -43,6 +43,7 @@ from planar.joints.base import wrap
 # Newton solves one following of the targets may take (the hardest in the tests take under 100):
 # a follow that halves and doubles its step without getting on (a joint drawn 1e29 away) stops
 MAX_SOLVES = 250
+STALLS = 4  # Gauss-Newton steps that do not halve the least residual before a solve is given up
 HELD = 1e-9  # a length or travel holds to this, relative to the dimensions' size
 
 
@@ -196,18 +197,31 @@ class _Problem:
         """Minimum-norm Gauss-Newton from z: (z, converged). Its tolerance and largest step
         grow with the lengths asked for, where they outgrow the sketch's size L."""
         size = max(1.0, np.max(np.abs(targets[self.lengths]), initial=0.0) / self.L)
+        best, best_z, full, stalls = np.inf, z, False, 0
         with np.errstate(over="ignore", invalid="ignore"):  # (lengths whose squares overflow: refused below)
             for _ in range(iterations):
                 r = self.residuals(z, targets)
-                if np.max(np.abs(r), initial=0.0) <= 1e-14 * size:
+                now = np.max(np.abs(r), initial=0.0)
+                if now <= 1e-14 * size:
                     return z, True
+                if now < best:
+                    best_z, stalls = z, (0 if now < 0.5 * best else stalls + full)
+                    best = now
+                else:
+                    stalls += full
+                # full steps that no longer halve the least residual: a target past a limit
+                # (the follow then tries a shorter step), or rounding's floor; no root to wait for
+                if stalls == STALLS:
+                    return best_z, best <= 1e-12 * size
                 J = self.jacobian(z)
                 if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):
                     return z, False
                 dx = np.linalg.lstsq(J, r, rcond=None)[0]
                 if not np.all(np.isfinite(dx)):
                     return z, False
-                dx *= min(1.0, 0.25 * size / max(np.max(np.abs(dx), initial=0.0), 1e-300))  # at most size/4 a step
+                big = np.max(np.abs(dx), initial=0.0)
+                full = big <= 0.25 * size
+                dx *= min(1.0, 0.25 * size / max(big, 1e-300))  # at most size/4 a step
                 z = z - dx * self.L
             return z, np.max(np.abs(self.residuals(z, targets)), initial=0.0) <= 1e-12 * size
 
