@@ -51,7 +51,8 @@ from planar.sweep import Branch, input_scale
 
 TURN = 2 * np.pi
 MAX_TURNS = 12  # input travel, in turns, after which a circuit that has not closed is given up
-MAX_STEPS = 1e5  # tracer steps the circuit may take at most (one pose at a time: ~1 ms each)
+MAX_STEPS = 1e4  # tracer steps the circuit may take at most (one pose at a time: ~0.3 ms each)
+MAX_SAMPLES = 10**6  # values of a circuit: ~3 us each, 340 bytes a coordinate
 # coordinates a circuit traces at most (an input that turns fully is swept instead): each tracer
 # step takes SVDs of their Jacobian, and a train's gears lengthen the curve (a planetary train of
 # 30 planets, 96 coordinates: 4,300 steps, ~4 s; of 50, 156 coordinates: a minute)
@@ -73,8 +74,8 @@ def circuit(model, samples=361, velocity=1.0, acceleration=0.0, tol=1e-12, max_s
                          f"{MAX_TURNS * TURN / max_step:.3g} steps, one pose at a time, more than the limit of "
                          f"{MAX_STEPS:g}: give max_step of at least {MAX_TURNS * TURN / MAX_STEPS:.2g}")
     whole = not isinstance(samples, bool) and isinstance(samples, (int, np.integer))
-    if not whole or samples < 2:
-        raise InputError(f"circuit samples must be a whole number of at least 2, got {samples!r}")
+    if not whole or not 2 <= samples <= MAX_SAMPLES:
+        raise InputError(f"circuit samples must be a whole number from 2 to {MAX_SAMPLES:g}, got {samples!r}")
     p = block_plan(model)
     if not model.input_lengths[0]:
         res = _turns(model, p, samples, v, a, tol, max_step)
