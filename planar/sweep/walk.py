@@ -566,7 +566,7 @@ def _within(u, lo, hi, P=None):
     return lo <= u <= hi if P is None else (u - lo) % P <= hi - lo
 
 
-def _dips(model, g, targets, pick, ql, gap, edge=True):
+def _dips(model, g, targets, pick, ql, gap, edge):
     """The search past a gap's values ``pick`` (indices into ``targets``), their least-squares
     poses ``ql`` and gaps, with every target between the neighbours of each local minimum of
     the gap, before the first value that assembles, and (``edge``) between that value and the
@@ -586,7 +586,7 @@ def _dips(model, g, targets, pick, ql, gap, edge=True):
     >>> ql, gap = least_squares_gap(m, np.repeat(m.q0[None], pick.size, 0), targets[pick], decide=GAP)
     >>> bool(np.any(gap <= GAP))
     False
-    >>> pick, ql, gap = _dips(m, m.q0, targets, pick, ql, gap)
+    >>> pick, ql, gap = _dips(m, m.q0, targets, pick, ql, gap, edge=True)
     >>> targets[pick[gap <= GAP], 0].round(2).tolist()
     [3.15]
     """
