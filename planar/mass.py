@@ -19,7 +19,7 @@ import numpy as np
 
 from planar.errors import ModelError
 from planar.geometry import rotate
-from planar.model.checks import is_complex
+from planar.model.checks import SCALE, is_complex
 
 
 def _body_mass(mass, com, inertia):
@@ -105,8 +105,9 @@ def _per_value(value, inputs, shape, what):
         if out.shape != shape:
             raise ModelError(f"a load's {what} function gave shape {out.shape} for {inputs.shape[0]} input "
                              f"values; it must give {shape}")
-        if not np.all(np.isfinite(out)):  # (else NaN forces with a valid status)
-            raise ModelError(f"a load's {what} function gave NaN or infinity; it must give finite numbers")
+        if not np.all(np.abs(out) <= SCALE):  # (else NaN or infinite forces with a valid status)
+            raise ModelError(f"a load's {what} function gave NaN, infinity or a number beyond +-{SCALE:g}; it must "
+                             f"give finite numbers within it (another unit for larger ones)")
         return out
     return np.broadcast_to(np.asarray(value, dtype=float), shape)
 

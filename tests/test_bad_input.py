@@ -102,15 +102,17 @@ def test_bad_rates(kwargs, message):
     ({"tol": -1}, "tol must be from"),
     ({"tol": "small"}, "tol must be a finite number"),
     ({"max_step": 0}, "max_step must be a positive number"),
-    ({"samples": 1}, "samples must be a whole number of at least 2"),
+    ({"samples": 1}, "samples must be a whole number from 2 to 1e\\+06"),
     ({"samples": 10.5}, "samples must be a whole number"),
     ({"velocity": math.nan}, "velocity must be one finite number"),
     ({"velocity": 10**400}, "velocity must be one finite number"),
     ({"velocity": 1e200}, "velocity reaches 1e\\+200"),  # (the accelerations would be NaN, the values SOLVED)
     ({"max_step": 1e-9}, "max_step must be at least 0.0001"),  # (it hung)
+    ({"max_step": 1e-3}, "give max_step of at least 0.0075"),  # (a circuit that does not close: 20-30 s)
+    ({"samples": 10**6 + 1}, "samples must be a whole number from 2 to 1e\\+06, got 1000001"),  # (1e7: 26 s, 3.4 GB)
     ({"bogus": 1}, "unknown circuit option 'bogus': the options are tol, max_step"),  # (a TypeError)
     ({"samples": 10**400}, "the circuit of ~1e400 values needs about inf GiB"),  # (an OverflowError)
-    ({"samples": -10**400}, "samples must be a whole number of at least 2"),  # (an OverflowError)
+    ({"samples": -10**400}, "samples must be a whole number from 2 to 1e\\+06"),  # (an OverflowError)
     ({"velocity": np.complex128(1 + 0j)}, "velocity must be one finite number"),  # (its real part, with a warning)
 ])
 def test_bad_circuit_arguments(kwargs, message):
@@ -150,7 +152,8 @@ def test_a_tracker_move_to_no_number_is_an_input_error(value):
 
 
 @pytest.mark.parametrize("torque, message", [
-    (lambda u: np.full(len(u), np.nan), "a load's torque function gave NaN or infinity"),  # (NaN forces, SOLVED)
+    (lambda u: np.full(len(u), np.nan), "a load's torque function gave NaN, infinity or a number beyond"),  # (NaN forces, SOLVED)
+    (lambda u: np.full(len(u), 1e308), "torque function gave NaN, infinity or a number beyond \\+-1e\\+100"),  # (inf efforts)
     (lambda u: "abc", "a load's torque function gave str 'abc'; it must give real numbers"),  # (a ValueError)
 ])
 def test_a_load_function_that_gives_no_finite_numbers_is_a_model_error(torque, message):
@@ -158,6 +161,12 @@ def test_a_load_function_that_gives_no_finite_numbers_is_a_model_error(torque, m
     m.add_load("coupler", torque=torque)
     with pytest.raises(ModelError, match=message):
         m.sweep([0.1, 0.2]).forces()
+
+
+def test_a_load_torque_beyond_the_numbers_a_sketch_holds_is_a_model_error():
+    # (1e308: efforts inf and reactions NaN, SOLVED)
+    with pytest.raises(ModelError, match=r"load torque on 'coupler' = 1e\+308 is beyond the numbers a sketch holds"):
+        four_bar().add_load("coupler", torque=1e308)
 
 
 def test_a_mechanism_with_nothing_to_drive_says_so():

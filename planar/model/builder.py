@@ -197,6 +197,9 @@ class Mechanism:
             force = checks.point(force, f"load force on {b!r}")
         if not callable(torque):
             torque = checks.finite(torque, f"load torque on {b!r}", ())
+            if abs(torque) > checks.SCALE:  # (its forces overflowed to inf under a valid status)
+                raise ModelError(f"load torque on {b!r} = {float(torque):g} is beyond the numbers a sketch holds "
+                                 f"(+-{checks.SCALE:g}): give it in another unit")
         if at is None and (callable(force) or np.any(force != 0)):
             raise ModelError(f"load on {b!r}: give at, the sketch point the force acts at")
         self._loads.append((b, np.zeros(2) if at is None else checks.point(at, f"load on {b!r} at"), force, torque, fixed))
