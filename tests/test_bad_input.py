@@ -863,7 +863,10 @@ def test_a_six_bar_tracer_that_is_no_point_is_a_model_error(tracer):
     (["--tol", "nan"], "--tol nan: give a positive error"),
     (["--tol", "1e400"], "--tol inf: give a positive error"),  # (any design passed)
     (["--min-transmission", "500"], "--min-transmission 500.0: give an angle from 0 to 90 (deg)"),
-    (["--points", "1000000000"], "--points 1000000000: give a whole number from 1 to 10000"),
+    (["--points", "1000000000"], "--points 1000000000: give a whole number from 3 to 10000"),
+    (["--points", "2"], "--points 2: give a whole number from 3 to 10000"),  # (exit 1, after the file was read)
+    (["--beta", "1e6", "1e6"], "--beta 1000000.0 1000000.0: give rotations within a turn (+-360 deg)"),  # (it hung)
+    (["--gamma", "-400", "1"], "--gamma -400.0 1.0: give rotations within a turn (+-360 deg)"),
 ])
 def test_bad_synth_options_exit_2_with_one_line(tmp_path, capsys, option, message):
     path = tmp_path / "t.csv"

@@ -326,6 +326,18 @@ def test_defect_branch_event_and_change_of_circuit():
     assert path_check(d, [0.5, 2.0, 3.0], np.zeros((3, 2))).ok
 
 
+def test_defect_a_target_reached_only_in_the_other_assembly_mode():
+    """Three positions give a four-bar through them in some assembly mode at each; where the
+    one built misses the second (its other mode passes it), that is a circuit defect."""
+    P = [(0, 0, 0), (1, 0.5, 0.35), (2, 0.6, 0.785)]
+    s = motion_four_bar(P, beta=[1.0, 1.3], gamma=[2.0, -0.5])
+    assert not s.ok and s.max_error > 0.5
+    assert [m.split(" missed")[0] for m in s.defects] == ["target 2"] and "circuit defect" in s.defects[0]
+    assert np.max(s.errors[[0, 2]]) < 1e-12
+    held = motion_four_bar(P, beta=[0.5, 1.2], gamma=[0.3, 0.9])
+    assert held.max_error < 1e-12 and not any("missed" in m for m in held.defects)
+
+
 def test_defect_wrong_order():
     d = dict(ground=4, crank=2, coupler=3, rocker=4, coupler_point=(1, 1))
     s = path_check(d, [0.0, 1.0, 0.5, 2.0], np.zeros((4, 2)))
@@ -405,6 +417,10 @@ BAD_SYNTHESIS_CALLS = [
     (lambda: motion_four_bar(FAR, beta=[0.5, 1.0], gamma=[0.3, 0.7]),  # (a RuntimeWarning: overflow)
      r"positions reach x, y = 1e\+308, .*: give x, y within \+-1e\+100"),
     (lambda: dyad(FAR, [0.5, 1.0]), r"positions reach x, y = 1e\+308"),
+    (lambda: motion_four_bar(THREE, beta=[1e9, 1e9], gamma=[0.3, 0.7]),  # (a MemoryError: 213 GiB of values)
+     r"the design is checked by a sweep .* 1e\+09 rad of travel, more than 10 turns: give inputs within a turn"),
+    (lambda: path_check(DESIGN, [0, 1e4, 1e4], np.zeros((3, 2))),  # (out of order: swept as given, minutes)
+     r"1e\+04 rad of travel, more than 10 turns"),
     (lambda: dyad(np.zeros((0, 3)), []), r"motion generation takes 3, 4 or 5 positions, got 0"),
     (lambda: dyad(THREE, np.array([0.5, 1.0]) + 0j), r"rotations must be 2 finite angles"),  # (a ComplexWarning)
     (lambda: path_check(DESIGN, None, TWO), r"inputs must hold one finite crank angle \(radians\) per target \(2\), "

@@ -96,12 +96,17 @@ def check_options(args):
     if args.min_transmission is not None and not 0 <= args.min_transmission <= turn:
         raise UsageError(f"--min-transmission {args.min_transmission}: give an angle from 0 to {turn:g} "
                          f"({args.angle_unit})")
-    if not 1 <= args.points <= MAX_POINTS:
-        raise UsageError(f"--points {args.points}: give a whole number from 1 to {MAX_POINTS}")
+    if not 3 <= args.points <= MAX_POINTS:  # (three fix the three constants)
+        raise UsageError(f"--points {args.points}: give a whole number from 3 to {MAX_POINTS}")
     for name in ("beta", "gamma", "input_range", "output_range"):
         v = getattr(args, name)
         if v is not None and not np.all(np.isfinite(v)):
             raise UsageError(f"--{name.replace('_', '-')} {' '.join(map(str, v))}: give two finite numbers")
+    for name in ("beta", "gamma"):  # (rotations: a turn more is the same one)
+        v = getattr(args, name)
+        if v is not None and not np.all(np.abs(v) <= 4 * turn):
+            raise UsageError(f"--{name} {' '.join(map(str, v))}: give rotations within a turn (+-{4 * turn:g} "
+                             f"{args.angle_unit})")
 
 
 def cmd_synth(args):

@@ -151,7 +151,8 @@ def _checked(builder, design, th2, out, input_range, output_range, x_range, f, s
     mech = builder(**design)
     span = tuple(float(v) for v in input_range)
     size = abs(output_range[1] - output_range[0])
-    s = check(mech, builder, design, th2, out, lambda res, i: read(res)[i], error, size=size, span=span)
+    s = check(mech, builder, design, th2, out, lambda res, i: read(res)[i], error, size=size, span=span,
+              exact=len(th2) == 3)
     # the whole range: the output asked for at every value of the checking sweep
     u = s.sweep.inputs[:, 0]
     xs = x_range[0] + (u - span[0]) / (span[1] - span[0]) * (x_range[1] - x_range[0])

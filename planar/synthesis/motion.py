@@ -218,7 +218,8 @@ def motion_four_bar(positions, *, beta, gamma, name="motion_four_bar"):
         return np.column_stack((np.hypot(*(got[:, :2] - want[:, :2]).T),
                                 np.abs(np.angle(np.exp(1j * (got[:, 2] - want[:, 2]))))))
 
-    return check(mech, four_bar, design, inputs, P, achieve, error, period=2 * np.pi, point="C", size=size)
+    return check(mech, four_bar, design, inputs, P, achieve, error, period=2 * np.pi, point="C", size=size,
+                 exact=True)
 
 
 def _xy(z):

@@ -15,6 +15,8 @@ from planar.model.checks import is_complex
 from planar.results import VALID, Status
 
 STEP = np.radians(2.0)  # largest input step of the checking sweep between targets
+MISSED = 1e-6  # a precision point's error, relative to the targets' size, that misses it (they hold to ~1e-12)
+MAX_TRAVEL = 20 * np.pi  # input travel of the checking sweep, radians (ten turns: 1,800 values)
 DEFECT_EVENTS = ("limit", "bifurcation", "singular")
 
 
@@ -123,11 +125,13 @@ def ordered(inputs, period=None):
 
 
 def check(mechanism, builder, design, inputs, targets, achieve, error, *, period=None, point=None, size=1.0,
-          span=None):
+          span=None, exact=False):
     """Sweep ``mechanism`` from the first target's input through every target's in order
     (with ``span`` = (start, end): from start, through the targets, to end) and return a
     :class:`Synthesis`. ``achieve(sweep, index)`` reads what the mechanism does at the
-    targets, ``error(achieved, targets)`` the errors."""
+    targets, ``error(achieved, targets)`` the errors; ``exact``: the design passes every
+    target in some assembly mode (precision points as many as its unknowns), so a target
+    missed is one its branch does not reach (a circuit defect)."""
     inputs = np.asarray(inputs, float)
     offsets, sign = ordered(inputs, period)
     defects = []
@@ -146,6 +150,11 @@ def check(mechanism, builder, design, inputs, targets, achieve, error, *, period
     defects += _sweep_defects(res)
     achieved = achieve(res, index)
     errors = error(achieved, np.asarray(targets, float))
+    if exact:
+        off = np.max(np.asarray(errors, float).reshape(len(index), -1), axis=1) / size
+        for k in np.flatnonzero(off > MISSED):
+            defects.append(f"target {k + 1} missed by {off[k]:.3g} of the targets' size: the design reaches it "
+                           f"only off the branch it is built on (another assembly mode: a circuit defect)")
     return Synthesis(mechanism, builder, dict(design), way, np.asarray(targets, float), achieved, errors, res,
                      index, tuple(defects), float(size), point)
 
@@ -153,6 +162,11 @@ def check(mechanism, builder, design, inputs, targets, achieve, error, *, period
 def _values(u0, targets):
     """Input values from u0 through each target value in order, no step above STEP; and the
     index of each target among them."""
+    travel = np.sum(np.abs(np.diff(np.r_[u0, targets])))
+    if not travel <= MAX_TRAVEL:  # (inputs 1e9 rad apart asked for 1e10 values: a MemoryError, or a hang)
+        raise InputError(f"the design is checked by a sweep from input {u0:.6g} rad through the targets' inputs in "
+                         f"order, {travel:.3g} rad of travel, more than {MAX_TRAVEL / (2 * np.pi):g} turns: give "
+                         f"inputs within a turn or two of each other")
     values, index, here = [np.array([u0])], [], u0
     for t in targets:
         n = max(1, int(np.ceil(abs(t - here) / STEP)))
