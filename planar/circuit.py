@@ -147,7 +147,7 @@ def _turns(model, p, samples, v, a, tol, max_step):
         for j in range(0, step.size, SPARSE):
             u = (u0 + k * TURN + step[j : j + SPARSE])[:, None]
             res = direct(u, one[: len(u)], zero[: len(u)])
-            if res is None or res.events or np.any(res.status != Status.SOLVED):
+            if res is None or _met(res):
                 return None
             U.append(u[:, 0])
             Q.append(res.q)
@@ -161,7 +161,14 @@ def _turns(model, p, samples, v, a, tol, max_step):
     values = np.interp(np.linspace(0.0, arc[-1], samples), arc, U)
     values[[0, -1]] = U[[0, -1]]
     res = model.sweep(values, velocity=v, acceleration=a, tol=tol, max_step=max_step)
-    return None if res.events or np.any(res.status != Status.SOLVED) else res
+    return None if _met(res) else res
+
+
+def _met(res):
+    """Whether sweep ``res`` met what the trace follows: a value not SOLVED, or an event but a
+    close approach to a singular position (values SOLVED: a gear train's ratio of 100 reads as
+    one)."""
+    return any(e.kind != "near_singular" for e in res.events) or np.any(res.status != Status.SOLVED)
 
 
 def _rate(x, what):
@@ -219,7 +226,7 @@ def _trace(model, p, tr, max_step, tol):
     Y, T, limits, marks = [y], [t], [], []
     dets = tr.block_dets(y)
     h, travel, gap = min(max_step, 0.1 * tr.d), 0.0, None
-    for _ in range(int(40 * MAX_TURNS * TURN / max_step)):
+    for _ in range(int(MAX_STEPS)):
         st = tr.step(y, t, h, gap)
         if st is None:
             raise AssemblyError(f"the circuit of {model.name!r} could not be followed past input "
@@ -253,9 +260,12 @@ def _trace(model, p, tr, max_step, tol):
         Y.append(y1)
         T.append(t1)
         if travel > MAX_TURNS * TURN:
-            break
+            raise _not_closed(model)
         y, t, det, dets = y1, t1, det1, dets1
-    raise _not_closed(model)
+    # (steps short of max_step along the input: a gear on it turns many times as fast)
+    raise AssemblyError(f"the circuit of {model.name!r} does not come back to its sketch within {MAX_STEPS:g} steps "
+                        f"of the trace, {travel / TURN:.3g} turns of the input (a large gear ratio?): sweep it with "
+                        f"Model.sweep")
 
 
 def _not_closed(model):

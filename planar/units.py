@@ -94,7 +94,9 @@ class Units:
         self.__post_init__()
 
     def __post_init__(self):
-        if not isinstance(self.length, str) or len(self.length) > 16 or not re.fullmatch(r"[^\s\[\]]*", self.length):
+        # (printable: a lone surrogate cannot be written out, a NUL not drawn)
+        if (not isinstance(self.length, str) or len(self.length) > 16 or not self.length.isprintable()
+                or not re.fullmatch(r"[^\s\[\]]*", self.length)):
             raise InputError(f"length unit must be a short label without spaces, like 'mm', got {shown(self.length)}")
         _check(self.angle, ANGLE_UNITS, "angle")
         _check(self.rate, RATE_UNITS, "rate")

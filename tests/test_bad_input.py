@@ -340,6 +340,8 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
 @pytest.mark.parametrize("call, message", [
     (lambda m: m.add_body("b", angle="x"), r"angle of body 'b' \(a number, or a line \(p, q\) of two point names\) must be numeric"),
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
+    # (com and inertia without mass were dropped: a driven body's effort 0)
+    (lambda m: m.add_body("b", com=(1, 1), inertia=5.0), "body 'b': com and inertia come with its mass: give mass too"),
     (lambda m: m.add_body("b", angle=np.complex128(1j)), "angle of body 'b' .* must be a real number"),
     (lambda m: m.add_point("P", m.ground, at=(10**400, 0)), "'P' at must be finite, got an integer beyond"),  # (Overflow)
     (lambda m: m.add_point("P", m.ground, at=(0, [1.0])), "'P' at must be numeric"),  # (a ValueError: ragged)
@@ -367,7 +369,7 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
     # (a hand-built wheel in a track 1e-9 wider than itself: its sweep ran on for minutes)
     (lambda m: (m.add_body("b"), m.add_gear("G", m.ground, "b", 1.0 + 1e-9, 1.0, internal=True, centre_a=(0, 0),
                                             centre_b=(0, -1e-9), hold_distance=True)),
-     "gear 'G': the internal radii 1 and 1.000000001 .* would circle 1e\\+09 times .* more than 10000"),
+     "gear 'G': the internal radii 1 and 1.000000001 .* would circle 1e\\+09 times .* more than 100"),
     (lambda m: (m.add_body("b"), m.add_gear("G", m.ground, "b", 1.0, 1.0, internal=True, carrier=m.ground,
                                             centre_a=(0, 0), centre_b=(0, 0))),
      "gear 'G': an internal mesh needs different radii"),
@@ -375,6 +377,14 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
 def test_bad_builder_arguments(call, message):
     with pytest.raises(ModelError, match=message):
         call(planar.Mechanism())
+
+
+def test_a_body_refused_for_its_mass_is_not_added():
+    m = planar.Mechanism()
+    with pytest.raises(ModelError, match="give com"):
+        m.add_body("b", mass=1.0)
+    m.add_body("b")  # (it was added before its mass was checked: the name was taken)
+
 
 
 def test_a_stated_distance_whose_square_overflows_is_refused():
@@ -409,7 +419,11 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     (lambda: open_chain([1.0, 1.0], start="abc"), "start must hold 2 finite angles, one per link; got 'abc'"),
     # (its centre circling 1e9 times a turn of the wheel: a sweep of two values ran on for minutes)
     (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.0 + 1e-9),
-     "the inner wheel's centre would circle 1e\\+09 times a turn of the wheel, more than 10000"),
+     "the inner wheel's centre would circle 1e\\+09 times a turn of the wheel, more than 100"),
+    (lambda: planar.mechanisms.gear_train([1e4, 1e-4]),  # (5 values over a turn: 17 s, every one NEAR_SINGULAR)
+     "gear 'mesh12': the radii 0.0001 and 10000 are 1e\\+08 times apart, more than 1e\\+06"),
+    (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.001),  # (73 values over a turn: 20 s)
+     "would circle 1e\\+03 times a turn of the wheel, more than 100; give radii more than 0.01 apart"),
 ])
 def test_bad_catalogue_arguments(call, message):
     with pytest.raises(ModelError, match=message):
@@ -435,6 +449,7 @@ def test_a_length_that_cannot_be_converted_is_an_input_error(value, message):
     (dict(angle="grad"), "unknown angle unit 'grad': use one of rad, deg"),
     (dict(rate=60), "unknown rate unit 60"),
     (dict(length="m m"), "length unit must be a short label without spaces"),
+    (dict(length="m\x00m"), "length unit must be a short label without spaces"),  # (drawn with a glyph warning)
     (dict(length=10**5000), "got an integer of 16610 bits"),  # (a ValueError from its repr)
 ])
 def test_bad_units_are_input_errors(kwargs, message):
@@ -466,6 +481,13 @@ def test_bad_analysis_options(call, message):
     (lambda p: io.load(io.save(four_bar(), p), length_unit=["mm"]), r"a length unit is a name .* got \['mm'\]"),
     (lambda p: io.convert_lengths(None, "mm"), "a mechanism document is a JSON object, got NoneType"),
     (lambda p: io.convert_lengths({"units": 3}, "mm"), r"units: must be a JSON object \{...\}, got 3"),  # (Attr.)
+    # (a sweep's settings were read only where a file was written or swept: a TypeError, a
+    # numpy ValueError, or NaN values)
+    (lambda p: io.SweepSettings(start=(0.0,), stop=(90.0,), num=-5), "SweepSettings num: must be an integer of at least 2"),
+    (lambda p: io.SweepSettings(start=("a",), stop=(1.0,)), r"SweepSettings start: must be a number or a list of numbers, got \('a',\)"),
+    (lambda p: io.SweepSettings(start=0.0, stop=(math.nan,)), r"SweepSettings stop: must be .*, got \(nan,\)"),
+    (lambda p: io.SweepSettings(start=0.0, stop=1.0, rocking="yes"), "SweepSettings rocking: must be true or false"),
+    (lambda p: io.SweepSettings(start=[[1.0], [2.0, 3.0]], stop=1.0), "SweepSettings start: must be a number or a list"),
 ])
 def test_bad_file_calls_are_file_format_errors(tmp_path, call, message):
     with pytest.raises(FileFormatError, match=message):
@@ -753,6 +775,16 @@ def test_a_name_that_is_no_text_is_a_file_error(tmp_path, capsys):
     path.write_text(json.dumps(doc))
     code, out, err = run_or_exit(capsys, "info", path)
     assert (code, err.count("\n")) == (1, 1) and "name: must be a string of text" in err, err
+
+
+def test_a_length_unit_that_is_no_text_is_a_file_error(tmp_path, capsys):
+    # (loaded; then planar run wrote its tables: a UnicodeEncodeError traceback)
+    doc = _doc()
+    doc["units"] = {"length": "\ud800"}
+    path = tmp_path / "m.json"
+    path.write_text(json.dumps(doc))
+    code, out, err = run_or_exit(capsys, "run", path, "--no-plot", "--no-animation")
+    assert (code, err.count("\n")) == (1, 1) and "length unit must be a short label" in err, err
 
 
 def test_running_out_of_memory_is_one_line(tmp_path, capsys, monkeypatch):

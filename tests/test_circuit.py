@@ -7,7 +7,7 @@ from scipy.optimize import fsolve
 
 from planar import AssemblyError, InputError, Status
 from planar.analysis import grashof
-from planar.mechanisms import four_bar, geared_five_bar, open_chain, planetary_gear_train, rack_and_pinion
+from planar.mechanisms import four_bar, gear_train, geared_five_bar, open_chain, planetary_gear_train, rack_and_pinion
 from tests import oracles
 
 PQ = (1.2, 0.8)  # coupler point: 1.2 along A -> B, 0.8 to its left
@@ -215,6 +215,17 @@ def test_a_circuit_of_an_input_that_turns_fully_is_swept_whatever_its_coordinate
     np.testing.assert_allclose(res.omega("carrier"), 1 / 3, rtol=1e-12)
     # its poses lie on a straight line in the scaled coordinates: evenly spaced inputs
     np.testing.assert_allclose(np.diff(res.inputs[:, 0]), 6 * np.pi / 90, rtol=1e-9)
+
+
+@pytest.mark.parametrize("ratio", [100, 1000])
+def test_a_gear_train_of_a_large_ratio_closes_after_one_turn(ratio):
+    """Its sweeps read a close approach to a singular position (the small gear's column is
+    1/ratio of the other's), values SOLVED: the circuit is that turn swept, not traced (1,000:
+    38 s of trace steps a fraction of a turn each, then an error)."""
+    res = gear_train([1.0, 1.0 / ratio]).circuit(73)
+    assert np.all(res.status == Status.SOLVED) and {e.kind for e in res.events} <= {"near_singular"}
+    assert res.inputs[0, 0] == 0.0 and res.inputs[-1, 0] == 2 * np.pi
+    np.testing.assert_allclose(res.angle("gear2"), -ratio * res.inputs[:, 0], rtol=1e-12, atol=1e-9)
 
 
 def test_a_parallelogram_keeps_to_the_smooth_branch_through_its_change_points():

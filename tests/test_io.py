@@ -271,6 +271,10 @@ def test_sweep_settings_in_file_units():
     assert np.all(back.values(model, Units(rate="deg/s"))[1] < 0)  # speed is a size; the sweep sets the sign
     with pytest.raises(FileFormatError, match="sweep.start: has 2 values but the mechanism has 1 input"):
         io.SweepSettings(start=(0.0, 1.0), stop=(1.0,)).values(model, Units())
+    # a number for one input, numpy's numbers: as a file holds them
+    given = io.SweepSettings(start=0, stop=np.array([90.0]), num=np.int64(3), rocking=np.bool_(False))
+    assert given == io.SweepSettings(start=(0.0,), stop=(90.0,), num=3)
+    assert type(given.num) is int and type(given.rocking) is bool
 
 
 def _bodies(angle):

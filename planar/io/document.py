@@ -23,6 +23,20 @@ class SweepSettings:
     acceleration: tuple = (0.0,)
     rocking: bool = False
 
+    def __post_init__(self):
+        # (the file's own checks, on the fields as a file holds them: a number or a list of them)
+        from planar.io.schema import KINDS, SWEEP_FIELDS, valid
+
+        for name, kind in SWEEP_FIELDS.items():
+            v = getattr(self, name)
+            try:  # (numpy's numbers and arrays as Python's, tuples as lists)
+                plain = np.asarray(v).tolist() if isinstance(v, (tuple, list, np.ndarray, np.generic)) else v
+            except ValueError:  # (ragged)
+                plain = None
+            if not valid(kind, plain):
+                raise FileFormatError(f"SweepSettings {name}: must be {KINDS[kind]}, got {v!r}")
+            object.__setattr__(self, name, tuple(float(x) for x in np.ravel(plain)) if kind == "numbers" else plain)
+
     def values(self, model, units):
         """Input values (N, f) and rates (N, f), (N, f) in internal units for ``model``."""
         from planar import arguments

@@ -115,9 +115,12 @@ class Mechanism:
         its axle alone). ``mass``, ``com`` and ``inertia``: see :meth:`set_mass` (``planar.bar``,
         ``disc`` and ``plate`` give them for simple shapes)."""
         spec = self._angle_spec(name, angle)
+        if mass is None and (com is not None or inertia is None or inertia != 0):  # (else dropped unread)
+            raise ModelError(f"body {name!r}: com and inertia come with its mass: give mass too")
+        given = None if mass is None else _mass(name, mass, com, inertia)  # (checked before the body is added)
         self._bodies[self._new_name(name, "body")] = spec
-        if mass is not None:
-            self.set_mass(name, mass, com, inertia)
+        if given is not None:
+            self._mass[name] = given
         return Body(name)
 
     def set_angle(self, body: Body | str, angle: float | tuple[str, str] | None) -> None:
@@ -161,15 +164,7 @@ class Mechanism:
         b = self._body(body)
         if b == GROUND:
             raise ModelError("the ground does not move: give mass to a moving body")
-        mass, inertia = checks.finite(mass, f"mass of body {b!r}", ()), checks.finite(inertia, f"inertia of body {b!r}", ())
-        if mass < 0 or inertia < 0:
-            raise ModelError(f"body {b!r}: mass and inertia must be >= 0, got {float(mass)!r} and {float(inertia)!r}")
-        if max(mass, inertia) > checks.SCALE:  # (its forces overflowed to inf)
-            raise ModelError(f"body {b!r}: mass {float(mass):g} or inertia {float(inertia):g} is beyond the numbers "
-                             f"a sketch holds (+-{checks.SCALE:g}): give it in another unit")
-        if com is None:
-            raise ModelError(f"body {b!r}: give com, the sketch point of its centre of mass")
-        self._mass[b] = (float(mass), checks.point(com, f"com of body {b!r}"), float(inertia))
+        self._mass[b] = _mass(b, mass, com, inertia)
         self._model = None
 
     @property
@@ -376,8 +371,7 @@ class Mechanism:
         data = dict(radius_a=checks.length(radius_a, f"gear {name!r} radius_a"),
                     radius_b=checks.length(radius_b, f"gear {name!r} radius_b"),
                     sign=-1.0 if internal else 1.0, pressure_angle=checks.pressure_angle(pressure_angle, name))
-        if internal:
-            checks.internal_radii(data["radius_a"], data["radius_b"], name)
+        checks.gear_radii(data["radius_a"], data["radius_b"], internal, name)
         for key, value in (("centre_a", centre_a), ("centre_b", centre_b)):
             data[key] = None if value is None else checks.point(value, f"gear {name!r} {key}")
         cls: type
@@ -532,3 +526,14 @@ class Mechanism:
         return self.compile().circuit(samples, velocity, acceleration, **options)
 
 
+def _mass(b, mass, com, inertia):
+    """Body ``b``'s (mass, com, inertia), checked."""
+    mass, inertia = checks.finite(mass, f"mass of body {b!r}", ()), checks.finite(inertia, f"inertia of body {b!r}", ())
+    if mass < 0 or inertia < 0:
+        raise ModelError(f"body {b!r}: mass and inertia must be >= 0, got {float(mass)!r} and {float(inertia)!r}")
+    if max(mass, inertia) > checks.SCALE:  # (its forces overflowed to inf)
+        raise ModelError(f"body {b!r}: mass {float(mass):g} or inertia {float(inertia):g} is beyond the numbers "
+                         f"a sketch holds (+-{checks.SCALE:g}): give it in another unit")
+    if com is None:
+        raise ModelError(f"body {b!r}: give com, the sketch point of its centre of mass")
+    return float(mass), checks.point(com, f"com of body {b!r}"), float(inertia)

@@ -10,8 +10,11 @@ SCALE = 1e100  # sketch coordinates and lengths within +-SCALE: their squares st
 # spacing there (1.9e-9 rad) is the most rounding an angle may add to the rows' 1e-9 tolerance
 MAX_ANGLE = 2.0**23
 # turns the inner wheel's centre may circle its internal mesh a turn of the wheel: r / (R - r);
-# a sweep's steps grow as many times (73 values over a turn: 0.06 s at 10, 2.9 s at 100, 20 s at 1000)
-MAX_ORBITS = 1e4
+# a sweep's steps grow as many times (73 values over a turn: 0.06 s at 10, 2-5 s at 100, 20 s at 1000)
+MAX_ORBITS = 100
+# radii ratio of a mesh: the small gear's angle grows as many times the other's (at 1e8 a turn
+# of the input is 6e8 rad, beyond what float64 holds to the rows' tolerance: a sweep of 5 values 11-17 s)
+MAX_RATIO = 1e6
 
 
 def is_complex(value):
@@ -83,10 +86,17 @@ def pressure_angle(value, joint):
     return a
 
 
-def internal_radii(r_a, r_b, joint):
-    """Refuse an internal mesh of equal radii, or of radii so close that the inner wheel's
-    centre circles more than MAX_ORBITS times a turn of the wheel."""
+def gear_radii(r_a, r_b, internal, joint):
+    """Refuse a mesh whose radii are more than MAX_RATIO apart, or an internal one of equal
+    radii, or of radii so close that the inner wheel's centre circles more than MAX_ORBITS
+    times a turn of the wheel."""
     r, R = sorted((r_a, r_b))
+    if R > MAX_RATIO * r:
+        raise ModelError(f"gear {joint!r}: the radii {r:.12g} and {R:.12g} are {R / r:.3g} times apart, more than "
+                         f"{MAX_RATIO:g}: the small gear would turn that many times a turn of the other (its angle "
+                         f"beyond what double precision holds to the tolerance); give radii nearer each other")
+    if not internal:
+        return
     if R == r:
         raise ModelError(f"gear {joint!r}: an internal mesh needs different radii")
     if r > MAX_ORBITS * (R - r):
