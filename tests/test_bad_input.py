@@ -340,6 +340,7 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
 @pytest.mark.parametrize("call, message", [
     (lambda m: m.add_body("b", angle="x"), r"angle of body 'b' \(a number, or a line \(p, q\) of two point names\) must be numeric"),
     (lambda m: m.add_body(""), "body name must be a non-empty string"),
+    (lambda m: m.add_body("b", angle=np.True_), r"angle of body 'b' .* must be a number, got (np.)?True"),  # (1 rad)
     # (com and inertia without mass were dropped: a driven body's effort 0)
     (lambda m: m.add_body("b", com=(1, 1), inertia=5.0), "body 'b': com and inertia come with its mass: give mass too"),
     (lambda m: m.add_body("b", angle=np.complex128(1j)), "angle of body 'b' .* must be a real number"),
@@ -377,6 +378,21 @@ def test_a_process_limited_to_less_memory_than_the_machine_has_is_held_to_its_li
 def test_bad_builder_arguments(call, message):
     with pytest.raises(ModelError, match=message):
         call(planar.Mechanism())
+
+
+def test_a_stated_distance_whose_name_is_another_numbers_is_refused():
+    # (restate("A-B-C") and Vary's numbers took A-B to C for A to B-C, or the other way)
+    m = planar.Mechanism()
+    m.add_body("b")
+    m.add_revolute("O", m.ground, "b", at=(0, 0))
+    for name, at in (("A-B", (1, 0)), ("A", (0, 1)), ("B-C", (1, 1)), ("C", (2, 0))):
+        m.add_point(name, "b", at=at)
+    m.distance("A-B", "C", 2.0)
+    with pytest.raises(ModelError, match="distance A-B-C: that name is another number's of the mechanism already"):
+        m.distance("A", "B-C", 1.0)
+    m.distance("O", "C", 2.0)
+    with pytest.raises(ModelError, match="driver 'O-C': its start would have a stated distance's name"):
+        m.drive("O", name="O-C", start=0.0)
 
 
 def test_a_body_refused_for_its_mass_is_not_added():
@@ -420,6 +436,8 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     # (its centre circling 1e9 times a turn of the wheel: a sweep of two values ran on for minutes)
     (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.0 + 1e-9),
      "the inner wheel's centre would circle 1e\\+09 times a turn of the wheel, more than 100"),
+    (lambda: four_bar(crank=True), "crank must be a number, got True"),  # (a crank of 1)
+    (lambda: planar.analysis.grashof(True, 2.0, 3.0, 4.0), "ground must be a number, got True"),
     (lambda: planar.mechanisms.gear_train([1e4, 1e-4]),  # (5 values over a turn: 17 s, every one NEAR_SINGULAR)
      "gear 'mesh12': the radii 0.0001 and 10000 are 1e\\+08 times apart, more than 1e\\+06"),
     (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.001),  # (73 values over a turn: 20 s)

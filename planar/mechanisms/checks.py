@@ -2,6 +2,8 @@
 
 import math
 
+import numpy as np
+
 from planar.errors import ModelError
 from planar.model import checks as model_checks
 
@@ -13,8 +15,8 @@ MAX_LINKS = 256
 
 def _real(value):
     """float(value), a TypeError for a complex number (numpy's complex64 too: float() would
-    take its real part)."""
-    if model_checks.is_complex(value):
+    take its real part) or a bool (float() would take True as 1)."""
+    if model_checks.is_complex(value) or isinstance(value, (bool, np.bool_)):
         raise TypeError(value)
     return float(value)
 

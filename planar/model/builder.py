@@ -265,6 +265,11 @@ class Mechanism:
         for d in self._dimensions:
             if {d.a, d.b} == {a, b}:
                 raise ModelError(f"{d} is stated already: state each length once")
+        # (restate and Vary name it "a-b": one name for two numbers would change the other)
+        taken = [f"{d.a}-{d.b}" for d in self._dimensions] + [d.name for d in self._drivers if d.name in self._starts]
+        if f"{a}-{b}" in taken:
+            raise ModelError(f"distance {a}-{b}: that name is another number's of the mechanism already (names with "
+                             f"'-' in them): rename a joint or point")
         self._dimensions.append(Dimension(a, b, length))
         self._model = None
 
@@ -479,6 +484,8 @@ class Mechanism:
         if any(d.name == drv.name for d in self._drivers):
             raise ModelError(f"a driver named {drv.name!r} exists already: pass name= to tell them apart")
         if start is not None:
+            if drv.name in (f"{d.a}-{d.b}" for d in self._dimensions):  # (see distance)
+                raise ModelError(f"driver {drv.name!r}: its start would have a stated distance's name: pass another name=")
             self._starts[drv.name] = float(checks.finite(start, f"start of driver {drv.name!r}", ()))
         self._drivers.append(drv)
         self._model = None

@@ -38,6 +38,8 @@ def finite(value, what, shape=None):
     """``value`` as a float array, finite (and of ``shape`` if given), else a ModelError naming ``what``."""
     if is_complex(value):  # (numpy would read a complex scalar as its real part)
         raise ModelError(f"{what} must be a real number, got {value!r}")
+    if isinstance(value, (bool, np.bool_)):  # (numpy would read True as 1)
+        raise ModelError(f"{what} must be a number, got {value!r}")
     try:
         a = floats(value)
     except (TypeError, ValueError):
