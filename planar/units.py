@@ -41,13 +41,31 @@ def convert_length(value, source, target):
         if not isinstance(unit, str) or unit not in LENGTH_UNITS:
             raise InputError(f"cannot convert lengths from {source or 'no unit'!r} to {target or 'no unit'!r}: "
                              f"lengths convert between {', '.join(LENGTH_UNITS)}; name the length unit as one of them")
-    a = np.asarray(value)
+    return _converted(value, LENGTH_UNITS[source], LENGTH_UNITS[target], "lengths", source, target)
+
+
+def _order(derivative):
+    if isinstance(derivative, bool) or derivative not in (0, 1, 2):
+        raise InputError(f"derivative must be 0 (values), 1 (rates) or 2 (accelerations), got {derivative!r}")
+    return int(derivative)
+
+
+def _converted(value, times, over, what, source, target):
+    """``value`` times ``times`` over ``over`` (integers stay exact: whole micrometres): real
+    numbers (bools, text and integers beyond any float refused), none beyond float64 after
+    (an InputError naming ``what`` and the units)."""
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError, OverflowError):  # (ragged)
+        a = np.asarray(None)
     if a.dtype.kind not in "iuf":
-        raise InputError(f"lengths to convert must be real numbers, got {repr(value)[:40]}")
+        raise InputError(f"{what} to convert must be real numbers, got {repr(value)[:40]}")
+    if times == over == 1:  # (radians stay as given)
+        return value
     with np.errstate(over="ignore"):
-        out = np.multiply(a, LENGTH_UNITS[source]) / LENGTH_UNITS[target]
+        out = np.multiply(a, times) / over
     if np.any(np.isinf(out) & np.isfinite(a)):
-        raise InputError(f"{value!r} {source} is beyond float64 in {target}: give it in another unit")
+        raise InputError(f"{repr(value)[:40]} {source} is beyond float64 in {target}: give it in another unit")
     return out
 
 
@@ -64,15 +82,6 @@ def _check(unit, table, what):
     if not isinstance(unit, str) or unit not in table:
         raise InputError(f"unknown {what} unit {shown(unit)}: use one of {', '.join(table)}")
     return unit
-
-
-def _scale(value, factor):
-    # exact when the factor is 1 (radians stay bit for bit)
-    return value if factor == 1.0 else np.multiply(value, factor)
-
-
-def _unscale(value, factor):
-    return value if factor == 1.0 else np.divide(value, factor)
 
 
 @dataclass(frozen=True)
@@ -104,16 +113,16 @@ class Units:
     # ---- conversions (internal = radians, rad/s, rad/s^2) ----------------------------------
 
     def angle_to_internal(self, value):
-        return _scale(value, ANGLE_UNITS[self.angle])
+        return _converted(value, ANGLE_UNITS[self.angle], 1, "angles", self.angle, "rad")
 
     def angle_from_internal(self, value):
-        return _unscale(value, ANGLE_UNITS[self.angle])
+        return _converted(value, 1, ANGLE_UNITS[self.angle], "angles", "rad", self.angle)
 
     def rate_to_internal(self, value):
-        return _scale(value, RATE_UNITS[self.rate])
+        return _converted(value, RATE_UNITS[self.rate], 1, "rates", self.rate, "rad/s")
 
     def rate_from_internal(self, value):
-        return _unscale(value, RATE_UNITS[self.rate])
+        return _converted(value, 1, RATE_UNITS[self.rate], "rates", "rad/s", self.rate)
 
     @property
     def acceleration(self):
@@ -121,10 +130,12 @@ class Units:
         return "deg/s^2" if self.rate == "deg/s" else "rad/s^2"
 
     def acceleration_to_internal(self, value):
-        return _scale(value, RATE_UNITS[self.rate] if self.rate == "deg/s" else 1.0)
+        return _converted(value, RATE_UNITS[self.rate] if self.rate == "deg/s" else 1, 1, "accelerations",
+                          self.acceleration, "rad/s^2")
 
     def acceleration_from_internal(self, value):
-        return _unscale(value, RATE_UNITS[self.rate] if self.rate == "deg/s" else 1.0)
+        return _converted(value, 1, RATE_UNITS[self.rate] if self.rate == "deg/s" else 1, "accelerations",
+                          "rad/s^2", self.acceleration)
 
     # ---- an input that is an angle or a length ---------------------------------------------
 
@@ -133,12 +144,13 @@ class Units:
         lengths pass through."""
         if is_length:
             return value
-        return (self.angle_to_internal, self.rate_to_internal, self.acceleration_to_internal)[derivative](value)
+        return (self.angle_to_internal, self.rate_to_internal, self.acceleration_to_internal)[_order(derivative)](value)
 
     def input_from_internal(self, value, is_length, derivative=0):
         if is_length:
             return value
-        return (self.angle_from_internal, self.rate_from_internal, self.acceleration_from_internal)[derivative](value)
+        return (self.angle_from_internal, self.rate_from_internal,
+                self.acceleration_from_internal)[_order(derivative)](value)
 
     # ---- labels ----------------------------------------------------------------------------
 

@@ -478,6 +478,22 @@ def test_bad_units_are_input_errors(kwargs, message):
 
 
 @pytest.mark.parametrize("call, message", [
+    (lambda u: u.angle_to_internal("1"), "angles to convert must be real numbers, got '1'"),  # (a UFuncTypeError)
+    (lambda u: u.rate_to_internal(None), "rates to convert must be real numbers, got None"),  # (a TypeError)
+    (lambda u: u.angle_to_internal(10**400), "angles to convert must be real numbers"),
+    (lambda u: u.angle_from_internal(1e308), r"1e\+308 rad is beyond float64 in deg"),  # (inf, with a warning)
+    (lambda u: u.input_to_internal(1.0, False, 3), "derivative must be 0 .*, 1 .* or 2 .*, got 3"),  # (an IndexError)
+    (lambda u: u.input_from_internal(1.0, False, 1.5), "derivative must be .*, got 1.5"),  # (a TypeError)
+])
+def test_bad_unit_conversions_are_input_errors(call, message):
+    from planar.units import Units
+
+    with pytest.raises(InputError, match=message):
+        call(Units())
+
+
+
+@pytest.mark.parametrize("call, message", [
     (lambda: grashof(4, 2, 3, 4, rtol=-1), "rtol must be a number from 0 to 1"),  # (an IndexError)
     (lambda: grashof(4, 2, 3, 4, rtol=None), "rtol must be a number from 0 to 1"),  # (a TypeError)
     (lambda: stroke(four_bar(), "angle:rocker", samples=10.0), "stroke samples must be a whole number"),  # (TypeError)
