@@ -499,6 +499,8 @@ def test_bad_unit_conversions_are_input_errors(call, message):
     (lambda: stroke(four_bar(), "angle:rocker", samples=10.0), "stroke samples must be a whole number"),  # (TypeError)
     (lambda: stroke(four_bar(), "angle:rocker", samples=10**30), "stroke samples must be a whole number from 2"),
     (lambda: stroke(four_bar(), "angle:rocker", samples=10**5), "stroke samples must be a whole number from 2 to 10000"),
+    (lambda: stroke(planar.mechanisms.slider_crank(), "x:O2"),  # (60 solves on rounding's signs: an AssemblyError)
+     r"output 'x:O2' does not move over the turn \(0\): it has no stroke"),
     # (its sketch at an extreme, two samples bracket it alone: a stroke of 0 and a time ratio of inf)
     (lambda: stroke(planar.mechanisms.inverted_slider_crank(), "travel:slide", samples=2),
      "the 2 values over the turn bracket one extreme only .* give more samples"),

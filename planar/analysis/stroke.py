@@ -131,6 +131,8 @@ def stroke(source, output_name, *, samples=360, **options):
     model = res.model
     u = res.inputs[:, 0]
     y, g, h = _coefficients(res, output_name)
+    if np.ptp(y) <= 1e-12 * max(1.0, model.L, np.max(np.abs(y))):  # (its rates rounding's noise: no extreme to find)
+        raise InputError(f"output {output_name!r} does not move over the turn ({y[0]:.12g}): it has no stroke")
     if abs(y[-1] - y[0]) > 1e-8 * max(1.0, np.ptp(y)):
         raise InputError(f"output {output_name!r} does not come back after one turn of the input "
                          f"({y[0]:.12g} -> {y[-1]:.12g}): it does not go back and forth")
