@@ -106,7 +106,7 @@ class Mechanism:
         return a, b
 
     def add_body(self, name: str, angle: float | tuple[str, str] | None = None, *, mass: float | None = None,
-                 com: ArrayLike | None = None, inertia: float = 0.0) -> Body:
+                 com: ArrayLike | None = None, inertia: float | None = None) -> Body:
         """Add a moving body. Its angle (what results report as ``angle(body)``) is the world
         direction of its reference line: by default the line from its joint nearest the
         ground to its next joint (see :meth:`reference_line`); ``angle=(p, q)`` names another
@@ -115,9 +115,10 @@ class Mechanism:
         its axle alone). ``mass``, ``com`` and ``inertia``: see :meth:`set_mass` (``planar.bar``,
         ``disc`` and ``plate`` give them for simple shapes)."""
         spec = self._angle_spec(name, angle)
-        if mass is None and (com is not None or inertia is None or inertia != 0):  # (else dropped unread)
+        if mass is None and (com is not None or inertia is not None):  # (else dropped unread)
             raise ModelError(f"body {name!r}: com and inertia come with its mass: give mass too")
-        given = None if mass is None else _mass(name, mass, com, inertia)  # (checked before the body is added)
+        # (checked before the body is added)
+        given = None if mass is None else _mass(name, mass, com, 0.0 if inertia is None else inertia)
         self._bodies[self._new_name(name, "body")] = spec
         if given is not None:
             self._mass[name] = given
