@@ -15,9 +15,11 @@ Store layout (a Zarr group): the :class:`planar.DesignSweep` arrays ``inputs`` (
 ``q``, ``qd``, ``qdd`` (D, N, n), ``status``, ``residual``, ``iterations``, ``singularity``,
 ``branch``, ``gap`` (D, N); ``batched`` and ``events`` (the number of events met) per design;
 ``position/NAME`` (D, N, 2) for each of ``points``; and in its attributes the study (D, batch,
-points), the batches written, and the designs that could not be built, with why.
+points, and a digest of the builder, designs, values, rates, fixed parameters and options: the
+same study is the same digest), the batches written, and the designs that could not be built, with why.
 """
 
+import hashlib
 import itertools
 import os
 import warnings
@@ -34,6 +36,22 @@ from planar.results import Status
 ARRAYS = ("inputs", "q", "qd", "qdd", "status", "residual", "iterations", "singularity", "branch", "gap")
 # what a design that could not be built holds: NaN, status NOT_ASSEMBLABLE, no iterations or events
 FILL = {"status": int(Status.NOT_ASSEMBLABLE)}
+
+
+def _digest(build, table, values, *rest):
+    """A fingerprint of what the study computes (the builder's name, the designs, their values
+    (for a function, those of the first and last design), rates, fixed parameters and options):
+    a store of another study with the same sizes is refused, not taken as done."""
+    # (a Vary by its class and numbers: its repr holds an address, another in each process)
+    name = getattr(build, "__qualname__", None) or (type(build).__qualname__, getattr(build, "numbers", None))
+    h = hashlib.sha256(repr((name, table, rest)).encode())
+    try:  # (values the study refuses are refused there, by name)
+        given = [values(table[0]), values(table[-1])] if callable(values) else [values]
+        for v in given:
+            h.update(np.ascontiguousarray(np.asarray(v, float)).tobytes())
+    except Exception:
+        pass
+    return h.hexdigest()
 
 
 def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.0, *, store, points=(),
@@ -59,7 +77,8 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
         raise InputError(f"progress must be a function progress(done, total) or None, got {progress!r}")
     D = len(table)
     batch = min(int(batch), D)  # (the store's chunks: a batch larger than the study is the study)
-    study = dict(D=D, batch=batch, points=list(points))
+    study = dict(D=D, batch=batch, points=list(points),
+                 digest=_digest(build, table, values, velocity, acceleration, fixed, options))
     group = _open(store, "a")
     if "study" in group.attrs and group.attrs["study"] != study:
         raise InputError(f"store {store} holds another study {group.attrs['study']}, not {study}: give a new "

@@ -62,6 +62,10 @@ def test_a_study_on_two_workers_is_the_in_memory_study_and_resumes_after_an_inte
     # all written: nothing left to compute
     assert cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, 1.5, store=store, points=("C",), fixed=FIXED,
                                           batch=2) == []
+    # the same sizes, other values: another study (it was taken as done, the first study's numbers given back)
+    with pytest.raises(planar.InputError, match="holds another study"):
+        cluster.sweep_designs_to_store(four_bar, DESIGNS, TH + 1.0, 1.5, store=store, points=("C",), fixed=FIXED,
+                                       batch=2)
 
 
 def test_a_store_of_another_study_is_refused(tmp_path):
