@@ -188,10 +188,11 @@ def join(designs, parts, first=0):
                                "values, a sweep", fix="sweep fewer designs, or on a cluster into a store "
                                "(planar.cluster.sweep_designs_to_store)")
             out, rates, template = p.out if whole else Results(len(designs), *dims), (p.Ud, p.Udd), p.template
-        elif dims != out.q.shape[1:] + out.U.shape[2:]:
-            raise InputError(f"designs give different (values, coordinates, inputs) {dims} and "
-                             f"{out.q.shape[1:] + out.U.shape[2:]}: a study sweeps designs of one structure over "
-                             "one number of values")
+        elif dims[0] != out.q.shape[1]:
+            raise InputError(f"designs give different numbers of values {dims[0]} and {out.q.shape[1]}: a study "
+                             "sweeps its designs over one number of values")
+        else:
+            _same_layout(p.template, template, f"design {p.lo}", f"design {first}")
         if out is not p.out:
             out.put(at, p.out)
         for n, (b, S) in p.points.items():
@@ -339,11 +340,8 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
                    "(batch=), or fewer values")
     tables = list(groups)  # (with the designs whose walk is too long for the batch: their points too)
     for k, g in enumerate(groups):
-        if (g.model.n, len(g.model.drivers)) != (ref.n, len(ref.drivers)):
-            d = g.index[0]
-            raise InputError(f"design {lo + d} {table[lo + d]} has {g.model.n} coordinates and "
-                             f"{len(g.model.drivers)} inputs, design {lo + groups[0].index[0]} {ref.n} and "
-                             f"{len(ref.drivers)}: a study sweeps designs of one structure")
+        _same_layout(g.model, ref, f"design {lo + g.index[0]} {table[lo + g.index[0]]}",
+                     f"design {lo + groups[0].index[0]}")
         groups[k] = _check_walks(g, U, options["max_step"], alone)
     groups = [g for g in groups if g.index.size]
     Ud, Udd = ref.as_inputs(velocity, "velocity", N), ref.as_inputs(acceleration, "acceleration", N)
@@ -383,6 +381,15 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
             if body[0] == g.model.body_names[b]:
                 body[1][g.index] = S
     return _Part(lo, models, tuple(errors), batched, tuple(events), Ud, Udd, out, points, ref, build, fixed)
+
+
+def _same_layout(model, ref, who, first):
+    """Refuse ``model`` (of design ``who``) whose coordinates are not laid out as ``ref``'s (of
+    design ``first``): a study's arrays and accessors read every design through one layout."""
+    if (model.n, len(model.drivers), model.body_names) != (ref.n, len(ref.drivers), ref.body_names):
+        raise InputError(f"{who} has bodies {list(model.body_names)} and {len(model.drivers)} inputs, {first} "
+                         f"{list(ref.body_names)} and {len(ref.drivers)}: a study sweeps designs of one structure "
+                         "(sweep the others in a study of their own)")
 
 
 def _check_walks(g, U, step, alone):
