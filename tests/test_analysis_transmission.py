@@ -30,3 +30,12 @@ def test_transmission_angle_refuses_unknown_directions():
         transmission_angle(res, "beam", "rocker")
     with pytest.raises(planar.ModelError, match="pair of point names"):
         transmission_angle(res, ("A",), "rocker")
+    with pytest.raises(planar.ModelError, match="got 'B' twice"):
+        transmission_angle(res, ("B", "B"), "rocker")
+
+
+def test_a_direction_of_no_length_has_no_angle():
+    # (a coupler point on A: the direction A -> C was of no length, its angle 0 or pi)
+    res = four_bar(coupler_point=(0.0, 0.0)).sweep([0.0, 1.0])
+    assert np.isnan(transmission_angle(res, ("A", "C"), "rocker")).all()
+    assert np.isfinite(transmission_angle(res, ("B", "C"), "rocker")).all()

@@ -423,6 +423,7 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     (lambda: planetary_gear_train(planets=10**40), "planets must be a whole number from 1 to 128"),  # (for ever)
     (lambda: open_chain([1.0] * 1000), "lengths must hold from 1 to 256 lengths, got 1000"),  # (compile: 20 s)
     (lambda: planar.mechanisms.gear_train([1.0] * 10**6), "radii must hold from 2 to 256 lengths"),
+    (lambda: planar.mechanisms.gear_train("12"), "radii must be a sequence of lengths, got '12'"),  # (as [1, 2])
     (lambda: open_chain([1.0, 1.0], start=[0, np.complex128(1 + 0j)]), "start must hold 2 finite angles"),
     (lambda: four_bar(driver=np.array(["crank", "x"])), "driver must be one of"),  # (a numpy ValueError)
     (lambda: planar.Dyad("A", 10**400, "B", 1.0, side="left"), "a dyad's length_a must be a positive number"),
@@ -699,6 +700,7 @@ def test_an_analysis_of_the_wrong_object_is_an_input_error(call, message):
     ({"samples": 10**6}, "samples must be a whole number from 2 to 10000"),  # (over 40 s and 640 MB)
     ({"samples": 7.5}, "samples must be a whole number"),
     ({"max_step": -1}, "max_step must be a positive number"),
+    ({"travel": "x"}, "travel is for a length input; 'crank' is an angle"),  # (was taken, and not used)
 ])
 def test_bad_motion_range_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):

@@ -58,6 +58,9 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
                          f"or per travel; the default is 720), got {samples!r}")
     tol, max_step = arguments.tolerance(tol), arguments.max_step(max_step)  # (numpy's uint8 overflowed in the walk)
     u0 = float(model.u0[0])
+    if travel is not None and not model.input_lengths[0]:
+        raise InputError(f"motion_range travel is for a length input; {model.input_names[0]!r} is an angle, looked "
+                         f"for over a turn: leave travel out, got {travel!r}")
     if model.input_lengths[0]:
         R = _travel(travel) if travel is not None else 2.0 * model.L * len(model.body_names)
         up, _ = _stretches(model, u0 + np.linspace(0, R, samples + 1), tol, max_step)

@@ -23,6 +23,8 @@ def _direction(res, d):
         p, q = d
     except (TypeError, ValueError):
         raise ModelError(f"a direction is a body name or a pair of point names (from, to); got {d!r}") from None
+    if isinstance(p, str) and p == q:
+        raise ModelError(f"a direction runs between two points, got {p!r} twice: name another point")
     return res.position(q) - res.position(p)
 
 
@@ -33,8 +35,11 @@ def transmission_angle(res, first, second):
     (from the first to the second). For a four-bar the transmission angle is the angle at B
     between the coupler and the rocker: ``transmission_angle(res, ("B", "A"), ("B", "O4"))``
     (or the bodies "coupler" and "rocker", the same angle); it is best near 90 deg and the
-    mechanism locks where it reaches 0 or 180 deg.
+    mechanism locks where it reaches 0 or 180 deg. NaN where a pair of points meets (within
+    rounding of the model's length scale): a direction of no length has no angle.
     """
     as_sweep(res, "transmission_angle")
     a, b = _direction(res, first), _direction(res, second)
-    return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]))
+    angle = np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]))
+    short = np.minimum(np.hypot(*a.T), np.hypot(*b.T)) <= 1e-12 * res.model.L
+    return np.where(short, np.nan, angle)

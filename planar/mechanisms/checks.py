@@ -80,9 +80,12 @@ def point_pair(value, what, required=False):
 def length_list(values, what, count=None, at_least=1):
     """A list of positive lengths: exactly ``count`` of them, or ``at_least`` to MAX_LINKS."""
     try:
-        values = list(values)
+        listed = list(values) if not isinstance(values, (str, bytes)) else None  # (a string would split)
     except TypeError:
-        raise ModelError(f"{what} must be a sequence of lengths, got {values!r}") from None
+        listed = None
+    if listed is None:
+        raise ModelError(f"{what} must be a sequence of lengths, got {values!r}")
+    values = listed
     if (count is not None and len(values) != count) or not at_least <= len(values) <= MAX_LINKS:
         need = f"exactly {count}" if count is not None else f"from {at_least} to {MAX_LINKS}"
         raise ModelError(f"{what} must hold {need} lengths, got {len(values)}: {repr(values)[:80]}")
