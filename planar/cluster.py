@@ -16,7 +16,8 @@ Store layout (a Zarr group): the :class:`planar.DesignSweep` arrays ``inputs`` (
 ``branch``, ``gap`` (D, N); ``batched`` and ``events`` (the number of events met) per design;
 ``position/NAME`` (D, N, 2) for each of ``points``; and in its attributes the study (D, batch,
 points, and a digest of the builder, designs, values, rates, fixed parameters and options: the
-same study is the same digest), the batches written, and the designs that could not be built, with why.
+same study is the same digest), the batches written, the designs that could not be built, with why,
+and the bodies whose coordinates ``q`` holds (three each after the ground).
 """
 
 import hashlib
@@ -27,8 +28,9 @@ import warnings
 import numpy as np
 import zarr
 from dask.distributed import Client, LocalCluster, as_completed
+from distributed.deploy import Cluster
 
-from planar.designs import BATCH, check_fixed, design_table, join, study_options, sweep_part
+from planar.designs import BATCH, check_fixed, design_table, join, study_options, sweep_part, values_of
 from planar.errors import InputError
 from planar.progress import Progress
 from planar.results import Status
@@ -44,14 +46,25 @@ def _digest(build, table, values, *rest):
     a store of another study with the same sizes is refused, not taken as done."""
     # (a Vary by its class and numbers: its repr holds an address, another in each process)
     name = getattr(build, "__qualname__", None) or (type(build).__qualname__, getattr(build, "numbers", None))
-    h = hashlib.sha256(repr((name, table, rest)).encode())
-    try:  # (values the study refuses are refused there, by name)
-        given = [values(table[0]), values(table[-1])] if callable(values) else [values]
-        for v in given:
-            h.update(np.ascontiguousarray(np.asarray(v, float)).tobytes())
-    except Exception:
-        pass
+    given = [values_of(values, table[d], d, 1) for d in (0, len(table) - 1)] if callable(values) else [values]
+    h = hashlib.sha256()
+    _feed(h, (name, table, rest, given))
     return h.hexdigest()
+
+
+def _feed(h, x):
+    """Feed ``x`` to the hash ``h``: an array by its bytes (its repr elides), a container item
+    by item, anything else by its repr."""
+    if isinstance(x, (np.ndarray, np.generic)) and np.asarray(x).dtype != object:
+        a = np.ascontiguousarray(x)
+        h.update(f"{a.dtype.str}{a.shape}".encode() + a.tobytes())
+    elif isinstance(x, (dict, list, tuple, np.ndarray)):
+        h.update(type(x).__name__.encode())
+        for item in (x.items() if isinstance(x, dict) else x):
+            _feed(h, item)
+        h.update(b")")
+    else:
+        h.update(repr(x).encode() + b",")
 
 
 def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.0, *, store, points=(),
@@ -73,6 +86,9 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not 1 <= workers <= MAX_WORKERS:
         raise InputError(f"workers must be a whole number from 1 to {MAX_WORKERS} (processes of the LocalCluster "
                          f"made for the call), got {workers!r}")
+    if cluster is not None and not isinstance(cluster, (str, Client, Cluster)):
+        raise InputError(f"cluster must be None (a LocalCluster for the call), a scheduler's address such as "
+                         f"'tcp://10.0.0.5:8786', a distributed.Client or a dask Cluster, got {cluster!r}")
     if progress is not None and not callable(progress):
         raise InputError(f"progress must be a function progress(done, total) or None, got {progress!r}")
     D = len(table)
@@ -83,11 +99,8 @@ def sweep_designs_to_store(build, designs, values, velocity=1.0, acceleration=0.
     if "study" in group.attrs and group.attrs["study"] != study:
         raise InputError(f"store {store} holds another study {group.attrs['study']}, not {study}: give a new "
                          "store, or delete this one")
-    done, failed = group.attrs.get("done", []), group.attrs.get("failed", {})
-    if not (isinstance(done, list) and all(isinstance(lo, int) for lo in done) and isinstance(failed, dict)):
-        raise InputError(f"store {store} holds this study with damaged records (done {done!r}, failed {failed!r}): give "
-                         f"a new store, or delete this one")
-    group.attrs.update(study=study, done=sorted(done), failed=failed)
+    _, done, failed = _records(group, store) if "study" in group.attrs else (study, [], {})
+    group.attrs.update(study=study, done=done, failed=failed)
     todo = [lo for lo in range(0, D, batch) if lo not in set(group.attrs["done"])]
     total = -(-D // batch)
     report = progress or Progress("design batches")
@@ -151,7 +164,11 @@ class _client:
                                  dashboard_address=None)
             self.own.append(local)
             self.cluster = local
-        client = Client(self.cluster)
+        try:
+            client = Client(self.cluster)
+        except OSError as e:  # (no scheduler there, or none that answers)
+            raise InputError(f"cluster {self.cluster!r}: no dask scheduler answers there ({e}): start one, or give "
+                             "cluster=None for a LocalCluster on this machine") from None
         self.own.insert(0, client)
         return client
 
@@ -169,7 +186,7 @@ def _batch_record(build, designs, lo, values, velocity, acceleration, fixed, opt
     if part.out is None:
         return lo, record
     study = join([designs[d] for d in range(lo, hi)], [part], lo)
-    record.update({k: getattr(study, k) for k in ARRAYS})
+    record.update({k: getattr(study, k) for k in ARRAYS}, bodies=list(study.template.body_names))
     record["batched"] = study.batched
     record["events"] = np.array([len(e) for e in study.events])
     for name in points:
@@ -178,36 +195,67 @@ def _batch_record(build, designs, lo, values, velocity, acceleration, fixed, opt
 
 
 def _write(group, lo, record, D, batch):
-    """Write one batch's arrays (creating the store's arrays at the first), then mark it done."""
-    for key, a in record.items():
-        if key == "failed":
-            continue
+    """Write one batch's arrays (creating the store's arrays at the first), then mark it done;
+    a batch whose arrays are of other sizes than the store's is refused before any is written."""
+    arrays = {k: a for k, a in record.items() if k not in ("failed", "bodies")}
+    if "bodies" in record and group.attrs.get("bodies", record["bodies"]) != record["bodies"]:
+        raise InputError(f"the designs from {lo} have bodies {record['bodies']}, the study's first "
+                         f"{group.attrs['bodies']}: a study sweeps designs of one structure")
+    for key, a in arrays.items():
+        if key in group and group[key].shape[1:] != a.shape[1:]:
+            raise InputError(f"the designs from {lo} give {key} of shape {a.shape[1:]} each, the study's first "
+                             f"{group[key].shape[1:]}: a study sweeps designs of one structure over one number of "
+                             "values (check what the values function returns)")
+    for key, a in arrays.items():
         if key not in group:
             fill = FILL.get(key, np.nan if a.dtype.kind == "f" else a.dtype.type(0))
             group.create_array(key, shape=(D,) + a.shape[1:], chunks=(batch,) + a.shape[1:], dtype=a.dtype,
                                fill_value=fill)
         group[key][lo : lo + len(a)] = a
-    group.attrs.update(failed=dict(group.attrs["failed"], **record["failed"]),
-                       done=sorted(group.attrs["done"] + [lo]))
+    group.attrs.update(failed=dict(group.attrs["failed"], **record["failed"]), done=sorted(group.attrs["done"] + [lo]),
+                       **({"bodies": record["bodies"]} if "bodies" in record else {}))
+
+
+def _records(group, store):
+    """The store's records (study, done, failed), each checked: a damaged one is refused."""
+    study, done, failed = (group.attrs.get(k) for k in ("study", "done", "failed"))
+    whole = lambda v: type(v) is int  # noqa: E731 (JSON's whole numbers; a bool is none)
+    ok = (isinstance(study, dict) and whole(study.get("D")) and whole(study.get("batch")) and study["D"] > 0
+          and study["batch"] > 0 and isinstance(study.get("points"), list)
+          and all(isinstance(p, str) for p in study["points"]) and isinstance(study.get("digest"), str)
+          and isinstance(done, list) and all(whole(lo) and 0 <= lo < study["D"] and lo % study["batch"] == 0
+                                             for lo in done)
+          and isinstance(failed, dict) and all(k.isdigit() and isinstance(v, str) for k, v in failed.items()))
+    if not ok:
+        raise InputError(f"{store} is no store of a design study (its records 'study', 'done' or 'failed' are "
+                         f"missing or damaged: {repr(study)[:200]}): give the path a study was written to, or "
+                         "delete this one")
+    return study, sorted(set(done)), failed
 
 
 def load(store):
     """The study in ``store``: a dict of numpy arrays (the names of the layout above),
-    ``failed`` {design index: why} and ``done`` (the first design of each batch written).
+    ``failed`` {design index: why}, ``done`` (the first design of each batch written) and
+    ``bodies`` (their names, None where no design could be built).
     Raises :class:`planar.InputError` while batches are missing."""
     group = _open(store, "r")
-    study = group.attrs.get("study")
-    if not (isinstance(study, dict) and isinstance(study.get("D"), int) and isinstance(study.get("batch"), int)
-            and study["batch"] > 0 and isinstance(group.attrs.get("done"), list)):
-        raise InputError(f"{store} is no store of a design study (its 'study' and 'done' records are missing or "
-                         f"damaged): give the path a study was written to")
-    missing = sorted(set(range(0, study["D"], study["batch"])) - set(group.attrs["done"]))
-    if missing:
-        raise InputError(f"store {store} misses the batches of designs {missing}: run the study again on it to "
-                         "compute them")
+    study, done, failed = _records(group, store)
+    total = -(-study["D"] // study["batch"])
+    if len(done) < total:  # (the first missing are among the first len(done) + 5 batches)
+        written = set(done)
+        missing = [lo for lo in itertools.islice(range(0, study["D"], study["batch"]), len(done) + 5)
+                   if lo not in written][:5]
+        raise InputError(f"store {store} misses {total - len(done)} of its {total} batches (of designs "
+                         f"{', '.join(map(str, missing))}{', ...' if total - len(done) > 5 else ''}): run the study "
+                         "again on it to compute them")
+    names = ["position/" + p for p in study["points"]]
     with warnings.catch_warnings():  # (as in _open)
         warnings.simplefilter("ignore", UserWarning)
-        out = {k: group[k][:] for k in group.array_keys()}
-    out.update({f"position/{k}": group["position"][k][:] for k in study["points"]})
-    out.update(failed={int(k): v for k, v in group.attrs["failed"].items()}, done=list(group.attrs["done"]))
+        keys = set(group.array_keys())  # (none where no design could be built)
+        lost = sorted((set(ARRAYS) | set(names)) - keys - {n for n in names if n in group}) if keys else []
+        if lost:
+            raise InputError(f"store {store} misses the arrays {lost} of its study: run the study again into a "
+                             "new store")
+        out = {k: group[k][:] for k in [*keys, *(names if keys else ())]}
+    out.update(failed={int(k): v for k, v in failed.items()}, done=done, bodies=group.attrs.get("bodies"))
     return out

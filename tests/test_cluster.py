@@ -46,7 +46,7 @@ def test_a_study_on_two_workers_is_the_in_memory_study_and_resumes_after_an_inte
     with pytest.raises(Stop):
         cluster.sweep_designs_to_store(four_bar, DESIGNS, TH, 1.5, store=store, points=("C",), fixed=FIXED, batch=2,
                                        progress=interrupt)
-    with pytest.raises(planar.InputError, match="misses the batches"):
+    with pytest.raises(planar.InputError, match="misses 2 of its 4 batches"):
         cluster.load(store)
     written = cluster.zarr.open_group(str(store)).attrs["done"]
     assert len(written) == 2 and seen == [(1, 4), (2, 4)]
@@ -119,3 +119,62 @@ def test_a_store_that_is_no_study_is_refused_by_load(tmp_path):
     group.attrs.update(study=5)  # (a TypeError, then KeyErrors for other records)
     with pytest.raises(planar.InputError, match="is no store of a design study"):
         cluster.load(tmp_path / "odd.zarr")
+
+
+@pytest.mark.parametrize("cluster_arg, message", [
+    (3, "cluster must be None .* or a dask Cluster, got 3"),  # (a TypeError)
+    ("tcp://127.0.0.1:1", "no dask scheduler answers there"),  # (an OSError)
+])
+def test_a_cluster_that_is_none_is_refused(tmp_path, cluster_arg, message):
+    with pytest.raises(planar.InputError, match=message):
+        cluster.sweep_designs_to_store(four_bar, {"crank": [1.0, 1.1]}, TH, store=tmp_path / "s.zarr",
+                                       cluster=cluster_arg)
+
+
+def test_batches_of_other_sizes_or_bodies_are_refused_before_they_are_written(tmp_path):
+    from dask.distributed import Client
+
+    def values(design):  # (a later batch of another number of values)
+        return TH if design["crank"] < 1.05 else TH[:5]
+
+    def build(crank):  # (a later batch of other bodies)
+        return four_bar(crank=crank) if crank < 1.05 else planar.mechanisms.slider_crank(crank=crank)
+
+    with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as local, \
+            Client(local) as client:
+        for store, (b, v, message) in enumerate([(four_bar, values, r"the designs from [01] give inputs of shape"),
+                                                 (build, TH, r"the designs from [01] have bodies .*'(slider|rocker)'\]")]):
+            with pytest.raises(planar.InputError, match=message):
+                cluster.sweep_designs_to_store(b, {"crank": [1.0, 1.1]}, v, store=tmp_path / f"{store}.zarr",
+                                               batch=1, cluster=client, progress=lambda done, total: None)
+            with pytest.raises(planar.InputError, match="misses 1 of its 2 batches"):
+                cluster.load(tmp_path / f"{store}.zarr")
+
+
+def test_damaged_records_of_a_store_are_refused(tmp_path):
+    store = tmp_path / "s.zarr"
+    with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as local:
+        cluster.sweep_designs_to_store(four_bar, {"crank": [1.0, 1.1]}, TH, store=store, points=("C",),
+                                       fixed=dict(coupler_point=(1.0, 0.5)), cluster=local.scheduler_address,
+                                       progress=lambda done, total: None)
+    group = cluster.zarr.open_group(str(store), mode="a")
+    good = dict(group.attrs)
+    assert cluster.load(store)["bodies"] == ["ground", "crank", "coupler", "rocker"]
+    # (each was an AttributeError, ValueError, TypeError or KeyError; a study of 1e12 designs hung)
+    for key, value, message in [("failed", [1], "records .* are missing or damaged"),
+                                ("failed", {"x": "why"}, "records .* are missing or damaged"),
+                                ("done", ["a"], "records .* are missing or damaged"),
+                                ("study", dict(good["study"], points=3), "records .* are missing or damaged"),
+                                ("study", dict(good["study"], batch=True), "records .* are missing or damaged"),
+                                ("study", dict(good["study"], D=-5), "records .* are missing or damaged"),
+                                ("study", dict(good["study"], points=["Q"]), r"misses the arrays \['position/Q'\]"),
+                                ("study", dict(good["study"], D=10**12),
+                                 r"misses 499999999999 of its 500000000000 batches \(of designs 2, 4, 6, 8, 10, ...\)")]:
+        group.attrs.update(good)
+        group.attrs[key] = value
+        with pytest.raises(planar.InputError, match=message):
+            cluster.load(store)
+        if key != "study":
+            with pytest.raises(planar.InputError, match=message):
+                cluster.sweep_designs_to_store(four_bar, {"crank": [1.0, 1.1]}, TH, store=store, points=("C",),
+                                               fixed=dict(coupler_point=(1.0, 0.5)))

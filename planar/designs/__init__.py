@@ -28,7 +28,8 @@ and the error's message in ``errors``. One bad design never loses a study.
 """
 
 from planar.designs.results import DesignSweep
-from planar.designs.study import BATCH, Vary, check_fixed, design_table, join, study_options, sweep_designs, sweep_part
+from planar.designs.study import (BATCH, Vary, check_fixed, design_table, join, study_options, sweep_designs,
+                                  sweep_part, values_of)
 
 __all__ = ["BATCH", "DesignSweep", "Vary", "check_fixed", "design_table", "join", "study_options", "sweep_designs",
-           "sweep_part"]
+           "sweep_part", "values_of"]

@@ -326,7 +326,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
     shared = None
     for g in groups:
         for d in g.index:
-            v = _values_of(values, table[lo + d], lo + d, len(ref.drivers))
+            v = values_of(values, table[lo + d], lo + d, len(ref.drivers))
             if v is values and shared is not None:
                 U[d] = shared
                 continue
@@ -412,7 +412,7 @@ def _check_walks(g, U, step, alone):
     return g.take(np.setdiff1d(np.arange(g.index.size), far)) if far.size else g
 
 
-def _values_of(values, design, d, f):
+def values_of(values, design, d, f):
     """Design d's input values: ``values(design)`` for a function; row d of an array of one
     row per design, (D, N) for one input (f = 1) or (D, N, f); else ``values`` itself."""
     if callable(values):
