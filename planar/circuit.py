@@ -262,10 +262,11 @@ def _trace(model, p, tr, max_step, tol):
         if travel > MAX_TURNS * TURN:
             raise _not_closed(model)
         y, t, det, dets = y1, t1, det1, dets1
-    # (steps short of max_step along the input: a gear on it turns many times as fast)
+    # (steps short of max_step along the input: a body turns many times as fast as it)
     raise AssemblyError(f"the circuit of {model.name!r} does not come back to its sketch within {MAX_STEPS:g} steps "
-                        f"of the trace, {travel / TURN:.3g} turns of the input (a large gear ratio?): sweep it with "
-                        f"Model.sweep")
+                        f"of the trace, {travel / TURN:.3g} turns of the input (its steps along the input stay short: "
+                        "a body turns many times as fast as the input, by a gear ratio or links of sizes orders of "
+                        "magnitude apart): sweep it with Model.sweep")
 
 
 def _not_closed(model):

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
+import planar.circuit
 from planar import AssemblyError, InputError, Status
 from planar.analysis import grashof
 from planar.mechanisms import four_bar, gear_train, geared_five_bar, open_chain, planetary_gear_train, rack_and_pinion
@@ -226,6 +227,14 @@ def test_a_gear_train_of_a_large_ratio_closes_after_one_turn(ratio):
     assert np.all(res.status == Status.SOLVED) and {e.kind for e in res.events} <= {"near_singular"}
     assert res.inputs[0, 0] == 0.0 and res.inputs[-1, 0] == 2 * np.pi
     np.testing.assert_allclose(res.angle("gear2"), -ratio * res.inputs[:, 0], rtol=1e-12, atol=1e-9)
+
+
+def test_a_circuit_whose_steps_stay_short_says_so(monkeypatch):
+    # (a coupler of 4.3 between links of 1e6: it turns many times as fast as the crank; with
+    # the limit of 1e4 steps, 10 s before the error, which named only a gear ratio)
+    monkeypatch.setattr(planar.circuit, "MAX_STEPS", 200)
+    with pytest.raises(AssemblyError, match="within 200 steps .* a body turns many times as fast as the input"):
+        four_bar(2.0, 1e6, 4.3, 1e6).circuit(73, max_step=0.4)
 
 
 def test_a_parallelogram_keeps_to_the_smooth_branch_through_its_change_points():
