@@ -37,7 +37,7 @@ import numpy as np
 from planar import arguments
 from planar.errors import InputError
 from planar.events import NEAR_CURVE
-from planar.model.checks import is_complex
+from planar.model.checks import not_real
 from planar.results import Status, Sweep
 
 CAP = 256  # poses kept per branch option: a turn of the crank at the default max_step is ~126
@@ -386,12 +386,10 @@ class Tracker:
         self.direct = res is not None
         if res is None:  # the sweep, with its checks of the arguments
             try:
-                # (numpy would take complex numbers' real parts, read None, bools, strings and a
-                # bytearray's characters as numbers, and masked values as the numbers under the mask)
+                # (None read as an object; more numbers than inputs refused before they are
+                # copied as floats)
                 given = np.asarray(value)
-                # (more numbers than inputs are refused before they are copied as floats)
-                if (is_complex(value) or given.dtype.kind in "bmMSUO" or given.size > self.model.u0.size
-                        or np.ma.is_masked(value) or isinstance(value, (bytearray, memoryview))):
+                if not_real(value, given.dtype) or given.dtype.kind == "O" or given.size > self.model.u0.size:
                     raise TypeError(value)
                 given = given.astype(float)
             except (TypeError, ValueError, OverflowError):

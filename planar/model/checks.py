@@ -26,6 +26,25 @@ def is_complex(value):
         return False
 
 
+WORDS = {"b": "booleans", "c": "complex ones", "m": "time spans", "M": "dates", "S": "bytes", "U": "strings"}
+
+
+def not_real(values, dtype):
+    """What ``values`` (numpy reads them as ``dtype``) are where they are no real numbers,
+    though numpy would read them as numbers (bools, strings, a bytearray's characters' codes,
+    complex numbers' real parts, the numbers under a mask); None where they are.
+
+    >>> not_real([1.0, 2.0], np.dtype(float)), not_real(bytearray(b"ab"), np.dtype(np.uint8))
+    (None, 'bytearray')
+    """
+    masked = " with masked values" if np.ma.is_masked(values) else ""
+    if isinstance(values, (bytearray, memoryview)):
+        return type(values).__name__
+    if dtype.kind in "bcmMSU" or masked:
+        return (f"an array of {dtype}" if hasattr(values, "dtype") else WORDS.get(dtype.kind, str(dtype))) + masked
+    return "complex ones" if is_complex(values) else None
+
+
 def floats(value):
     """``value`` as a C-ordered float64 array; a longdouble beyond float64 reads inf, for the
     caller to refuse. Raises what numpy raises for no numbers, OverflowError for an integer

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from planar.errors import InputError, MobilityError, ModelError
-from planar.model.checks import floats, is_complex
+from planar.model.checks import floats, not_real
 
 if TYPE_CHECKING:
     from planar.results import Sweep
@@ -19,7 +19,6 @@ if TYPE_CHECKING:
 
 GROUND = "ground"
 # what a list holds, by the kind of array numpy makes of it
-_WORDS = {"b": "booleans", "c": "complex ones", "m": "time spans", "M": "dates", "S": "bytes", "U": "strings"}
 
 
 @dataclass(frozen=True)
@@ -262,14 +261,9 @@ class Model:
                 dtype = np.dtype(float)
             if dtype.kind == "O" and any(v is None for v in read.ravel()):
                 raise InputError(f"sweep {what} must be numbers, got None among them")
-        # (read as numbers, they would be other numbers: a bytearray's characters' codes)
-        if dtype.kind in "bcmMSU" or np.ma.is_masked(values) or isinstance(values, (bytearray, memoryview)):
-            got = (f"an array of {dtype}" if hasattr(values, "dtype") else type(values).__name__
-                   if isinstance(values, (bytearray, memoryview)) else _WORDS.get(dtype.kind, str(dtype)))
-            raise InputError(f"sweep {what} must be real numbers, got {got}"
-                             f"{' with masked values' if np.ma.is_masked(values) else ''}")
-        if is_complex(values):  # (numpy would read complex scalars in a list as their real parts)
-            raise InputError(f"sweep {what} must be real numbers, got complex ones")
+        got = not_real(values, dtype)
+        if got is not None:
+            raise InputError(f"sweep {what} must be real numbers, got {got}")
         if N is None and getattr(read, "ndim", 1) >= 1 and hasattr(read, "__len__"):
             from planar import arguments
 
