@@ -160,8 +160,8 @@ class Factors:
     ``solve(b)`` forward-substitutes through the stages; ``signs`` (N, blocks) are the signs
     of the blocks' dets (the assembly mode; int8, 0 where a det is 0 or not finite) and
     ``sing`` (N,) the smallest normalised |det| (|det| of a block over the product of its row
-    norms, its x and y columns weighted by its largest lever arm, in [0, 1]; 0 at a singular
-    position). A singular block gives non-finite solutions, never an exception. Without
+    norms, its x and y columns weighted by its largest lever arm, in [0, 1]; 1 for a block
+    that is the same at every pose; 0 at a singular position). A singular block gives non-finite solutions, never an exception. Without
     ``dets`` the three are None.
     """
 

@@ -147,7 +147,7 @@ def _turns(model, p, samples, v, a, tol, max_step):
         for j in range(0, step.size, SPARSE):
             u = (u0 + k * TURN + step[j : j + SPARSE])[:, None]
             res = direct(u, one[: len(u)], zero[: len(u)])
-            if res is None or _met(res):
+            if res is None or res.events or np.any(res.status != Status.SOLVED):
                 return None
             U.append(u[:, 0])
             Q.append(res.q)
@@ -161,14 +161,7 @@ def _turns(model, p, samples, v, a, tol, max_step):
     values = np.interp(np.linspace(0.0, arc[-1], samples), arc, U)
     values[[0, -1]] = U[[0, -1]]
     res = model.sweep(values, velocity=v, acceleration=a, tol=tol, max_step=max_step)
-    return None if _met(res) else res
-
-
-def _met(res):
-    """Whether sweep ``res`` met what the trace follows: a value not SOLVED, or an event but a
-    close approach to a singular position (values SOLVED: a gear train's ratio of 100 reads as
-    one)."""
-    return any(e.kind != "near_singular" for e in res.events) or np.any(res.status != Status.SOLVED)
+    return None if res.events or np.any(res.status != Status.SOLVED) else res
 
 
 def _rate(x, what):

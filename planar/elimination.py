@@ -167,7 +167,7 @@ class Program:
         det over the product of the row norms (a 1x1 block's row with its coupling entries;
         larger blocks weight their x and y columns by lam), capped by lam; 0 where the norms
         are (None without ``dets``: a Newton iteration only solves). A block of constants is
-        factored once (its det broadcasts over the poses)."""
+        factored once (its det broadcasts over the poses, +-1: :attr:`constant`)."""
         if self.var.shape[0] == 0:
             A, perm, E, det = self.constant
         else:
@@ -190,8 +190,12 @@ class Program:
 
     @cached_property
     def constant(self):
-        """The factors of a block of constants (no variables), once: (A, perm, E, det)."""
-        return self._factor(np.zeros((0,) + self.var.shape[1:] + (1,)))
+        """The factors of a block of constants (no variables), once: (A, perm, E, det), its
+        normalised det +-1 (0 if singular): a block that is the same at every pose comes no
+        closer to a singular position anywhere (a small gear's rolling row, its entry 1/100 of
+        the coupling one's, is as regular as any)."""
+        A, perm, E, det = self._factor(np.zeros((0,) + self.var.shape[1:] + (1,)))
+        return A, perm, E, np.sign(det)
 
     def _factor(self, v, dets=True):
         """(LU factors and permutation of the Schur complement, the forms' values, det or

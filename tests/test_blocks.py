@@ -3,6 +3,7 @@
 import numpy as np
 
 from planar.blocks import plan
+from planar.elimination import VAR
 from planar.mechanisms import four_bar, geared_five_bar, watt_six_bar
 
 
@@ -45,13 +46,17 @@ def _dense_dets(p, model, Jv):
     """The normalised det of every block, straight from its definition on the dense scaled
     block (np.linalg.det): |det| over the product of the row norms (a 1x1 block's row with
     its coupling entries; larger blocks weight their x and y columns by the largest lever
-    arm lam, capped at 1, and divide by lam per length column), capped by lam."""
+    arm lam, capped at 1, and divide by lam per length column), capped by lam; +-1 for a
+    block of constants, a 1x1 block's coupling entries with them (the same at every pose: as
+    regular anywhere)."""
     out = []
     for b in p.blocks:
         k = b.size
         A = np.moveaxis(Jv[b.diag].reshape(k, k, -1), -1, 0) * (b.rscale[:, None] * b.cscale[None, :])
         det = np.linalg.det(A)
-        if k == 1:
+        if not np.any(p.kinds[np.r_[b.diag, b.coup if k == 1 else []].astype(int)] == VAR):
+            norms, cap = np.abs(det), 1.0
+        elif k == 1:
             C = Jv[b.coup].T * (b.rscale[0] * model.col_scale[b.up])
             norms, cap = np.sqrt(A[:, 0, 0] ** 2 + np.sum(C**2, axis=1)), 1.0
         else:
