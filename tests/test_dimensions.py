@@ -15,9 +15,9 @@ import pytest
 from hypothesis import assume, example, given, settings, strategies as st
 
 import planar
-from planar import dimensions, io
+from planar import Status, dimensions, io
 from planar.errors import AssemblyError, FileFormatError, ModelError
-from planar.mechanisms import four_bar, stephenson_six_bar
+from planar.mechanisms import four_bar, slider_crank, stephenson_six_bar
 from planar.units import Units
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
@@ -247,6 +247,24 @@ def test_a_joint_drawn_too_far_for_double_precision_is_an_assembly_error_that_sa
     with pytest.raises(AssemblyError, match=re.escape(f"the sketch is drawn {x:.3g} across for dimensions of 4, too "
                                                       f"far from them to follow in double precision")):
         _four_bar_with_A_drawn_at(x).compile()
+
+
+@pytest.mark.parametrize("build, name", [
+    (lambda: slider_crank(2.0, 1e13, offset=0.0), "O2-A = 2"),  # (the crank fell to 0, SOLVED)
+    (lambda: four_bar(4.0, 1e-12, 3.0, 4.0), "O2-A = 1e-12"),  # (the crank of 0, SOLVED)
+    (lambda: planar.Vary(slider_crank())(**{"O2-A": 2.0, "A-B": 1e14}), "O2-A = 2"),  # (a crank of 2.03)
+])
+def test_a_length_too_small_beside_the_largest_is_an_assembly_error(build, name):
+    with pytest.raises(AssemblyError, match=f"distance {name} is below 1e-09 of the largest dimension"):
+        build().compile()
+
+
+def test_a_design_with_a_length_too_small_beside_the_largest_is_refused_alone():
+    # (a crank of 2 beside a rod of 3e12 was 2.0007 in the batch: the step's test is scaled by the rod)
+    study = planar.sweep_designs(planar.Vary(slider_crank()), {"O2-A": [2.0, 2.0], "A-B": [3e12, 5.0]}, [0.0, 1.0])
+    assert "O2-A = 2 is below 1e-09 of the largest dimension" in study.errors[0] and study.errors[1] is None
+    assert study.status[0].tolist() == [Status.NOT_ASSEMBLABLE] * 2 and study.ok[1].all()
+    np.testing.assert_allclose(np.hypot(*study.position("A")[1].T), 2.0, rtol=1e-12)
 
 
 def test_distance_and_dyad_refuse_points_of_different_bodies():

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planar import dimensions
 from planar.joints.base import wrap
 from planar.model import GROUND
 from planar.model.resolve import site_key
@@ -122,6 +123,7 @@ def assemble(t, pos, cons, spec, dims, starts, L, need, engine="numpy"):
     else:
         follow(rows, start, goal, z, alive)
     X = rows.sites(d, z)
+    alive &= _held(rows, X, d, target)
     Ls = L[need]
     for i, j, k in t.triangles:  # the assembly mode drawn is kept
         before, after = _turns(rows.X0, i, j, k), _turns(X, i, j, k)
@@ -158,6 +160,18 @@ def follow(rows, start, goal, z, alive):
         z[d] = zs
         alive[d[~ok]] = False
         t, dt = t + step, min(GROW * step, LONGEST)
+
+
+def _held(rows, X, d, target):
+    """(D,) whether every length and travel holds at X to its own size or to the rounding of
+    the largest, no length below SMALLEST of it (as :func:`planar.dimensions.assemble` holds
+    them: the step's test is scaled by the design's size, and a crank of 2 beside a rod of
+    3e12 came out 2.0007)."""
+    length = rows.kind != ANGLE
+    off, size = np.abs(rows.values(X, d) - target), np.abs(target)
+    big = np.max(np.where(length, size, 0.0), axis=1, initial=0.0)[:, None]
+    small = (rows.kind == LENGTH) & (size < dimensions.SMALLEST * big)
+    return np.all(~length | ((off <= dimensions.HELD * size + dimensions.ROUNDING * big) & ~small), axis=1)
 
 
 def _rows(t, pos, cons, spec, L, need):
