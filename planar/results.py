@@ -187,16 +187,13 @@ class Sweep:
         if not is_derivative(derivative):
             raise ModelError(f"derivative must be 0, 1 or 2, got {derivative!r}")
         sys_, row = coords[joint]
-        q = np.nan_to_num(self.q)
-        Phi, J = sys_.evaluate(q, jacobian=derivative > 0)
-        if derivative == 0:
-            out = Phi[:, row]
-        elif derivative == 1:
-            out = np.einsum("nj,nj->n", J[:, row], np.nan_to_num(self.qd))
-        elif derivative == 2:
-            g = sys_.gamma(q, np.nan_to_num(self.qd))
-            out = np.einsum("nj,nj->n", J[:, row], np.nan_to_num(self.qdd)) - g[:, row]
-        else:
-            raise ModelError(f"derivative must be 0, 1 or 2, got {derivative!r}")
-        bad = np.isnan(self.q[:, 0]) if derivative == 0 else np.isnan(self.qd[:, 0] if derivative == 1 else self.qdd[:, 0])
-        return np.where(bad, np.nan, out)
+        # NaN where a coordinate the row reads is NaN (a value not solved, or a body the
+        # sweep's outputs left out), and only there: the row's Jacobian is 0 off what it reads
+        with np.errstate(invalid="ignore"):
+            Phi, J = sys_.evaluate(self.q, jacobian=derivative > 0)
+            if derivative == 0:
+                return Phi[:, row]
+            Jr = J[:, row]
+            rate = self.qd if derivative == 1 else self.qdd
+            out = np.sum(np.where(Jr != 0, Jr * rate, 0.0), axis=1)
+            return out if derivative == 1 else out - sys_.gamma(self.q, self.qd)[:, row]

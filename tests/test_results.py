@@ -136,6 +136,19 @@ def test_a_sliders_travel_and_its_rates():
         res.coordinate("crank")
 
 
+def test_a_coordinate_of_bodies_a_sweep_left_unsolved_is_nan():
+    # (outputs= left the joint's bodies out: their coordinates, NaN, were read as 0; B came back 0)
+    full = four_bar().sweep([0.3, 0.6])
+    assert np.isnan(four_bar().sweep([0.3, 0.6], outputs=["crank"]).coordinate("B")).all()
+    part = slider_crank().sweep([0.3, 0.6], outputs=["A"])
+    for d in (0, 1, 2):
+        assert np.isnan(part.coordinate("slide", d)).all()
+        np.testing.assert_allclose(part.coordinate("O2", d), slider_crank().sweep([0.3, 0.6]).coordinate("O2", d),
+                                   rtol=0, atol=1e-12)
+        np.testing.assert_allclose(four_bar().sweep([0.3, 0.6], outputs=["B"]).coordinate("B", d),
+                                   full.coordinate("B", d), rtol=0, atol=1e-12)
+
+
 def test_points_out_of_reach_are_nan_and_name_the_nearest_limit():
     """A triple rocker (4, 3, 3, 3) turns its crank to +-117.28 deg only."""
     model = four_bar(4, 3, 3, 3).compile()
