@@ -62,6 +62,8 @@ def _converted(value, times, over, what, source, target):
         raise InputError(f"{what} to convert must be real numbers, got {repr(value)[:40]}")
     if times == over == 1:  # (radians stay as given)
         return value
+    if a.dtype.kind in "iu" and a.size and float(np.abs(a.astype(float)).max()) * times >= 2.0**62:
+        a = a.astype(float)  # (the integers' product would wrap round: 1e13 m was -8.4e15 mm)
     with np.errstate(over="ignore"):
         out = np.multiply(a, times) / over
     if np.any(np.isinf(out) & np.isfinite(a)):

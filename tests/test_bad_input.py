@@ -453,6 +453,15 @@ def test_bad_catalogue_arguments(call, message):
         call()
 
 
+def test_integer_lengths_convert_without_wrapping_round():
+    from planar.units import convert_length
+
+    # (int64 products wrapped round: 1e13 m was -8.4e15 mm, 2**63 m 0 mm)
+    assert convert_length(10**13, "m", "mm") == 1e16 and convert_length(np.uint64(2**63), "m", "mm") == 2.0**63 * 1e3
+    assert convert_length(np.array([3, -10**13]), "m", "mm").tolist() == [3000.0, -1e16]
+    assert convert_length(7, "mm", "m") == 0.007
+
+
 @pytest.mark.parametrize("value, message", [
     (1e308, r"1e\+308 m is beyond float64 in mm"),  # (inf)
     ("1", "lengths to convert must be real numbers, got '1'"),  # (a numpy TypeError)
