@@ -442,6 +442,8 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.0 + 1e-9),
      "the inner wheel's centre would circle 1e\\+09 times a turn of the wheel, more than 100"),
     (lambda: four_bar(crank=True), "crank must be a number, got True"),  # (a crank of 1)
+    (lambda: four_bar().set_angle("crank", 1e12), "the angle of body 'crank' is 1e\\+12 rad, beyond"),  # (8e-5 off)
+    (lambda: planar.Mechanism().add_body("b", angle=-1e308), "the angle of body 'b' is -1e\\+308 rad, beyond"),
     (lambda: planar.analysis.grashof(True, 2.0, 3.0, 4.0), "ground must be a number, got True"),
     (lambda: planar.mechanisms.gear_train([1e4, 1e-4]),  # (5 values over a turn: 17 s, every one NEAR_SINGULAR)
      "gear 'mesh12': the radii 0.0001 and 10000 are 1e\\+08 times apart, more than 1e\\+06"),
@@ -774,6 +776,8 @@ FILES = [
     (b"\x89PNG\r\n\x1a\n\x00\xff", "not a text file"),
     (_set(["sweep", "start"], 10**400), "sweep.start: must be a number or a list of numbers"),
     ('{"name": 1' + "0" * 5000 + "}", "not a readable JSON number"),
+    # (taken as the turns its line is counted from: a crank drawn 1e300 deg on read 0.56 rad off)
+    (_set(["bodies", 0, "offset"], 1e300), "bodies[0].offset: the angle of"),
 ]
 
 

@@ -155,7 +155,7 @@ def _body_angle(c, m, body, where, key, value):
             c.fail(where, f"the line {line[0]} -> {line[1]} of body {body!r} names no joint or point")
         d = pts[line[1]][1] - pts[line[0]][1]
         value += math.atan2(d[1], d[0])
-    m.set_angle(body, value)
+    _build(c, where, m.set_angle, body, value)
 
 
 def convert_lengths(data, unit, source="<mechanism file>"):

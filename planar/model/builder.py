@@ -151,6 +151,9 @@ class Mechanism:
             spec = (angle[0], angle[1])
         elif angle is not None:
             spec = float(checks.finite(angle, f"{what} (a number, or a line (p, q) of two point names)", ()))
+            if not abs(spec) <= checks.MAX_ANGLE:  # (a body with a line took it as the turn it counts from)
+                raise ModelError(f"the {what} is {spec:.6g} rad, beyond +-{checks.MAX_ANGLE:.6g} rad (float64 rounds "
+                                 "it by more than the rows' tolerance): give it within a turn")
         return spec
 
     def set_mass(self, body: Body | str, mass: float, com: ArrayLike | None, inertia: float = 0.0) -> None:
