@@ -280,6 +280,10 @@ def test_a_design_study_beyond_memory_is_refused_before_it_is_swept(monkeypatch)
                                   {"crank": [1.0, 1.5]}, [0.1]), r"design 1 .*'slider'\] .* design 0 .*'rocker'\]"),
     (lambda: planar.sweep_designs(lambda **k: slider_crank() if k["crank"] > 1.2 else four_bar(crank=k["crank"]),
                                   {"crank": [1.0, 1.5]}, [0.1], batch=1), "a study sweeps designs of one structure"),
+    (lambda: planar.sweep_designs(lambda crank: four_bar(crank=crank) if crank < 1.2 else None,  # (NOT_ASSEMBLABLE,
+                                  {"crank": [1.0, 1.5]}, [0.1]), "design 1: <lambda> returned NoneType"),  # no error)
+    (lambda: planar.sweep_designs(four_bar, {"crank": [1.0]}, [0.1], rates=False),  # (it listed max_step too)
+     r"takes the options tol, max_step, outputs, branch and engine, not \['rates'\]"),
     (lambda: planar.sweep_designs(lambda **k: planar.Mechanism(), {"crank": [1.0]}, [0.1]),
      "no design could be built: design 0 .* has no driver and nothing to drive"),
     (lambda: planar.Vary(four_bar()).check(None), "a design's numbers are a dict of numbers by name, got None"),
@@ -442,6 +446,7 @@ def test_a_stated_distance_whose_square_overflows_is_refused():
     (lambda: planar.mechanisms.rolling_wheel(1.0, track_radius=1.0 + 1e-9),
      "the inner wheel's centre would circle 1e\\+09 times a turn of the wheel, more than 100"),
     (lambda: four_bar(crank=True), "crank must be a number, got True"),  # (a crank of 1)
+    (lambda: four_bar().compile().sketch.position([1.0]), r"unknown joint or point \[1.0\]"),  # (a TypeError)
     (lambda: four_bar().set_angle("crank", 1e12), "the angle of body 'crank' is 1e\\+12 rad, beyond"),  # (8e-5 off)
     (lambda: planar.Mechanism().add_body("b", angle=-1e308), "the angle of body 'b' is -1e\\+308 rad, beyond"),
     (lambda: planar.analysis.grashof(True, 2.0, 3.0, 4.0), "ground must be a number, got True"),

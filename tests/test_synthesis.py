@@ -3,6 +3,7 @@ built mechanism by a sweep of its own, not by the formula that made it."""
 
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -306,6 +307,13 @@ def test_path_generation_says_when_it_fails():
         path_four_bar(T, designs=2000, refine=1)
     with pytest.raises(InputError, match="coincide"):
         path_four_bar(np.zeros((3, 2)))
+
+
+def test_refining_every_design_leaves_out_those_shrunk_to_a_point():
+    # (refine = designs kept designs whose best move scales them by 0: a RuntimeWarning from log 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert path_four_bar([(0, 0), (1, 0), (1, 1)], designs=2000, refine=2000).ok
 
 
 # ---- defects -----------------------------------------------------------------------------------

@@ -224,9 +224,9 @@ def study_options(batch, options):
     if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
         raise InputError(f"batch must be a positive whole number of designs, got {batch!r}")
     options = arguments.sweep_options(options, run_sweep)
-    if set(options) - {"tol", "max_step", "outputs", "branch", "engine"}:
-        raise InputError(f"sweep_designs takes the options tol, max_step, outputs, branch and engine, got "
-                         f"{sorted(options)}")
+    other = sorted(set(options) - {"tol", "max_step", "outputs", "branch", "engine"})
+    if other:
+        raise InputError(f"sweep_designs takes the options tol, max_step, outputs, branch and engine, not {other}")
     return options
 
 
@@ -274,7 +274,7 @@ def sweep_part(build, table, lo, hi, values, velocity, acceleration, fixed, opti
                                  f"parameters it takes") from e
             except (ValueError, ArithmeticError) as e:  # (a builder of the user's refusing this design's numbers)
                 errors[d] = f"design {lo + d} {table[lo + d]}: {who} raised {type(e).__name__}: {e}"
-            if mechs[d] is not None and not isinstance(mechs[d], Mechanism):
+            if errors[d] is None and not isinstance(mechs[d], Mechanism):  # (None too: it was taken as not built)
                 raise InputError(f"design {lo + d}: {who} returned {type(mechs[d]).__name__}: a builder of designs "
                                  f"returns a planar.Mechanism")
         return mechs[d]

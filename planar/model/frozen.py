@@ -55,7 +55,7 @@ class Sketch:
 
     def position(self, name):
         """World position (2,) of a joint or point."""
-        if name not in self.points:
+        if not isinstance(name, str) or name not in self.points:
             raise ModelError(f"unknown joint or point {name!r}: known are {sorted(self.points)}")
         return self.points[name][1]
 

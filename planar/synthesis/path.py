@@ -268,7 +268,7 @@ def _search(family, tz, tau, designs, keep, cube, report):
         X, sigma = family.sample(cube.random(min(BATCH, designs - start)))
         score, a, b, th = (_score_free if tau is None else _score_timed)(family, X, sigma, tz, tau, grid)
         best = np.argsort(score)[:keep]
-        best = best[np.isfinite(score[best])]
+        best = best[np.isfinite(score[best]) & (np.abs(a[best]) > 0)]  # (a = 0: the design shrunk to a point)
         scores.append(score[best])
         found.append((family.move(X[best], a[best], b[best]), sigma[best], th[best]))
         report(batch + 1)
