@@ -544,6 +544,19 @@ def test_cli_synth_reports_bad_files(tmp_path, capsys):
     csv.write_text("x,y\n1,2\n2,3\n3,1\n")
     assert main(["synth", "path", str(csv), "--timing"]) == 1
     assert "input column" in capsys.readouterr().err
+    csv.write_text("x,y\n1,2\n2,nan\n3,1e400\n")  # (it named neither the file nor the row)
+    assert main(["synth", "path", str(csv)]) == 1
+    assert f"{csv}: line 3, column y: 'nan' is not a finite number" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("targets, message", [
+    ([(1e9, 1e9), (1e9 + 1, 1e9), (1e9 + 1, 1e9 + 1)], "span 1 and lie up to 1e\\+09 from the origin"),  # (12 s)
+    ([(0, 0), (1e-200, 0), (2e-200, 1e-200)], "span 2e-200"),  # (no design found, the best missing by 1e-16)
+    ([(0, 0), (1, np.nan), (2, 1)], r"target point 1 is \(1.0, nan\): give finite points"),
+])
+def test_targets_a_sketch_cannot_hold_are_refused_up_front(targets, message):
+    with pytest.raises(InputError, match=message):
+        path_four_bar(targets, designs=2000)
 
 
 @pytest.mark.parametrize("problem, options, message", [

@@ -75,6 +75,8 @@ def read_targets(path, columns, optional=()):
                 vals.append(float(raw))
             except (TypeError, ValueError, OverflowError):
                 raise FileFormatError(f"{path}: line {k}, column {c}: {raw!r} is not a number") from None
+            if not np.isfinite(vals[-1]):  # (nan, inf, 1e400)
+                raise FileFormatError(f"{path}: line {k}, column {c}: {raw!r} is not a finite number")
         out[c] = np.array(vals)
     return out
 

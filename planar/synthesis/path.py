@@ -37,7 +37,7 @@ from scipy.stats import qmc
 from planar import arguments
 from planar.analysis import transmission_angle
 from planar.errors import InputError, PlanarError, SynthesisError
-from planar.model.checks import SCALE
+from planar.model.checks import MAX_ANGLE, SCALE
 from planar.synthesis.families import FOUR_BAR, STEPHENSON
 from planar.synthesis.result import check, floats, ordered
 
@@ -164,6 +164,12 @@ def _path(family, targets, timing, designs, refine, tol, min_transmission, seed,
     size = float(np.ptp(T, axis=0).max())
     if size == 0:
         raise InputError("the target points all coincide: give distinct points")
+    # (a sketch there holds its rows only to the rounding of its coordinates: the search found
+    # no design, and said the best missed by 1e-16)
+    if size < 1.0 / SCALE or np.abs(T).max() > MAX_ANGLE * size:
+        raise InputError(f"the target points span {size:.3g} and lie up to {np.abs(T).max():.3g} from the origin: "
+                         f"give them spanning at least {1.0 / SCALE:g}, within {MAX_ANGLE:g} times their span of the "
+                         "origin (in another unit, or moved nearer it)")
     for what, v, most in (("designs", designs, MAX_DESIGNS), ("refine", refine, MAX_DESIGNS)):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= most:
             raise InputError(f"{what} must be a whole number from 1 to {most:g}, got {v!r}")
@@ -237,8 +243,11 @@ def _targets(targets):
     if T.ndim and len(T) > MAX_TARGETS:
         raise InputError(f"{len(T)} target points, more than the limit of {MAX_TARGETS}: the search holds every "
                          f"design's error at every target")
-    if T.ndim != 2 or T.shape[1] != 2 or len(T) < 2 or not np.all(np.isfinite(T)):
+    if T.ndim != 2 or T.shape[1] != 2 or len(T) < 2:
         raise InputError(f"targets must be an (N, 2) array of finite points with N >= 2, got shape {T.shape}")
+    bad = np.flatnonzero(~np.isfinite(T).all(axis=1))
+    if bad.size:
+        raise InputError(f"target point {bad[0]} is {tuple(T[bad[0]].tolist())}: give finite points")
     if np.abs(T).max() > SCALE:  # (beyond, their spread overflows)
         raise InputError(f"target points reach {np.abs(T).max():.3g}, beyond the numbers a sketch holds "
                          f"(+-{SCALE:g}): give them in another unit")
