@@ -122,8 +122,8 @@ class Forces:
         res, model = self.sweep, self.sweep.model
         if len(model.drivers) != 1:
             raise ModelError(f"mechanical advantage needs one input; the model has {list(model.input_names)}")
-        if not isinstance(output, str):
-            raise ModelError(f"mechanical advantage: output is a joint's or a body's name, got {output!r}")
+        if not isinstance(output, str) or output == model.body_names[0]:  # (the ground's: inf everywhere)
+            raise ModelError(f"mechanical advantage: output is a joint's or a moving body's name, got {output!r}")
         rate = res.coordinate(output, 1) if output in model.coordinates else res.omega(output)
         with np.errstate(divide="ignore", invalid="ignore"):
             return res.input_rates[:, 0] / rate

@@ -2,9 +2,11 @@
 (tests/oracles.py) and the pitch points of gears; loci over sweeps."""
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 from planar.analysis import instant_centre, instant_centres
+from planar.errors import ModelError
 from planar.mechanisms import four_bar, gear_train, rolling_wheel, slider_crank
 from tests.oracles import four_bar as fb_oracle, four_bar_instant_centres
 
@@ -61,3 +63,9 @@ def test_a_translation_has_its_centre_at_infinity():
     res = slider_crank().sweep([0.3])
     assert np.isnan(instant_centre(res, "ground", "slider")).all()
     assert np.isfinite(instant_centre(res, "crank", "slider")).all()
+
+
+def test_a_body_with_itself_has_no_centre():
+    # (NaN: a body has no motion relative to itself)
+    with pytest.raises(ModelError, match="an instant centre is of two bodies, got 'crank' twice"):
+        instant_centre(four_bar().sweep([0.1]), "crank", "crank")

@@ -621,7 +621,8 @@ def test_numbers_of_numpy_types_and_huge_integers_are_read_or_refused_as_numbers
 @pytest.mark.parametrize("call, message", [
     (lambda f: f.reaction(["B"]), r"unknown joint \['B'\]"),  # (a TypeError: unhashable)
     (lambda f: f.reaction("B", ["x"]), r"joint 'B' has no reaction component \['x'\]"),
-    (lambda f: f.mechanical_advantage(["a"]), "output is a joint's or a body's name"),
+    (lambda f: f.mechanical_advantage(["a"]), "output is a joint's or a moving body's name"),
+    (lambda f: f.mechanical_advantage("ground"), "output is a joint's or a moving body's name"),  # (inf)
     (lambda f: f.shaking_moment("ab"), "shaking_moment about must be numeric"),  # (a numpy ValueError)
     (lambda f: f.shaking_moment((0, 0, 0)), r"shaking_moment about must have shape \(2,\)"),
 ])
@@ -774,6 +775,8 @@ FILES = [
     (_set(["joints", 0, "type"], "weld"), "joints[0].type: must be one of revolute"),
     (_set(["drivers", 0], {"joint": "nope"}), "drivers[0]: unknown joint 'nope'"),
     (_set(["version"], 2), "version: this planar reads version 1 files"),
+    (_set(["version"], True), "version: this planar reads version 1 files, got true"),  # (read as 1)
+    ('{"name": "a", "bodies": [], "name": "b"}', "the field 'name' is given twice in one object"),  # (the last kept)
     (_set(["drivers"], [{"joint": "O2"}, {"body": "coupler"}]), "has 1 degree(s) of freedom but 2 driver(s)"),
     ('{"name": ' + "[" * 100_000 + "]" * 100_000 + "}", "nested too deeply for a mechanism file"),
     ('{"name": ' + "[" * 20 + "]" * 20 + "}", "nested more than 16 levels deep"),

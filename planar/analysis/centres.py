@@ -13,6 +13,7 @@ of body k moves at V_k + w_k perp(P), so (w_i - w_j) perp(P) = V_j - V_i.
 
 import numpy as np
 
+from planar.errors import ModelError
 from planar.geometry import perp
 from planar.results import as_sweep
 
@@ -37,6 +38,8 @@ def instant_centre(res, body_a, body_b):
     example across a prismatic joint) or, at that instant, none at all. With ``body_a`` the ground, the locus is the fixed centrode of ``body_b``.
     """
     as_sweep(res, "instant_centre")
+    if isinstance(body_a, str) and body_a == body_b:  # (NaN: a body has no motion relative to itself)
+        raise ModelError(f"an instant centre is of two bodies, got {body_a!r} twice: name another body")
     Va, wa = _motion(res, body_a)
     Vb, wb = _motion(res, body_b)
     dw = wa - wb

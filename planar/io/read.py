@@ -32,7 +32,7 @@ def from_dict(data, source="<mechanism file>", length_unit=None):
         c.fail(bad[0], f"must be JSON (numbers, text, true, false, null, lists and objects), got {bad[1]}: give "
                        f"plain Python numbers, strings, lists and dicts")
     c.mapping(data, "file", TOP_FIELDS)
-    if data.get("version", VERSION) != VERSION:
+    if data.get("version", VERSION) != VERSION or isinstance(data.get("version"), bool):  # (true == 1)
         c.fail("version", f"this planar reads version {VERSION} files, got {json.dumps(data['version'])}")
     name = data.get("name", "mechanism")
     if not (isinstance(name, str) and (name == "" or valid("name", name))):
@@ -244,7 +244,9 @@ def loads(text, source="<string>", length_unit=None):
     if not isinstance(text, (str, bytes, bytearray)):
         raise FileFormatError(f"{source}: a mechanism document is JSON text, got {type(text).__name__}")
     try:
-        data = json.loads(text)
+        data = json.loads(text, object_pairs_hook=_once)
+    except _Twice as e:
+        raise FileFormatError(f"{source}: the field {e.args[0]!r} is given twice in one object: give it once") from None
     except json.JSONDecodeError as e:
         raise FileFormatError(f"{source}: not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}") from None
     except RecursionError:
@@ -253,6 +255,18 @@ def loads(text, source="<string>", length_unit=None):
     except ValueError as e:  # (an integer of more digits than Python converts)
         raise FileFormatError(f"{source}: not a readable JSON number: {e}".split(";")[0]) from None
     return from_dict(data, source, length_unit)
+
+
+class _Twice(Exception):
+    """A JSON object that gives a field twice (json keeps the last without a word)."""
+
+
+def _once(pairs):
+    out = dict(pairs)
+    if len(out) < len(pairs):
+        seen = set()
+        raise _Twice(next(k for k, _ in pairs if k in seen or seen.add(k)))
+    return out
 
 
 MAX_BYTES = 64 * 2**20  # a mechanism file's size: thousands of bodies take a few MiB
