@@ -917,7 +917,9 @@ MOTION = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.3), (1.5, 0.5, 0.6)]
     (lambda: synthesis.path_four_bar(PATH, designs=10**9), "designs must be a whole number from 1 to 1e\\+07"),
     (lambda: synthesis.path_four_bar(PATH, progress=3), "progress must be a function"),
     (lambda: synthesis.path_four_bar(PATH, timing="abcdef"), "timing must hold one finite crank angle per target"),
-    (lambda: synthesis.path_four_bar(np.zeros((5000, 2))), "5000 target points, more than the limit of 100"),
+    (lambda: synthesis.path_four_bar(np.zeros((5000, 2))), "5000 target points, more than the limit of 50"),
+    (lambda: synthesis.path_four_bar(np.c_[np.cos(np.arange(51)), np.sin(np.arange(51))]),  # (100: 26-131 s)
+     "51 target points, more than the limit of 50"),
     (lambda: synthesis.path_four_bar([[1, 2], [3]]), "targets must be an \\(N, 2\\) array of finite points"),
     (lambda: synthesis.path_four_bar(-1), "targets must be an \\(N, 2\\) array of finite points"),  # (a TypeError)
     (lambda: synthesis.dyad(["x"], [0.1]), "positions must be an \\(N, 3\\) array"),  # (a numpy ValueError)
