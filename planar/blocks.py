@@ -161,8 +161,8 @@ class Factors:
     of the blocks' dets (the assembly mode; int8, 0 where a det is 0 or not finite) and
     ``sing`` (N,) the smallest normalised |det| (|det| of a block over the product of its row
     norms, its x and y columns weighted by its largest lever arm, in [0, 1]; 1 for a block
-    that is the same at every pose; 0 at a singular position). A singular block gives non-finite solutions, never an exception. Without
-    ``dets`` the three are None.
+    that is the same at every pose; 0 at a singular position). A singular block gives
+    non-finite solutions, never an exception. Without ``dets`` the three are None.
     """
 
     def __init__(self, plan, Jv, dets=True):

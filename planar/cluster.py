@@ -256,6 +256,6 @@ def load(store):
         if lost:
             raise InputError(f"store {store} misses the arrays {lost} of its study: run the study again into a "
                              "new store")
-        out = {k: group[k][:] for k in [*keys, *(names if keys else ())]}
+        out = {k: group[k][:] for k in [*sorted(keys), *(names if keys else ())]}
     out.update(failed={int(k): v for k, v in failed.items()}, done=done, bodies=group.attrs.get("bodies"))
     return out

@@ -26,6 +26,7 @@ def is_complex(value):
         return False
 
 
+# what a list holds, by the kind of array numpy makes of it
 WORDS = {"b": "booleans", "c": "complex ones", "m": "time spans", "M": "dates", "S": "bytes", "U": "strings"}
 
 

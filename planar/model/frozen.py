@@ -18,7 +18,6 @@ if TYPE_CHECKING:
     from planar.tracking import Tracker
 
 GROUND = "ground"
-# what a list holds, by the kind of array numpy makes of it
 
 
 @dataclass(frozen=True)

@@ -56,7 +56,7 @@ CONVERGED = 1e-6  # the refinement stops a design at this fraction of tol
 STALL = 1e-9  # or when a step lowers its sum of squares by less than this fraction
 MAX_DESIGNS = 10**7  # designs searched (and refined): minutes of work; more is no search a user waits for
 # target points: the refinement's Gauss-Newton is cubic in them (its unknowns hold a crank
-# angle each): 50 take ~5 s, 100 took 26 s (131 s on a busy machine)
+# angle each): 50 take ~5 s, 100 about 26 s
 MAX_TARGETS = 50
 STEP = 1e-7  # forward-difference step of the refinement's Jacobian (the design is of unit size)
 
