@@ -45,8 +45,7 @@ from planar.joints.base import wrap
 MAX_SOLVES = 250
 STALLS = 4  # Gauss-Newton steps that do not halve the least residual before a solve is given up
 HELD = 1e-9  # a length or travel holds to this, relative to itself,
-ROUNDING = 1e-15  # or to this relative to the largest stated (the rounding of the coordinates);
-SMALLEST = 1e-9  # so a length holds to 1e-6 of itself down to this, relative to the largest
+ROUNDING = 1e-15  # or to this relative to the largest stated (the rounding of the coordinates)
 
 
 def circle_circle(c1, r1, c2, r2, what="the two circles"):
@@ -292,19 +291,17 @@ def _check_held(X, rows, L):
     """Raise the AssemblyError for the first length or travel that does not hold at X to its
     own size, or to the rounding of the largest stated (a sketch drawn 1e20 across for links
     of 2 meets the assembly's tolerance, relative to the drawing, where it stands; a crank of 2
-    beside a rod of 1e13 fell to 0, within 1e-9 of the rod), and any length below SMALLEST of the
-    largest (angles are held to their own)."""
+    beside a rod of 1e13 fell to 0, within 1e-9 of the rod; angles are held to their own)."""
     lengths = [r for r in rows if r.kind != "angle"]
     size = max([abs(r.target) for r in lengths] + [1e-300])
     for r in lengths:
-        if r.kind == "length" and abs(r.target) < SMALLEST * size:
-            raise AssemblyError(f"{r.label} is below {SMALLEST:g} of the largest dimension, {size:.3g}: too small "
-                                "beside it to hold in double precision; give lengths nearer in size")
         off = r.residual(X, r.target)
         if not abs(off) <= HELD * abs(r.target) + ROUNDING * size:
-            raise AssemblyError(f"{r.label} is off by {abs(off):.3g} where the drawing assembles: the sketch is "
-                                f"drawn {L:.3g} across for dimensions of {size:.3g}, too far from them to follow in "
-                                f"double precision; draw the joints nearer their places")
+            why = (f"it is too small beside the largest dimension, {size:.3g}, to hold in double precision; give "
+                   "lengths nearer in size" if HELD * abs(r.target) < ROUNDING * size else
+                   f"the sketch is drawn {L:.3g} across for dimensions of {size:.3g}, too far from them to follow in "
+                   "double precision; draw the joints nearer their places")
+            raise AssemblyError(f"{r.label} is off by {abs(off):.3g} where the drawing assembles: {why}")
 
 
 def _check_turns(X0, X, rows, L):

@@ -164,14 +164,12 @@ def follow(rows, start, goal, z, alive):
 
 def _held(rows, X, d, target):
     """(D,) whether every length and travel holds at X to its own size or to the rounding of
-    the largest, no length below SMALLEST of it (as :func:`planar.dimensions.assemble` holds
-    them: the step's test is scaled by the design's size, and a crank of 2 beside a rod of
-    3e12 came out 2.0007)."""
+    the largest (as :func:`planar.dimensions.assemble` holds them: the step's test is scaled by
+    the design's size, and a crank of 2 beside a rod of 1e14 came out 2.9)."""
     length = rows.kind != ANGLE
     off, size = np.abs(rows.values(X, d) - target), np.abs(target)
     big = np.max(np.where(length, size, 0.0), axis=1, initial=0.0)[:, None]
-    small = (rows.kind == LENGTH) & (size < dimensions.SMALLEST * big)
-    return np.all(~length | ((off <= dimensions.HELD * size + dimensions.ROUNDING * big) & ~small), axis=1)
+    return np.all(~length | (off <= dimensions.HELD * size + dimensions.ROUNDING * big), axis=1)
 
 
 def _rows(t, pos, cons, spec, L, need):
