@@ -164,8 +164,8 @@ def follow(rows, start, goal, z, alive):
 
 def _held(rows, X, d, target):
     """(D,) whether every length and travel holds at X to its own size or to the rounding of
-    the largest (as :func:`planar.dimensions.assemble` holds them: the step's test is scaled by
-    the design's size, and a crank of 2 beside a rod of 1e14 came out 2.9)."""
+    the largest, as :func:`planar.dimensions.assemble` holds them (the step's test is scaled by
+    the design's size alone: a short length held only to that)."""
     length = rows.kind != ANGLE
     off, size = np.abs(rows.values(X, d) - target), np.abs(target)
     big = np.max(np.where(length, size, 0.0), axis=1, initial=0.0)[:, None]
