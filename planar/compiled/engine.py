@@ -48,9 +48,13 @@ LANES = 32  # values the loop takes together (fewer in a smaller chunk)
 # reassociated)
 _JIT: dict = dict(cache=True, error_model="numpy", nogil=True, fastmath={"contract"})
 # the joints' kernels and their pieces (plain functions: numba compiles them where the loop calls
-# them) and the loop's own pieces, inlined by numba (as separate functions they took 2-3x the time)
+# them) and the loop's small pieces, inlined by numba (as separate functions they took 2-3x the time)
 _piece = register_jitable(inline="always", error_model="numpy")
 _inline = numba.njit(inline="always", error_model="numpy")
+# the loop's stages (evaluation, gamma, factorisation, solve), each compiled once and called:
+# inlined, the solve was compiled three times into the loop (Newton's and both rates') and the
+# one-off compile took 42 s where it takes 27 s now, the sweeps' time per value the same
+_stage = numba.njit(**dict(_JIT, _nrt=False))
 
 # the rules both engines share: planar.acceptance's test, planar.events' status rule
 SHARED = (certified, on_course, status_of)
@@ -189,7 +193,7 @@ def _row_constants(T, d, j, u, c):
         c[0] = u[T.inp[j]]
 
 
-@_inline
+@_stage
 def _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, near, L):
     """Phi at q, and the Jacobian entries factor and solve read into Jv (of the active lanes
     only: the others keep their last step's): each joint's kernel, lane by lane."""
@@ -210,7 +214,7 @@ def _evaluate(T, q, U, I, des, act, fb, Phi, Jv, c, phi, jac, ref, near, L):
                 Jv[to, l] = _pick(act[l], jac[l, r, col], Jv[to, l])
 
 
-@_inline
+@_stage
 def _gammas(T, q, qd, U, I, des, want, fb, Phi, c, g, ref, near, L):
     """gamma at q and the velocities qd into Phi (of the lanes ``want``): each joint's gamma
     kernel."""
@@ -266,7 +270,7 @@ def _constants(T, A, P, E, V, w, det, act):
             _forms(T, b, E, act, A, P, E, V, w, det, act.size)  # (no variable reads Jv)
 
 
-@_inline
+@_stage
 def _factor(T, Jv, act, A, P, dets, E, V, fw, sing, L):
     """Each block by its elimination program (planar.elimination.Program._factor): the
     variables' scaled values, the forms' values, the LU of the Schur complement and the det's
@@ -340,7 +344,7 @@ def _factor(T, Jv, act, A, P, dets, E, V, fw, sing, L):
         sing[l] = np.sqrt(sn[l] / sd[l])
 
 
-@_inline
+@_stage
 def _solve(T, Jv, A, P, E, rhs, x, z, y, zs, xl, w, L):
     """x = J^-1 rhs forward through the blocks (planar.elimination.Program.solve each), every
     lane; the Schur complements' LU solves lane by lane."""
@@ -812,7 +816,7 @@ def _warm():
     final(model, plan(model), q, U, np.ones_like(U), np.zeros_like(U))
 
 
-_ENTRIES = (_values, _buffers)  # the functions compiled and cached
+_ENTRIES = (_values, _buffers, _evaluate, _gammas, _factor, _solve)  # the functions compiled and cached
 
 
 def _stamp():
