@@ -5,7 +5,8 @@ Prints, for ``engine="numba"``:
 - the one-off compile (per installation): a new process with an empty numba cache (a temporary
   ``NUMBA_CACHE_DIR``) compiling the engine, wall and CPU seconds;
 - loading in a new process (the cache filled): importing the engine (numba with it), checking
-  the cache and the first sweep's extra time over the second (the machine code read from disk);
+  the cache and the first sweep's extra time over the second (the machine code read from disk),
+  beside numba's own floor: a one-line cached function's import and first call;
 - a new mechanism structure in a warm process: the first sweep of a structure the process has
   not seen, over the second;
 - the four-bar of ``peers.py`` swept over N values of a turn, full kinematics, against the
@@ -61,6 +62,31 @@ def in_new_process(cache):
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return [float(v) for v in out.split()], cpu
+
+
+# numba's own cost of loading machine code in a new process: a one-line function cached on
+# disk, numpy imported first (as planar imports it): seconds to import numba and of its first call
+_FLOOR = """
+import time, numpy
+t0 = time.perf_counter()
+import numba
+t1 = time.perf_counter()
+import trivial
+trivial.one(1.0)
+print(t1 - t0, time.perf_counter() - t1)
+"""
+
+
+def numba_floor(rounds):
+    """(import numba, first call) seconds of a trivial cached function in a new process, best of
+    ``rounds`` (its cache filled by a first process)."""
+    with tempfile.TemporaryDirectory() as home:
+        Path(home, "trivial.py").write_text("import numba\n\n\n@numba.njit(cache=True)\ndef one(x):\n"
+                                            "    return x + 1.0\n")
+        env = dict(os.environ, NUMBA_CACHE_DIR=home, PYTHONPATH=home)
+        runs = [subprocess.run([sys.executable, "-c", _FLOOR], env=env, capture_output=True, text=True,
+                               check=True).stdout for _ in range(rounds + 1)]
+    return np.min([[float(v) for v in out.split()] for out in runs[1:]], axis=0)
 
 
 def new_structures(rounds):
@@ -125,6 +151,9 @@ def main(argv=None):
         print(f"load in a new process (cache filled): {imp + ready + first - second:.3f} s (import of the engine "
               f"with numba {imp:.3f} s, cache check {ready:.3f} s, first sweep over the second "
               f"{first - second:.3f} s)")
+    imp, call = numba_floor(args.rounds)
+    print(f"numba's own floor, a one-line cached function in a new process: {imp + call:.3f} s (import of numba "
+          f"{imp:.3f} s, its first call {call:.3f} s)")
     print(f"a new mechanism structure, warm process: {new_structures(args.rounds):.3f} s (first sweep over the second)")
     sizes = [int(n) for n in args.sizes]
     if sizes:
