@@ -5,8 +5,8 @@ Imported on the first ``engine="numba"`` sweep (it imports numba). :func:`ready`
 loop, or loads it from numba's cache, saying so on stderr when it compiles.
 
 One module of more than 400 lines because it is one compilation unit: numba's on-disk cache is
-keyed on this file alone, so the loop and the pieces it inlines live here, and what it compiles
-in from elsewhere (the joints' kernels, the shared rules) is hashed by :func:`_stamp`.
+keyed on this file alone, so the loop, its stages and the pieces it inlines live here, and what
+it compiles in from elsewhere (the joints' kernels, the shared rules) is hashed by :func:`_stamp`.
 """
 
 import hashlib
