@@ -52,8 +52,8 @@ _JIT: dict = dict(cache=True, error_model="numpy", nogil=True, fastmath={"contra
 _piece = register_jitable(inline="always", error_model="numpy")
 _inline = numba.njit(inline="always", error_model="numpy")
 # the loop's stages (evaluation, gamma, factorisation, solve), each compiled once and called:
-# inlined, the solve is compiled three times into the loop (Newton's and both rates'), for 60-80 %
-# more compile and no faster loop (docs/engine.md, the compiled engine)
+# inlined, the solve is compiled three times into the loop (Newton's and both rates'), for nearly
+# twice the compile and no faster loop (docs/engine.md, the compiled engine)
 _stage = numba.njit(**dict(_JIT, _nrt=False))
 
 # the rules both engines share: planar.acceptance's test, planar.events' status rule
