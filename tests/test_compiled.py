@@ -121,6 +121,20 @@ def test_every_structure_runs_on_one_compiled_loop():
 
 
 @pytest.mark.numba
+def test_every_function_the_engine_caches_is_dropped_with_it():
+    # the loop's stages are cached apart: one left out of the engine's entries would be loaded
+    # from numba's cache, compiled with the kernels as they were, after a change to them
+    import numba
+    from numba.core.caching import NullCache
+
+    from planar.compiled import engine
+
+    cached = {name for name, fn in vars(engine).items()
+              if isinstance(fn, numba.core.registry.CPUDispatcher) and not isinstance(fn._cache, NullCache)}
+    assert cached == {fn.__name__ for fn in engine._ENTRIES}
+
+
+@pytest.mark.numba
 def test_the_bulk_pass_leaves_a_solved_anchor_it_cannot_take_as_it_was():
     # the compiled pass takes the solved anchors with the other values (their final step); an
     # anchor whose step fails there (here: a table whose second interval guesses 0.3 off)
