@@ -287,6 +287,12 @@ def _turn(X, a, b, c):
     return d[0] * e[1] - d[1] * e[0]
 
 
+def holds(off, target, largest):
+    """Whether a length or travel off by ``off`` from ``target`` holds: to HELD of itself, or to
+    the rounding of the ``largest`` stated (numbers or arrays alike)."""
+    return off <= HELD * abs(target) + ROUNDING * largest
+
+
 def _check_held(X, rows, L):
     """Raise the AssemblyError for the first length or travel that does not hold at X to its
     own size, or to the rounding of the largest stated (a sketch drawn 1e20 across for links
@@ -296,7 +302,7 @@ def _check_held(X, rows, L):
     size = max([abs(r.target) for r in lengths] + [1e-300])
     for r in lengths:
         off = r.residual(X, r.target)
-        if not abs(off) <= HELD * abs(r.target) + ROUNDING * size:
+        if not holds(abs(off), r.target, size):
             why = (f"it is too small beside the largest dimension, {size:.3g}, to hold in double precision; give "
                    "lengths nearer in size" if HELD * abs(r.target) < ROUNDING * size else
                    f"the sketch is drawn {L:.3g} across for dimensions of {size:.3g}, too far from them to follow in "

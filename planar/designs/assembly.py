@@ -169,7 +169,7 @@ def _held(rows, X, d, target):
     length = rows.kind != ANGLE
     off, size = np.abs(rows.values(X, d) - target), np.abs(target)
     big = np.max(np.where(length, size, 0.0), axis=1, initial=0.0)[:, None]
-    return np.all(~length | (off <= dimensions.HELD * size + dimensions.ROUNDING * big), axis=1)
+    return np.all(~length | dimensions.holds(off, size, big), axis=1)
 
 
 def _rows(t, pos, cons, spec, L, need):
