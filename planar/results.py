@@ -99,7 +99,7 @@ class Sweep:
 
     def __post_init__(self):
         for v in vars(self).values():
-            if isinstance(v, np.ndarray):
+            if isinstance(v, np.ndarray) and v.flags.writeable:
                 v.setflags(write=False)
 
     def __len__(self) -> int:

@@ -153,13 +153,12 @@ class Poses:
             uu, rows = uu[keep], rows[keep]
         self._keep(uu, rows)
 
-    def append(self, u, q, qu, quu):
-        """Remember the pose q (n,) of a move to input u with its coefficients."""
+    def append(self, u, row):
+        """Remember the pose of a move to input u: its row (3, n), q and its coefficients."""
         if self.size == self._u.size:
-            self.merge(np.zeros(0), np.zeros((3, 0, q.size)))
+            self.merge(np.zeros(0), np.zeros((3, 0, row.shape[1])))
         self._u[self.size] = self.newest = u
-        row = self._rows[self.size]
-        row[0], row[1], row[2] = q, qu, quu
+        self._rows[self.size] = row
         self.size += 1
         self.refused = None
 
@@ -277,11 +276,12 @@ class Direct:
         if r is None:
             poses.refused = first if M == 1 else None
             return None
-        q, qu, quu, status, res, iters, sing, branch = r
+        rows, status, res, iters, sing, branch = r
         if M == 1:
-            poses.append(first, q[0], qu[0], quu[0])
+            poses.append(first, rows[:, 0])
         else:
-            poses.merge(u, (q, qu, quu))
+            poses.merge(u, rows)
+        q, qu, quu = rows[0], rows[1], rows[2]
         if not self.rates:
             qd = qdd = np.broadcast_to(np.nan, q.shape)
         elif Ud.size == 1 and Ud.item() == 1.0 and Udd.item() == 0.0:
@@ -297,7 +297,8 @@ class Direct:
         return Sweep(self.model, U, Ud, Udd, q, qd, qdd, status, res, iters, sing, branch, gap, events)
 
     def _numpy(self, br, poses, U):
-        """(q, qu, quu, status, res, iters, sing, branch) of the values U, or None (see the class)."""
+        """(rows, status, res, iters, sing, branch) of the values U (rows (3, M, n): their q, qu
+        and quu), or None (see the class)."""
         from planar.sweep import final_step
 
         k = poses.nearest(U[:, 0])
@@ -314,7 +315,8 @@ class Direct:
         ok = br.accept(r["q"], q_pred, lambda rows: qk[rows], r["conv"], r["signs"], poses.signs, r["sing"], r["off"])
         if not (ok.all() and (r["status"] <= Status.NEAR_SINGULAR).all()):  # (CLEAN)
             return None
-        return r["q"], r["qd"], r["qdd"], r["status"].astype(np.int8), r["res"], r["iters"], r["sing"], r["branch"]
+        return (np.stack((r["q"], r["qd"], r["qdd"])), r["status"].astype(np.int8), r["res"], r["iters"], r["sing"],
+                r["branch"])
 
     def _compiled(self, br, poses, U):
         """As :meth:`_numpy`, in one call of the compiled engine."""

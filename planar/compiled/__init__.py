@@ -164,24 +164,28 @@ def direct(model, plan, KU, HQ, signs, U, tol, reach, steps):
     at the input in KU (K,) nearest it (HQ (K, 3, n): each known pose q, dq/du, d2q/du2;
     ``signs`` (1, blocks): the branch's modes), by Newton to ``tol`` (up to ``steps`` steps) and
     the final step of :func:`final`, accepted by the sweep's test (:mod:`planar.acceptance`; the
-    branch's modes; status SOLVED or NEAR_SINGULAR), in one call of the loop. A tuple
-    (q, dq/du, d2q/du2, status, residual, iterations, singularity, branch), or None where a
-    value is further than ``reach`` from every known input or not accepted
-    (``planar.tracking.Direct`` then leaves them all to the sweep)."""
+    branch's modes; status SOLVED or NEAR_SINGULAR), in one call of the loop. A tuple of
+    read-only arrays (rows (3, M, n): q, dq/du and d2q/du2; status, residual, iterations,
+    singularity, branch), or None where a value is further than ``reach`` from every known
+    input or not accepted (``planar.tracking.Direct`` then leaves them all to the sweep)."""
     C, engine = _compiled(model, plan)
-    M, n, nb = U.shape[0], C.T.dims[D_N], C.T.blk.shape[0]
-    (q, qu, quu), (res, sing, branch) = np.empty((3, M, n)), np.empty((3, M))
-    status, ok, iters, no_b, no_f = np.empty(M, np.int8), np.empty(M, bool), np.empty(M, np.int64), C.none[1], C.none[2]
-    args = (engine.KNOWN, int(steps), no_b, C.none[0], HQ, KU, signs, float(tol), ROUND, float(reach), q,
-            np.require(U, float, ("C", "W")), C.one, C.zero, True, qu, quu, res, np.empty((M, nb), np.int8), sing,
-            branch, no_f, no_f, no_f, ok, status, iters, no_b, no_b)
+    M = U.shape[0]
+    rows, fl, ok = np.empty((3, M, C.T.dims[D_N])), np.empty((3, M)), np.empty(M, bool)
+    status, iters = np.empty(M, np.int8), np.empty(M, np.int64)
+    no_i, no_b, no_f = C.none
+    args = (engine.KNOWN, int(steps), no_b, no_i, HQ, KU, signs, float(tol), ROUND, float(reach), rows[0],
+            np.require(U, float, ("C", "W")), C.one, C.zero, True,
+            rows[1], rows[2], fl[0], np.empty((M, C.T.blk.shape[0]), np.int8), fl[1], fl[2], no_f, no_f, no_f, ok,
+            status, iters, no_b, no_b)
     if M <= MIN_CHUNK:  # (a few poses: the loop's machine code called as it was compiled, on this thread)
-        C.known(engine, M, args)(0, M, np.arange(M), *args, C.T, C.work(min(engine.LANES, M)))
+        C.known(args)(0, M, C.rows, *args, C.T, C.work(min(engine.LANES, M)))
     else:
         engine.loop(C, engine.chunk(M), np.arange(M), *args)
     if not ok.all():
         return None
-    return q, qu, quu, status, res, iters, sing, branch
+    for a in (rows, fl, status, iters):  # (results: their views read only too)
+        a.setflags(write=False)
+    return rows, status, fl[0], iters, fl[1], fl[2]
 
 
 def walk(model, plan, U, q0, tol, steps):
@@ -224,48 +228,49 @@ def _rates_in(a):
 
 
 class Compiled:
-    """A plan as the loop takes it: its :class:`Tables` ``T`` and the loop's work buffers,
-    made once per thread and number of lanes and kept (a call reuses them as a call's groups of
-    values do: each group writes what it reads)."""
+    """A plan as the loop takes it: its :class:`Tables` ``T``, the ``engine`` module that runs
+    it, and the loop's work buffers, made once per thread and number of lanes and kept (a call
+    reuses them as a call's groups of values do: each group writes what it reads)."""
 
-    def __init__(self, T):
-        self.T = T
+    def __init__(self, T, engine):
+        self.T, self.engine = T, engine
         self._work = {}
         self._known = None
         # a unit input rate, no input acceleration, and the loop's arrays a call does not use
         self.one, self.zero = np.ones((1, 1)), np.zeros((1, 1))
         self.none = (np.zeros(0, np.int64), np.zeros(0, bool), np.zeros(0))
+        self.rows = np.arange(MIN_CHUNK)  # (the rows of a call on the calling thread)
 
-    def known(self, engine, M, args):
+    def known(self, args):
         """The loop's machine code for :func:`direct`'s arguments ``args`` (those after rows, up
         to the tables), called without numba's dispatcher, which works out the types of every
         argument at every call; :func:`direct` gives them the same types at every call (HQ and
         KU: ``planar.tracking.Poses``' arrays)."""
         if self._known is None:
-            full = (0, M, np.arange(M)) + args + (self.T, self.work(min(engine.LANES, M)))
+            engine = self.engine
+            full = (0, 0, self.rows) + args + (self.T, self.work(1))
             engine._values(0, 0, *full[2:])  # (compiled, or loaded from the cache, for these types)
             self._known = engine._values.overloads[tuple(engine._values.typeof_pyval(a) for a in full)].entry_point
         return self._known
 
     def work(self, L):
-        from planar.compiled import engine
-
         key = (threading.get_ident(), L)
         if key not in self._work:
             if len(self._work) > 256:  # (threads come and go)
                 self._work.clear()
-            self._work[key] = engine._buffers(self.T, L)
+            self._work[key] = self.engine._buffers(self.T, L)
         return self._work[key]
 
 
 def _compiled(model, plan):
     """The plan as the loop takes it (:class:`Compiled`) and the engine's module, its loop ready."""
-    from planar.compiled import engine
+    C = _TABLES.get(plan)
+    if C is None:
+        from planar.compiled import engine
 
-    if plan not in _TABLES:
-        _TABLES[plan] = Compiled(tables(model, plan))
-    engine.ready()
-    return _TABLES[plan], engine
+        C = _TABLES[plan] = Compiled(tables(model, plan), engine)
+    C.engine.ready()
+    return C, C.engine
 
 
 def tables(model, plan):
