@@ -63,11 +63,15 @@ def circle_circle(c1, r1, c2, r2, what="the two circles"):
         raise AssemblyError(f"{what} cannot be placed: circles of radii {r1:.12g} and {r2:.12g} with "
                             f"centres {L:.12g} apart do not meet; choose a start inside the motion range "
                             f"or other dimensions")
-    a = (r1**2 - r2**2 + L**2) / (2 * L)  # from c1 to the chord's foot, along c1 -> c2
-    h = np.sqrt(max(r1**2 - a**2, 0.0))
+    # the chord's foot from the centre of the smaller circle (radius r, the other R), with
+    # L^2 - R^2 as (L - R)(L + R) and h^2 as (r - a)(r + a): no large squares cancel (radii of
+    # 1e8 and 1.5 meet to the rounding of their coordinates)
     u = d / L
+    r, R, c, s = (r1, r2, c1, 1.0) if r1 <= r2 else (r2, r1, c2, -1.0)
+    a = ((L - R) * (L + R) + r**2) / (2 * L)  # along c1 -> c2 (s = 1) or back
+    h = np.sqrt(max((r - a) * (r + a), 0.0))
     n = np.array([-u[1], u[0]])
-    foot = c1 + a * u
+    foot = c + s * a * u
     return foot + h * n, foot - h * n
 
 

@@ -7,6 +7,8 @@ import importlib.util
 import json
 import math
 import re
+from decimal import Decimal, getcontext
+from fractions import Fraction
 from pathlib import Path
 from unittest import mock
 
@@ -247,6 +249,35 @@ def test_a_joint_drawn_too_far_for_double_precision_is_an_assembly_error_that_sa
     with pytest.raises(AssemblyError, match=re.escape(f"the sketch is drawn {x:.3g} across for dimensions of 4, too "
                                                       f"far from them to follow in double precision")):
         _four_bar_with_A_drawn_at(x).compile()
+
+
+def _rocker_exact(size, c, s):
+    """The rocker angle of four_bar(size, 1, size, 1.5) at a crank of cos c and sin s (exact
+    fractions), B left of A -> O4: the circles' intersection in 60 digits."""
+    getcontext().prec = 60
+    dec = lambda x: Decimal(Fraction(x).numerator) / Decimal(Fraction(x).denominator)  # noqa: E731
+    g, r4 = dec(size), dec(Fraction(3, 2))
+    dx, dy = dec(c) - g, dec(s)  # O4 -> A
+    d = (dx * dx + dy * dy).sqrt()
+    a = (r4 * r4 - g * g + d * d) / (2 * d)  # the chord's foot from O4, towards A
+    h = (r4 * r4 - a * a).sqrt()
+    ux, uy = dx / d, dy / d
+    return math.atan2(float(a * uy - h * ux), float(a * ux + h * uy))
+
+
+@pytest.mark.parametrize("size", [1e6, 1e8, 3e8])
+def test_a_four_bar_of_links_far_apart_in_size_moves_as_its_exact_solution(size):
+    # ground and coupler of 1e8, crank 1 and rocker 1.5: its sketch was refused ("O4-B = 1.5
+    # cannot hold with the others: the nearest assembly has 1.0003"), the sketch's circles met in
+    # squares of 1e16, which rounded the rocker away; the rocker now follows to the rounding of
+    # coordinates of 1e8 (crank angles of rational cos and sin: the reference is exact)
+    cs = [(1, 0), (Fraction(3, 5), Fraction(4, 5)), (0, 1), (Fraction(-3, 5), Fraction(4, 5)), (-1, 0),
+          (Fraction(-5, 13), Fraction(-12, 13)), (0, -1), (Fraction(12, 13), Fraction(-5, 13))]
+    res = four_bar(size, 1.0, size, 1.5).compile().sweep([math.atan2(s, c) for c, s in cs])
+    assert res.ok.all()  # (NEAR_SINGULAR: the small links' motions are 1e-8 of the size)
+    th4 = np.array([_rocker_exact(size, c, s) for c, s in cs])
+    err = np.abs(np.angle(np.exp(1j * (res.q[:, 8] - th4))))
+    assert err.max() <= 16 * np.finfo(float).eps * size / 1.5
 
 
 @pytest.mark.parametrize("build, name", [

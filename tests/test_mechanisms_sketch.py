@@ -38,6 +38,24 @@ def test_circle_circle_gives_both_meeting_points_left_first(c1, r1, c2, r2):
 
 
 @settings(max_examples=60, deadline=None)
+@given(point, radius, st.floats(1e3, 1e12), angle, st.floats(-0.95, 0.95), st.booleans())
+def test_circle_circle_meets_a_far_larger_circle_to_the_rounding_of_the_coordinates(c, r, R, th, t, small_first):
+    # a circle of radius R passing through a small one (its centre R + t r away): the points of
+    # a rocker of 1.5 beside a coupler of 1e8 (naive squares put them on the line of centres,
+    # 1 from the rocker's pivot: the four-bar was refused as not assembling)
+    c = np.array(c)
+    C = c + (R + t * r) * np.array([np.cos(th), np.sin(th)])
+    circles = ((c, r), (C, R)) if small_first else ((C, R), (c, r))
+    (c1, r1), (c2, r2) = circles
+    left, right = circle_circle(c1, r1, c2, r2)
+    tol = 8 * np.finfo(float).eps * (np.abs(C).max() + R)  # (the coordinates' rounding)
+    for P in (left, right):
+        for centre, radius in circles:
+            assert abs(np.linalg.norm(P - centre) - radius) <= tol
+    assert cross(c2 - c1, left - c1) >= 0 >= cross(c2 - c1, right - c1)
+
+
+@settings(max_examples=60, deadline=None)
 @given(point, radius, point, angle)
 def test_circle_line_gives_both_meeting_points_ahead_first(c, r, p, th):
     c, p, u = np.array(c), np.array(p), 3.0 * np.array([np.cos(th), np.sin(th)])  # u need not be a unit
@@ -51,6 +69,21 @@ def test_circle_line_gives_both_meeting_points_ahead_first(c, r, p, th):
     for P in (ahead, behind):
         assert np.linalg.norm(P - c) == pytest.approx(r, abs=EPS * 10)
         assert abs(cross(u, P - p)) / np.linalg.norm(u) < EPS * 10  # on the line
+    assert np.dot(ahead - behind, u) >= 0
+
+
+@settings(max_examples=60, deadline=None)
+@given(point, radius, angle, st.floats(-1e12, 1e12), st.floats(-0.95, 0.95))
+def test_circle_line_meets_a_line_through_a_far_point_to_the_rounding_of_the_coordinates(c, r, th, T, t):
+    # the line through p, T along it from the foot of the perpendicular from c, t r from c
+    # (|c - p|^2 - t0^2 cancelled in squares of T)
+    c, u = np.array(c), np.array([np.cos(th), np.sin(th)])
+    p = c + T * u + t * r * np.array([-u[1], u[0]])
+    ahead, behind = circle_line(c, r, p, u)
+    tol = 8 * np.finfo(float).eps * (np.abs(p).max() + abs(T))  # (the coordinates' rounding)
+    for P in (ahead, behind):
+        assert abs(np.linalg.norm(P - c) - r) <= tol
+        assert abs(cross(u, P - p)) <= tol
     assert np.dot(ahead - behind, u) >= 0
 
 

@@ -57,9 +57,12 @@ def circle_line(c, r, p, u, what="the circle and the line"):
     c, p, u = (np.asarray(v, dtype=float) for v in (c, p, u))
     u = u / np.hypot(*u)
     t0 = float(np.dot(c - p, u))  # foot of the perpendicular from c
-    h2 = r**2 - float(np.dot(c - p, c - p)) + t0**2
+    # (the distance from the line itself, not |c - p|^2 - t0^2: with p far along the line those
+    # squares cancel)
+    dist = abs(float(u[0] * (c - p)[1] - u[1] * (c - p)[0]))
+    h2 = (r - dist) * (r + dist)
     if h2 < 0:
-        raise AssemblyError(f"{what} cannot be placed: the line passes {np.sqrt(r**2 - h2):.12g} from the "
+        raise AssemblyError(f"{what} cannot be placed: the line passes {dist:.12g} from the "
                             f"circle's centre but the radius is {r:.12g}; choose a start inside the motion "
                             f"range or other dimensions")
     h = np.sqrt(h2)
