@@ -18,7 +18,7 @@ from hypothesis import assume, example, given, settings, strategies as st
 
 import planar
 from planar import Status, dimensions, io
-from planar.errors import AssemblyError, FileFormatError, ModelError
+from planar.errors import AssemblyError, FileFormatError, MobilityError, ModelError
 from planar.mechanisms import four_bar, slider_crank, stephenson_six_bar
 from planar.units import Units
 
@@ -278,6 +278,15 @@ def test_a_four_bar_of_links_far_apart_in_size_moves_as_its_exact_solution(size)
     th4 = np.array([_rocker_exact(size, c, s) for c, s in cs])
     err = np.abs(np.angle(np.exp(1j * (res.q[:, 8] - th4))))
     assert err.max() <= 16 * np.finfo(float).eps * size / 1.5
+
+
+@pytest.mark.parametrize("size", [1e9, 1e11])
+def test_a_four_bar_whose_mobility_double_precision_cannot_tell_is_refused_as_such(size):
+    # the rocker's row is independent to 0.65 / size of the others, below the rank test's 1e-9:
+    # the error said "2 degree(s) of freedom but 1 driver(s): add 1 driver(s)"
+    with pytest.raises(MobilityError, match=f"cannot be told in double precision: its joints' rows are independent "
+                                            f"only to {0.6455 / size:.2g} of its size, below 1e-09"):
+        four_bar(size, 1.0, size, 1.5).compile()
 
 
 @pytest.mark.parametrize("build, name", [

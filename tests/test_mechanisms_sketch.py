@@ -80,7 +80,7 @@ def test_circle_line_meets_a_line_through_a_far_point_to_the_rounding_of_the_coo
     c, u = np.array(c), np.array([np.cos(th), np.sin(th)])
     p = c + T * u + t * r * np.array([-u[1], u[0]])
     ahead, behind = circle_line(c, r, p, u)
-    tol = 8 * np.finfo(float).eps * (np.abs(p).max() + abs(T))  # (the coordinates' rounding)
+    tol = 8 * np.finfo(float).eps * (np.abs(p).max() + abs(T) + r)  # (the coordinates' rounding)
     for P in (ahead, behind):
         assert abs(np.linalg.norm(P - c) - r) <= tol
         assert abs(cross(u, P - p)) <= tol

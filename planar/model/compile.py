@@ -13,6 +13,9 @@ from planar.model.frozen import Model
 from planar.model.resolve import char_length, frame_origins
 from planar.system import build_system
 
+RANK_TOL = 1e-9  # a joint row is independent of the others where its pivot is above this of the largest
+RANK_ROUNDING = 1e-12  # below this a row depends on the others but for rounding (a pin declared twice)
+
 
 def compile_sketch(name, sk, plan=True):
     """The Model of an assembled :class:`Sketch` (body angles in radians); without ``plan``,
@@ -54,7 +57,7 @@ def compile_sketch(name, sk, plan=True):
 
     # independent rows first (the rank does not depend on the constants), then assemble the
     # sketch on the independent geometric rows and take the rolling constants there
-    rank, independent = _joint_rank(system, q0, joint_rows, geometric, row_scale, col_scale)
+    rank, independent, unresolved = _joint_rank(system, q0, joint_rows, geometric, row_scale, col_scale)
     redundant = np.setdiff1d(joint_rows, independent)
     names = lambda rows: sorted({_owner(int(i), row_adr, constraints).name for i in rows})  # noqa: E731
     q0 = _assemble(system, q0, np.intersect1d(geometric, independent), row_scale, col_scale, joints, row_adr)
@@ -78,6 +81,10 @@ def compile_sketch(name, sk, plan=True):
     redundant_joints = tuple(sorted(names(redundant), key=[j.name for j in joints].index))
 
     dof = n - rank
+    if drivers and len(drivers) < dof and unresolved > RANK_ROUNDING:
+        raise MobilityError(f"the mobility of mechanism {name!r} cannot be told in double precision: its joints' "
+                            f"rows are independent only to {unresolved:.2g} of its size, below {RANK_TOL:g} (links "
+                            f"far shorter than the whole move it too little to tell): give lengths nearer in size")
     if drivers and len(drivers) != dof:
         raise MobilityError(f"mechanism {name!r} has {dof} degree(s) of freedom but {len(drivers)} "
                             f"driver(s) {[d.name for d in drivers]}: "
@@ -134,8 +141,9 @@ def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50):
 
 
 def _joint_rank(system, q0, rows, geometric, rs, cs):
-    """Rank of the joint rows and the independent ones, at the sketch or, if the sketch is
-    a singular pose, at a nearby assembled pose where the rank is higher."""
+    """Rank of the joint rows, the independent ones, and the largest of the others' pivots
+    over the largest (``unresolved``: 0 where every row is independent), at the sketch or, if
+    the sketch is a singular pose, at a nearby assembled pose where the rank is higher."""
     best = None
     rng = np.random.default_rng(0)
     q = q0
@@ -143,14 +151,16 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         _, J = system.evaluate(q[None])
         Js = J[0][rows] * rs[rows, None] * cs[None, :]
         if Js.size == 0:
-            return 0, rows
+            return 0, rows, 0.0
         import scipy.linalg  # here, not at import: ``import planar`` stays light
 
         _, R, piv = scipy.linalg.qr(Js.T, pivoting=True, mode="economic")
         diag = np.abs(np.diag(R))
-        rank = int(np.sum(diag > 1e-9 * max(diag[0], 1e-300))) if diag.size else 0
+        tol = RANK_TOL * max(diag[0], 1e-300) if diag.size else 0.0
+        rank = int(np.sum(diag > tol))
         if best is None or rank > best[0]:
-            best = (rank, _first_independent(Js, rows, rank, 1e-9 * max(diag[0], 1e-300), piv))
+            unresolved = float(diag[rank] / diag[0]) if rank < diag.size else 0.0
+            best = (rank, _first_independent(Js, rows, rank, tol, piv), unresolved)
         if rank == min(len(rows), system.n) or trial == 2:  # every row independent: no higher rank
             break
         # move along the free motion and reassemble, to leave a possibly singular sketch
