@@ -83,8 +83,8 @@ def compile_sketch(name, sk, plan=True):
     dof = n - rank
     if drivers and len(drivers) < dof and unresolved > RANK_ROUNDING:
         raise MobilityError(f"the mobility of mechanism {name!r} cannot be told in double precision: its joints' "
-                            f"rows are independent only to {unresolved:.2g} of its size, below {RANK_TOL:g} (links "
-                            f"far shorter than the whole move it too little to tell): give lengths nearer in size")
+                            f"rows are independent only to {unresolved:.2g} of its size, below {RANK_TOL:g}, as where "
+                            f"links far apart in length meet: give lengths nearer in size")
     if drivers and len(drivers) != dof:
         raise MobilityError(f"mechanism {name!r} has {dof} degree(s) of freedom but {len(drivers)} "
                             f"driver(s) {[d.name for d in drivers]}: "
