@@ -7,7 +7,9 @@ kinematics (positions, velocities, accelerations). Prints, in one run and in int
 - one pose from a warm model (one that has swept a turn) near the last pose (a drag of 0.01
   rad), far from it (anywhere on the turn, on the known branch), and from the sketch of a model
   that knows no pose yet (a new model per pose: the cost of the walk from the sketch);
-- 1, 10, 100 and 1000 values over a turn, swept by a warm model and from the sketch;
+- 1, 10, 100 and 1000 values over a turn, swept by a warm model and from the sketch; and 100
+  values over the turn a warm model knows, new to it at each call (its 100 values moved by a
+  random fraction of their spacing: none at an input it has solved);
 
 each beside the closed form on the same inputs, with the ratio planar / closed form, and beside
 pylinkage's ``step()`` on the same linkage (``peers.py``; when pylinkage is installed) moving its
@@ -109,6 +111,13 @@ def cases(rng, engine):
         ("1 pose at pi, from the sketch", lambda r: _fresh(lambda m: m.sweep([np.pi], engine=engine), r), one(np.pi),
          peer and (lambda r: [lambda s=Stepper(): s.move(np.pi) for _ in range(r)]), None, 3),
     ]
+    V = np.linspace(0, 2 * np.pi, 100)
+    shift = iter(rng.uniform(0, V[1], 10**6))
+    known = build()  # (a warm model of its own: the new values it learns leave the other's as they are)
+    known.sweep(V, engine=engine)
+    out.append(("100 new values over a known turn", lambda r: [lambda: known.sweep(V + next(shift), engine=engine)] * r,
+                lambda: closed_form(V), stepped(lambda: stepper.sweep(V)), pylinkage_prepare(V, False) if peer else None,
+                5))
     for n in (1, 10, 100, 1000):
         U = np.linspace(0, 2 * np.pi, n)
         sweep = stepped(lambda U=U: stepper.sweep(U))
