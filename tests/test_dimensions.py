@@ -7,7 +7,7 @@ import importlib.util
 import json
 import math
 import re
-from decimal import Decimal, getcontext
+from decimal import Decimal, localcontext
 from fractions import Fraction
 from pathlib import Path
 from unittest import mock
@@ -254,15 +254,16 @@ def test_a_joint_drawn_too_far_for_double_precision_is_an_assembly_error_that_sa
 def _rocker_exact(size, c, s):
     """The rocker angle of four_bar(size, 1, size, 1.5) at a crank of cos c and sin s (exact
     fractions), B left of A -> O4: the circles' intersection in 60 digits."""
-    getcontext().prec = 60
-    dec = lambda x: Decimal(Fraction(x).numerator) / Decimal(Fraction(x).denominator)  # noqa: E731
-    g, r4 = dec(size), dec(Fraction(3, 2))
-    dx, dy = dec(c) - g, dec(s)  # O4 -> A
-    d = (dx * dx + dy * dy).sqrt()
-    a = (r4 * r4 - g * g + d * d) / (2 * d)  # the chord's foot from O4, towards A
-    h = (r4 * r4 - a * a).sqrt()
-    ux, uy = dx / d, dy / d
-    return math.atan2(float(a * uy - h * ux), float(a * ux + h * uy))
+    with localcontext() as ctx:
+        ctx.prec = 60
+        dec = lambda x: Decimal(Fraction(x).numerator) / Decimal(Fraction(x).denominator)  # noqa: E731
+        g, r4 = dec(size), dec(Fraction(3, 2))
+        dx, dy = dec(c) - g, dec(s)  # O4 -> A
+        d = (dx * dx + dy * dy).sqrt()
+        a = (r4 * r4 - g * g + d * d) / (2 * d)  # the chord's foot from O4, towards A
+        h = (r4 * r4 - a * a).sqrt()
+        ux, uy = dx / d, dy / d
+        return math.atan2(float(a * uy - h * ux), float(a * ux + h * uy))
 
 
 @pytest.mark.parametrize("size", [1e6, 1e8, 3e8])
