@@ -1423,3 +1423,26 @@ def test_the_searches_past_gaps_sweep_the_images_once():
     assert np.sum(res.status == Status.SOLVED) == 64 and np.sum(res.status == Status.NOT_ASSEMBLABLE) == 117
     assert [round(float(e.input), 4) for e in res.events if e.kind == "limit"] == [
         2.1082, 4.175, 5.9518, 5.9861, 6.5803, 6.6146]
+
+
+@pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
+@pytest.mark.parametrize("k", [1e5, 1e6])
+def test_two_long_links_over_a_short_base_are_walked_near_singular_all_along(k, engine):
+    # a coupler and a rocker of k over a base of 3, crank 1: the singularity measure is about
+    # 1 / k at every pose, the walk's steps (certified to 0.1 of it) shrank past their last
+    # halving and gave the sweep to the tracer, which stalled: every value past the first
+    # step was NOT_ASSEMBLABLE (1e6), where every crank angle assembles, or each traced
+    # stretch an event of its own (1e5)
+    U = np.linspace(0.0, 1.0, 11)
+    res = four_bar(3.0, 1.0, k, k).compile().sweep(U, engine=engine)
+    assert np.all(res.status == Status.NEAR_SINGULAR)
+    assert [(e.kind, e.index) for e in res.events] == [("near_singular", 0)]
+    # B on the bisector of A and O4, k from both: no large squares cancel
+    A = np.c_[np.cos(U), np.sin(U)]
+    d = np.array([3.0, 0.0]) - A
+    half = np.hypot(*d.T) / 2
+    h = np.sqrt((k - half) * (k + half))
+    B = (A + np.array([3.0, 0.0])) / 2 + np.c_[-d[:, 1], d[:, 0]] / (2 * half)[:, None] * h[:, None]
+    th4 = np.arctan2(B[:, 1], B[:, 0] - 3.0)
+    # the pose holds to the rounding of coordinates of k over a transmission angle of 3 / k
+    assert np.abs(res.angle("rocker") - th4).max() <= 4 * np.finfo(float).eps * k

@@ -3,12 +3,21 @@ past a gap, the input's period and whole turns of angles; one class with the hel
 
 import numpy as np
 
+from planar.acceptance import CERT, ROUND
+from planar.events import NEAR
 from planar.events.crossing import around, cross
 from planar.solver import DISTANT, GAP, REENTRY, RESTARTED, least_squares_gap, newton, rounding
 from planar.sweep.anchors import MAX_WAVE, WAVE, solve_wave
 from planar.sweep.branch import input_scale, scaled_norm
 
 HALVINGS = 5  # natural-parameter step halvings before the arclength tracer takes over
+# ... but in a near-singular stretch (the singularity measure s below NEAR), where the steps'
+# certificate (a correction within CERT s) asks for short steps and the tracer's steps are held
+# to the same measure, the walk goes on while its solves converge and the certificate stands
+# clear of the corrections' rounding (the residual's over s: within CLEAR of it), in steps down
+# to 2**-MAX_HALVINGS of a full one (two long links over a short base are near-singular all
+# along: no turning point to pass)
+MAX_HALVINGS, CLEAR = 12, 0.1
 # tracings round a circuit one sweep may make to re-enter its branch: next to a limit's far
 # side the first tries may fail where a value further on enters
 ROUNDS = 5
@@ -190,6 +199,7 @@ class Walker:
         u0 = u
         halvings = 0
         wave = WAVE
+        sing = None  # the singularity measure at q, where known
         while t < 1.0:
             if halvings == 0 and 1.0 - t > h:
                 # the full steps ahead in one batch, as the anchors are: the walk's own steps
@@ -198,7 +208,7 @@ class Walker:
                 ts = ts[: int(np.searchsorted(ts, 1.0)) + 1]
                 a, qa, _ = solve_wave(self.br, (q, u, signs), u0 + ts[:, None] * (target - u0), np.arange(ts.size))
                 if a:
-                    q, u, t = qa[-1], u0 + ts[a - 1] * (target - u0), ts[a - 1]
+                    q, u, t, sing = qa[-1], u0 + ts[a - 1] * (target - u0), ts[a - 1], None
                 wave = min(2 * wave, MAX_WAVE) if a == ts.size else max(a, WAVE)
                 if a:
                     continue
@@ -208,8 +218,14 @@ class Walker:
             qn, conv, _, _ = br.solve(q_pred, u_next[None])
             sn, sg = br.modes(qn, u_next[None])
             if br.accept(qn, q_pred, lambda k: q[None], conv, sn, signs[None], sg)[0]:
-                q, u, t = qn[0], u_next, t + dt
-                h = min(2 * h, full)
+                if halvings > HALVINGS:
+                    # in a near-singular stretch, the step the certificate allows: the
+                    # predictor's error grows as the step cubed
+                    off = np.max(np.abs((qn[0] - q_pred[0])[br.p.cols] / br.cs))
+                    h = min(h * min(2.0, 0.8 * np.cbrt(CERT * sg[0] / max(off, ROUND))), full)
+                else:
+                    h = min(2 * h, full)
+                q, u, t, sing = qn[0], u_next, t + dt, sg[0]
                 # the count starts again at a full step only: towards a turning point steps
                 # that pass at half the size fail again at the full one, and the walk would
                 # creep up on the limit, a batch and two steps per halving of its distance
@@ -218,9 +234,15 @@ class Walker:
             flipped = bool(conv[0]) and not np.all(sn[0] == signs)
             halvings += 1
             h /= 2
-            # a sign flip, repeated failures, or steps shrinking towards a turning point
-            if flipped or halvings > HALVINGS or h * total < self.max_step / 2**HALVINGS:
+            # a sign flip, repeated failures, or steps shrinking towards a turning point (but
+            # in a near-singular stretch), or too short to go on
+            if flipped or h * total < self.max_step / 2**MAX_HALVINGS:
                 return self._cross(q, u, signs, target, index)
+            if halvings > HALVINGS or h * total < self.max_step / 2**HALVINGS:
+                if conv[0] and sing is None:
+                    sing = br.modes(q[None], u[None])[1][0]
+                if not (conv[0] and sing < NEAR and rounding(br.m, q[None], br.p.cols)[0] <= CLEAR * CERT * sing**2):
+                    return self._cross(q, u, signs, target, index)
         return "ok", q, signs
 
     def _cross(self, q, u, signs, target, index, resume=True):
