@@ -1425,6 +1425,18 @@ def test_the_searches_past_gaps_sweep_the_images_once():
         2.1082, 4.175, 5.9518, 5.9861, 6.5803, 6.6146]
 
 
+def _apex_rocker(ground, crank, k, U):
+    """The rocker's angle of a four-bar whose coupler and rocker are both k long: B on the
+    bisector of A and O4, k from both, on the side the catalogue draws it (no large squares cancel)."""
+    O4 = np.array([ground, 0.0])
+    A = crank * np.c_[np.cos(U), np.sin(U)]
+    d = O4 - A
+    half = np.hypot(*d.T) / 2
+    h = np.sqrt((k - half) * (k + half))
+    B = (A + O4) / 2 + np.c_[-d[:, 1], d[:, 0]] / (2 * half)[:, None] * h[:, None]
+    return np.arctan2(B[:, 1], B[:, 0] - ground)
+
+
 @pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
 @pytest.mark.parametrize("k", [1e5, 1e6])
 def test_two_long_links_over_a_short_base_are_walked_near_singular_all_along(k, engine):
@@ -1437,12 +1449,18 @@ def test_two_long_links_over_a_short_base_are_walked_near_singular_all_along(k, 
     res = four_bar(3.0, 1.0, k, k).compile().sweep(U, engine=engine)
     assert np.all(res.status == Status.NEAR_SINGULAR)
     assert [(e.kind, e.index) for e in res.events] == [("near_singular", 0)]
-    # B on the bisector of A and O4, k from both: no large squares cancel
-    A = np.c_[np.cos(U), np.sin(U)]
-    d = np.array([3.0, 0.0]) - A
-    half = np.hypot(*d.T) / 2
-    h = np.sqrt((k - half) * (k + half))
-    B = (A + np.array([3.0, 0.0])) / 2 + np.c_[-d[:, 1], d[:, 0]] / (2 * half)[:, None] * h[:, None]
-    th4 = np.arctan2(B[:, 1], B[:, 0] - 3.0)
     # the pose holds to the rounding of coordinates of k over a transmission angle of 3 / k
-    assert np.abs(res.angle("rocker") - th4).max() <= 4 * np.finfo(float).eps * k
+    assert np.abs(res.angle("rocker") - _apex_rocker(3.0, 1.0, k, U)).max() <= 4 * np.finfo(float).eps * k
+
+
+@settings(max_examples=settings.default.max_examples if LONG else 8, deadline=None)
+@given(ground=st.floats(2.0, 4.0), crank=st.floats(0.2, 1.5), k=st.floats(3.0, 5.0).map(lambda e: 10.0**e),
+       span=st.floats(0.5, 7.0))
+def test_a_crank_under_two_long_links_turns_on_its_closed_form_whatever_their_length(ground, crank, k, span):
+    # (k up to 1e5 times the base: further, at angles of a turn, the rounding of the Newton
+    # corrections nears the walk's certificate, and the walk leaves the stretch to the tracer)
+    U = np.linspace(0.0, span, 13)
+    res = four_bar(ground, crank, k, k).compile().sweep(U)
+    assert np.all((res.status == Status.SOLVED) | (res.status == Status.NEAR_SINGULAR)), res
+    err = np.abs(np.angle(np.exp(1j * (res.angle("rocker") - _apex_rocker(ground, crank, k, U)))))
+    assert err.max() <= 16 * np.finfo(float).eps * k

@@ -5,7 +5,7 @@ import numpy as np
 
 from planar.acceptance import ROUND, certified, on_course
 from planar.errors import InputError
-from planar.events import HELD, status_of
+from planar.events import HELD, NEAR, status_of
 from planar.results import Status
 from planar.solver import DISTANT, PREDICTED, acceleration, converged, newton, velocity
 
@@ -64,7 +64,15 @@ class Branch:
         return q + qd + 0.5 * qdd, signs
 
     def solve(self, q_pred, u, max_iter=PREDICTED):
-        return newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p, engine=self.compiled)
+        """Newton from ``q_pred``: (q, converged, residual, iterations). A near-singular pose
+        (singularity measure s below NEAR) that holds the rows to the tolerance is converged,
+        as :func:`final_step` keeps it: Newton's steps there wander at the rows' rounding over
+        s, above the step test."""
+        q, conv, res, its = newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p, engine=self.compiled)
+        held = np.flatnonzero(~conv & (res <= self.tol))
+        if held.size:
+            conv[held] = self.modes(q[held], u[held])[1] < NEAR
+        return q, conv, res, its
 
     def modes(self, q, u):
         """(signs, sing): the blocks' det signs and the singularity measure at poses q."""
