@@ -1464,3 +1464,12 @@ def test_a_crank_under_two_long_links_turns_on_its_closed_form_whatever_their_le
     assert np.all((res.status == Status.SOLVED) | (res.status == Status.NEAR_SINGULAR)), res
     err = np.abs(np.angle(np.exp(1j * (res.angle("rocker") - _apex_rocker(ground, crank, k, U)))))
     assert err.max() <= 16 * np.finfo(float).eps * k
+
+
+def test_a_value_that_assembles_is_not_reported_out_of_range_where_least_squares_stalls():
+    # two links of 1e7 over a base of 3: past the walk's reach (its corrections' rounding above
+    # its certificate) the last value was NOT_ASSEMBLABLE at a gap of 2e-8, where least squares
+    # stalled in the ill-conditioned valley; every crank angle assembles
+    res = four_bar(3.0, 1.0, 1e7, 1e7).compile().sweep(np.linspace(0.0, 1.0, 11))
+    assert not np.any(res.status == Status.NOT_ASSEMBLABLE), res
+    assert np.all(np.isnan(res.gap) | (res.gap <= 1e-12))

@@ -10,7 +10,7 @@ from planar.events import NEAR_CURVE, Event, status_of
 from planar.results import POSED as POSED_MASK
 from planar.results import VALID as VALID_MASK
 from planar.results import Status, Sweep
-from planar.solver import ALONG_TANGENT, GAP, least_squares_gap
+from planar.solver import ALONG_TANGENT, GAP, REENTRY, least_squares_gap, newton
 from planar.sweep.anchors import CHUNK
 from planar.sweep.branch import final_step, input_scale
 from planar.sweep.located import EVENT_TOL
@@ -120,7 +120,12 @@ def finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event
         i = miss[lo : lo + CHUNK]
         guess = np.array([q_pred.get(k, model.q0) for k in i.tolist()]).reshape(i.size, n)
         guess = np.where(np.isnan(guess), model.q0, guess)
-        _, g = least_squares_gap(model, guess, U[i])
+        ql, g = least_squares_gap(model, guess, U[i])
+        # least squares stalls above zero in the valley of a near-singular mechanism: Newton
+        # from where it stopped tells a value that assembles (not reached: NOT_CONVERGED)
+        s = np.flatnonzero((g > GAP) & ~beyond[i])
+        if s.size:
+            g[s] = np.fmin(g[s], newton(model, ql[s], U[i][s], tol=br.tol, max_iter=REENTRY)[2])
         gap[i] = g
         status[i] = np.where((g > GAP) | beyond[i], Status.NOT_ASSEMBLABLE, Status.NOT_CONVERGED)
     _mark_jumps(status, *jumps)
