@@ -122,8 +122,9 @@ def test_a_far_input_costs_what_a_near_one_does(far):
     assert count.calls <= 3 * near_calls + 200, (count.calls, near_calls)
 
 
-@pytest.mark.parametrize("joint, axis, at, classed", [(1, 0, 1e5, True), (3, 1, 1e7, True), (10, 0, 1e7, False)])
-def test_a_pivot_moved_far_out_of_the_mechanism_is_given_up_in_bounded_work(joint, axis, at, classed):
+@pytest.mark.parametrize("joint, axis, at, past", [(1, 0, 1e5, Status.NOT_ASSEMBLABLE), (3, 1, 1e7, Status.NOT_CONVERGED),
+                                                   (10, 0, 1e7, Status.NOT_CONVERGED)])
+def test_a_pivot_moved_far_out_of_the_mechanism_is_given_up_in_bounded_work(joint, axis, at, past):
     # every joint type with one joint moved 1e5 or 1e7 from a mechanism of size ~5: the traced
     # curve runs alongside another, within GAP_CROSS, for thousands of steps of ~2e-8 rad each
     # (1e5), or each step there halved ~15 times before it is taken (1e7): 4,800-6,200 corrector
@@ -135,9 +136,10 @@ def test_a_pivot_moved_far_out_of_the_mechanism_is_given_up_in_bounded_work(join
     with Evaluations(Tracer, "correct") as solves:
         res = model.sweep(np.linspace(0.0, 0.5, 5))
     assert solves.calls <= 1000, solves.calls
-    assert res.status[0] == Status.NEAR_SINGULAR and not res.ok[1:].any(), res
-    if classed:  # (out of reach, never unconverged; joint 10 at 1e7 still reads NOT_CONVERGED: docs/hardening.md)
-        assert (res.status[1:] == Status.NOT_ASSEMBLABLE).all(), res
+    # (joints 3 and 10 at 1e7: the values assemble, where least squares stalled at gaps of
+    # 1e-8 and more in the ill-conditioned valley and joint 3's read NOT_ASSEMBLABLE; not
+    # reached: docs/hardening.md)
+    assert res.status[0] == Status.NEAR_SINGULAR and (res.status[1:] == past).all(), res
 
 
 def test_a_crossing_of_branches_met_again_is_given_up_not_located_over_and_over():
