@@ -5,7 +5,7 @@ import numpy as np
 
 from planar.acceptance import ROUND, certified, on_course
 from planar.errors import InputError
-from planar.events import HELD, NEAR, status_of
+from planar.events import HELD, status_of
 from planar.results import Status
 from planar.solver import DISTANT, PREDICTED, acceleration, converged, newton, velocity
 
@@ -64,14 +64,13 @@ class Branch:
         return q + qd + 0.5 * qdd, signs
 
     def solve(self, q_pred, u, max_iter=PREDICTED):
-        """Newton from ``q_pred``: (q, converged, residual, iterations). A near-singular pose
-        (singularity measure s below NEAR) that holds the rows to the tolerance is converged,
-        as :func:`final_step` keeps it: Newton's steps there wander at the rows' rounding over
-        s, above the step test."""
+        """Newton from ``q_pred``: (q, converged, residual, iterations). A pose within the
+        tolerance that holds as :func:`final_step` keeps it (:func:`_holds`: near-singular or
+        singular, where Newton's steps stay above the step test) is converged."""
         q, conv, res, its = newton(self.m, q_pred, u, tol=self.tol, max_iter=max_iter, plan=self.p, engine=self.compiled)
         held = np.flatnonzero(~conv & (res <= self.tol))
         if held.size:
-            conv[held] = self.modes(q[held], u[held])[1] < NEAR
+            conv[held] = _holds(status_of(self.modes(q[held], u[held])[1]), res[held], self.tol)
         return q, conv, res, its
 
     def modes(self, q, u):
@@ -213,14 +212,19 @@ def final_step(br, q, U, Ud, Udd, steps=1):
         signs[slow], sing[slow], branch[slow] = g["signs"], g["sing"], g["branch"]
         off[slow] = np.max(np.abs((qs - guess[slow])[:, p.cols] / m.col_scale[p.cols]), axis=1)
     st = status_of(sing, red_res, tol)
-    # a point on a singular position converges only linearly, and next to one (singularity s)
-    # Newton's steps stay at the rounding over s, above the step test: their positions still hold
-    held = ((st == Status.SINGULAR) & (res <= HELD * tol)) | ((st == Status.NEAR_SINGULAR) & (res <= tol))
-    st = np.where(conv | held, st, Status.NOT_CONVERGED)
+    st = np.where(conv | _holds(st, res, tol), st, Status.NOT_CONVERGED)
     if br.rates:
         qd[st > Status.BRANCH_EVENT] = qdd[st > Status.BRANCH_EVENT] = np.nan
     return dict(q=q, qd=qd, qdd=qdd, conv=conv, off=off,
                 res=res, iters=iters, signs=signs, sing=sing, branch=branch, status=st)
+
+
+def _holds(st, res, tol):
+    """Poses of status ``st`` and scaled residual ``res`` that hold though Newton's step test
+    failed: a point on a singular position converges only linearly (within HELD times ``tol``),
+    and next to one (singularity s) Newton's steps stay at the rounding over s, above the step
+    test (within ``tol``)."""
+    return ((st == Status.SINGULAR) & (res <= HELD * tol)) | ((st == Status.NEAR_SINGULAR) & (res <= tol))
 
 
 def _redundant(model, full):
