@@ -19,7 +19,7 @@ from hypothesis import assume, example, given, settings, strategies as st
 import planar
 from planar import Status, dimensions, io
 from planar.errors import AssemblyError, FileFormatError, MobilityError, ModelError
-from planar.mechanisms import four_bar, slider_crank, stephenson_six_bar
+from planar.mechanisms import four_bar, inverted_slider_crank, slider_crank, stephenson_six_bar
 from planar.units import Units
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
@@ -283,11 +283,31 @@ def test_a_four_bar_of_links_far_apart_in_size_moves_as_its_exact_solution(size)
 
 @pytest.mark.parametrize("size", [1e9, 1e11])
 def test_a_four_bar_whose_mobility_double_precision_cannot_tell_is_refused_as_such(size):
-    # the rocker's row is independent to 0.65 / size of the others, below the rank test's 1e-9:
-    # the error said "2 degree(s) of freedom but 1 driver(s): add 1 driver(s)"
-    with pytest.raises(MobilityError, match=f"cannot be told in double precision: its joints' rows are independent "
-                                            f"only to {0.6455 / size:.2g} of its size, below 1e-09"):
+    # the rocker's row is independent to ~0.65 / size of the others (0.6455 at the sketch), below
+    # the rank test's 1e-9: the error said "2 degree(s) of freedom but 1 driver(s): add 1 driver(s)"
+    with pytest.raises(MobilityError, match="cannot be told in double precision: its joints' rows are independent "
+                                            "only to (.*) of its size, below 1e-09") as e:
         four_bar(size, 1.0, size, 1.5).compile()
+    assert 0.6 <= float(re.search("only to (.*) of its size", str(e.value))[1]) * size <= 0.7
+
+
+@pytest.mark.parametrize("size", [1e8, 1e10])
+def test_a_four_bar_folded_flat_whose_mobility_double_precision_cannot_tell_is_refused_as_such(size):
+    # sketched on its change point (ground and coupler 1, crank and rocker of size, folded flat):
+    # the rows lose rank there, and at the poses the rank test moves to they are independent only
+    # to ~1 / size; the error said "2 degree(s) of freedom but 1 driver(s): add 1 driver(s)"
+    with pytest.raises(MobilityError, match="cannot be told in double precision"):
+        four_bar(1.0, size, 1.0, size).compile()
+
+
+@pytest.mark.parametrize("size", [1e9, 1e11])
+def test_a_driver_double_precision_cannot_tell_from_the_joints_is_refused_as_such(size):
+    # the inverted slider-crank's crank row is independent of the joints to 0.71 / size, below the
+    # driver check's 1e-9: the error said the driver depends on the joints or sits on a dead centre
+    with pytest.raises(MobilityError, match="driver 'crank' is independent of the joints and the drivers before it "
+                                            f"only to {0.7071 / size:.2g} of its size at the sketch, below 1e-09: "
+                                            "double precision cannot tell whether it moves the mechanism"):
+        inverted_slider_crank(1 + size, size).compile()
 
 
 @pytest.mark.parametrize("build, name", [

@@ -142,8 +142,9 @@ def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50):
 
 def _joint_rank(system, q0, rows, geometric, rs, cs):
     """Rank of the joint rows, the independent ones, and the largest of the others' pivots
-    over the largest (``unresolved``: 0 where every row is independent), at the sketch or, if
-    the sketch is a singular pose, at a nearby assembled pose where the rank is higher."""
+    over the largest (``unresolved``: 0 where every row is independent; the largest at the
+    poses tried of that rank), at the sketch or, if the sketch is a singular pose, at a nearby
+    assembled pose where the rank is higher."""
     best = None
     rng = np.random.default_rng(0)
     q = q0
@@ -158,9 +159,13 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         diag = np.abs(np.diag(R))
         tol = RANK_TOL * max(diag[0], 1e-300) if diag.size else 0.0
         rank = int(np.sum(diag > tol))
+        unresolved = float(diag[rank] / diag[0]) if rank < diag.size else 0.0
         if best is None or rank > best[0]:
-            unresolved = float(diag[rank] / diag[0]) if rank < diag.size else 0.0
             best = (rank, _first_independent(Js, rows, rank, tol, piv), unresolved)
+        elif rank == best[0]:
+            # (the nearest to independent the rows come at the poses tried: off a singular
+            # sketch, rows that double precision cannot tell apart are told from rows that depend)
+            best = (rank, best[1], max(best[2], unresolved))
         if rank == min(len(rows), system.n) or trial == 2:  # every row independent: no higher rank
             break
         # move along the free motion and reassemble, to leave a possibly singular sketch
@@ -202,10 +207,16 @@ def _check_drivers(system, q0, u0, active, n_joint_rows, drivers, rs, cs):
 
     R = scipy.linalg.qr(Js.T, mode="r")[0]
     reach = np.abs(np.diagonal(R))
-    small = 1e-9 * max(1.0, np.abs(Js).max())
+    size = max(1.0, np.abs(Js).max())
     for k, d in enumerate(drivers):
         i = n_joint_rows + k
-        if i >= reach.size or reach[i] <= small:
+        if i < reach.size and RANK_ROUNDING * size < reach[i] <= RANK_TOL * size:
+            raise MobilityError(f"driver {d.name!r} is independent of the joints and the drivers before it only to "
+                                f"{reach[i] / size:.2g} of its size at the sketch, below {RANK_TOL:g}: double "
+                                f"precision cannot tell whether it moves the mechanism, as where links far apart in "
+                                f"length meet or the sketch lies that near a dead centre of the driver: give lengths "
+                                f"nearer in size, or sketch the mechanism at another input value")
+        if i >= reach.size or reach[i] <= RANK_TOL * size:
             raise MobilityError(f"driver {d.name!r} depends on the joints or on the drivers before it at the "
                                 f"sketch: either it cannot move independently (for example both gears of one "
                                 f"mesh driven: drive another coordinate, or remove it), or the sketch is a dead "
