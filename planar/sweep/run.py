@@ -1,6 +1,6 @@
 """The sweep's entry point (:func:`run_sweep`): the walk over the anchors, the bulk from them,
-the rest one by one and the gaps walked back; :func:`run_sweep` is one function of three passes
-over shared arrays, and the module is that function and the few helpers it alone uses."""
+the rest one by one and the gaps walked back, each a pass of one sweep (:class:`_Run`) over the
+arrays they share; and the few helpers they alone use."""
 
 import functools
 from dataclasses import replace
@@ -76,31 +76,106 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     may remember)."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
-    cols = output_columns(model, outputs)
-    p = block_plan(model, cols)
-    br = Branch(model, p, tol, bool(rates), engine)
-    walker = Walker(br, max_step, branch == "other")
-    if isinstance(_nested, Walker):
-        walker.share(_nested)
-    _keep_freed_memory()
-    N, n = U.shape[0], model.n
-    q = np.empty((N, n))  # rows not posed at the end are set NaN then
-    solved = np.zeros(N, bool)
-    signs = np.zeros((N, len(p.blocks)), np.int8)  # the blocks' modes at each solved value
-    events = []
+    options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
+    run = _Run(model, U, Ud, Udd, start, options, rates, _nested)
+    run.walk_over_anchors()
+    run.bulk()
+    run.one_by_one()
+    run.back_over_gaps()
+    run.limit_pairs()
+    return run.result(_reached)
 
-    def walk(start, i, lo, back=None, periodic=True, to=None):
+
+class _Run:
+    """One sweep's passes over the arrays they share (the poses ``q``, which values are
+    ``solved``, the blocks' modes ``signs`` at each, the ``events`` met) and what its walks
+    learn on the way (the limits met, the gaps searched, the values entered directly):
+    :meth:`walk_over_anchors`, :meth:`bulk`, :meth:`one_by_one`, :meth:`back_over_gaps`,
+    :meth:`limit_pairs` and :meth:`result`, in that order."""
+
+    def __init__(self, model, U, Ud, Udd, start, options, rates, nested):
+        max_step = options["max_step"]
+        p = block_plan(model, output_columns(model, options["outputs"]))
+        br = Branch(model, p, options["tol"], bool(rates), options["engine"])
+        walker = Walker(br, max_step, options["branch"] == "other")
+        if isinstance(nested, Walker):
+            walker.share(nested)
+        _keep_freed_memory()
+        N = U.shape[0]
+        self.model, self.p, self.br, self.walker, self.options, self.nested = model, p, br, walker, options, nested
+        self.max_step, self.N = max_step, N
+        self.q = np.empty((N, model.n))  # rows not posed at the end are set NaN then
+        self.solved = np.zeros(N, bool)
+        self.signs = np.zeros((N, len(p.blocks)), np.int8)  # the blocks' modes at each solved value
+        self.events = []
+
+        # far values of an input whose pose is periodic (the same up to whole turns of its angles,
+        # or moved along the tangent where the rows read a coordinate linearly: an input that turns
+        # fully, a rocking input's range a period on, a gear train) are solved whole periods back,
+        # nearer the sketch, and shifted back at the end: angles of 1e6 rad would carry rounding of
+        # 1e-10 rad into the constraints
+        # (a rocking input's from two turns on: the walk through each period would meet its limits
+        # and search past its gaps again, several seconds for a six-bar swept over +-20 rad)
+        U_in, shift = U, None
+        reach = np.max(np.abs(U[:, 0] - model.u0[0])) * input_scale(model)[0] if U.shape[1] == 1 else 0.0
+        if reach > ROCKING:
+            per = walker.period() or (None if nested else _period_by_sweep(model, walker, options))
+            if per is not None and (reach > FAR or not walker.turns):
+                start = None  # the sketch, whole periods back, is nearer than any known pose
+                P, u0 = per[0], model.u0[0]
+                if walker.turns:
+                    block = P * np.ceil(FAR / (P * input_scale(model)[0]))
+                    k = np.trunc((U[:, 0] - u0) / block) * (block / P)
+                else:
+                    # a rocking input: into the period that starts at a limit below the sketch's
+                    # input (so two values in different periods have a limit between them)
+                    c = walker.limit - np.ceil((walker.limit - u0) / P) * P
+                    k = np.floor((U[:, 0] - c) / P)
+                U = less_periods(U[:, 0], k, P)[:, None]
+                shift = (k, per)
+
+        self.chosen = br.signs(model.q0[None], model.u0[None])[0]
+        if start is None:  # (a known pose was reached from the sketch: it passed)
+            check_sketch(model, p)
+        self.origin = (model.q0, model.u0, self.chosen) if start is None else (start[0], start[1], self.chosen)
+        # values given out of order (one input) are solved in the order of the input, from the end
+        # nearer the start, and put back in the asked order at the end: each is walked to from its
+        # neighbour in input, where a jumping sweep would walk back and forth across the range and
+        # search again for the range past each gap it meets
+        # (values solved whole periods back: in the one period from a limit below the start, the
+        # walk through it in the order of the input, as the walk through every period would go)
+        order, split = _input_order(U, self.origin[1][0], both=shift is None)
+        self.side = np.where(np.arange(N) >= split, split, 0)  # the first value of each value's side of the start
+        if order is not None:
+            U, Ud, Udd, U_in = U[order], Ud[order], Udd[order], U_in[order]
+            shift = None if shift is None else (shift[0][order], shift[1])
+        self.U, self.Ud, self.Udd, self.U_in, self.shift, self.order, self.split = U, Ud, Udd, U_in, shift, order, split
+        self.limits = []  # (limit event, direction of the input that hit it)
+        self.round_limits = []  # the same, met only by the walk the other way round a period on
+        self.entries = 0  # ranges entered at a gap's far end
+        self.searched = []  # (input, direction) of the limits the gaps past which were searched
+        self.stops = []  # indices of the limits the walk stopped at, moving with the sweep
+        self.direct = []  # values entered directly, too far to walk
+        self.past_cap = []  # values entered directly past MAX_GAPS gaps on the way to one value
+        self.unentered = []  # values too far to walk where the branch's modes were not found
+        self.periods = []  # values walked to moved by whole periods of a rocking input, past their limits
+        self.anchors = np.union1d(sweep_anchors(model, U, max_step), np.arange(split, min(split + 1, N)))
+        self.kin = Kin()  # the anchors' kinematic coefficients where known (one input)
+
+    def walk(self, start, i, lo, back=None, periodic=True, to=None):
         """Walk from ``start`` (q, u, signs) to value i (or to the input ``to``); events get the
         index of the first value after ``lo`` at or past them (walking back from value ``back``
         >= i: the first value from i on at or past them in the sweep's own direction)."""
+        model, U, walker, events, origin = self.model, self.U, self.walker, self.events, self.origin
         k = len(walker.events)
         got = walker.walk(*start, U[i] if to is None else to, int(i), periodic=periodic)
-        if got[0] == "far" and start is not origin and scaled_norm(model, U[i] - origin[1]) <= WALK_STEPS * max_step:
+        if (got[0] == "far" and start is not origin
+                and scaled_norm(model, U[i] - origin[1]) <= WALK_STEPS * self.max_step):
             # too far from that pose to walk, not from the sketch: walked from the sketch
             start = origin
             got = walker.walk(*start, U[i], int(i), periodic=periodic)
         if got[0] == "ok" and walker.jumped:
-            periods.append(i)  # (moved by whole periods of a rocking input, past their limits: JUMPED)
+            self.periods.append(i)  # (moved by whole periods of a rocking input, past their limits: JUMPED)
 
         def index(u_star):
             if back is None:
@@ -116,497 +191,485 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
             if not any(same_event(ev, e, model) for e in events):
                 events.append(ev)
             if back is None:  # (a limit met before too: value i, if re-entered, is past it all the same)
-                stops.append(ev.index)
+                self.stops.append(ev.index)
             # (each limit and direction once: the searches past gaps ask past() hundreds of times)
-            _once(limits, (ev, np.sign(U[i] - start[1])))
+            _once(self.limits, (ev, np.sign(U[i] - start[1])))
             if walker.also is not None:  # (the other way round a limit too: both bound the value)
-                _once(round_limits, walker.also)
+                _once(self.round_limits, walker.also)
         return got
 
-    def enter_far(start, i):
+    def enter_far(self, start, i):
         """Value i, too far from ``start`` to walk with no period to shorten the way, entered
         directly in the sketch's modes: past every gap between, the walk would re-enter the
         branch in them, and within a stretch it keeps them."""
         # (its angles counted as the sketch's first; then from up to GUESSES poses solved; not
         # round a circuit, ~100s of solves for one of the many stretches a direct entry may land on)
-        qe = walker.enter([model.q0, snapped(start[0])], chosen, U[i], solved_poses(), circuit=False)
+        qe = self.walker.enter([self.model.q0, self.snapped(start[0])], self.chosen, self.U[i], self.solved_poses(),
+                               circuit=False)
         if qe is None:
-            unentered.append(i)
+            self.unentered.append(i)
             return ("far",)
-        direct.append(i)  # (not reached continuously from the value before it: JUMPED)
-        return "ok", qe, chosen
+        self.direct.append(i)  # (not reached continuously from the value before it: JUMPED)
+        return "ok", qe, self.chosen
 
-    def enter_past(limit, i, lo):
+    def enter_past(self, limit, i, lo):
         """Value i past the limit ``limit`` (its pose and input) the walk to it met: the range
         past the gap entered where a sweep with values all the way would enter it (the walk's
         steps past the limit, and the value), and walked to i from there; i is not reached
         continuously (JUMPED). ("limit",) where the search finds no entry."""
-        nonlocal entries
-        if not first_search(limit[1], U[i]):
+        U, chosen = self.U, self.chosen
+        if not self.first_search(limit[1], U[i]):
             return ("limit",)
-        grid = np.vstack((_past_gap(model, limit[1], U[i], max_step), U[i][None]))
-        nearer, _ = walker.enter_any([limit[0], model.q0], chosen, grid, poses=solved_poses())
+        grid = np.vstack((_past_gap(self.model, limit[1], U[i], self.max_step), U[i][None]))
+        nearer, _ = self.walker.enter_any([limit[0], self.model.q0], chosen, grid, poses=self.solved_poses())
         if nearer is None:
             return ("limit",)
-        entries += 1
-        c, qe = nearer[0], walker.near_turns(nearer[1], grid[nearer[0]], chosen, limit[0])
-        got = ("ok", qe, chosen) if c == len(grid) - 1 else walk((qe, grid[c], chosen), i, lo)
+        self.entries += 1
+        c, qe = nearer[0], self.walker.near_turns(nearer[1], grid[nearer[0]], chosen, limit[0])
+        got = ("ok", qe, chosen) if c == len(grid) - 1 else self.walk((qe, grid[c], chosen), i, lo)
         if got[0] == "ok":
-            direct.append(i)
+            self.direct.append(i)
         return got
 
-    def first_search(u_limit, u):
+    def first_search(self, u_limit, u):
         """Whether the gap past the limit at ``u_limit`` towards u is searched for the first
         time (it then counts as searched): each limit's gap each way once a sweep, the main
         walk's search past it having found what there is to enter."""
         way = float(np.sign(u[0] - u_limit[0]))
-        if any(w == way and abs(v - u_limit[0]) <= 1e-9 / input_scale(model)[0] for v, w in searched):
+        if any(w == way and abs(v - u_limit[0]) <= 1e-9 / input_scale(self.model)[0] for v, w in self.searched):
             return False
-        searched.append((float(u_limit[0]), way))
+        self.searched.append((float(u_limit[0]), way))
         return True
 
-    def solved_poses():
+    def solved_poses(self):
         """Up to GUESSES of the poses solved, spread over them: where a search's guesses land
         in other modes, Newton from one of these may land in ours (:meth:`Walker.enter`)."""
-        known = np.flatnonzero(solved)
-        return snapped(q[known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)]] if known.size
-                       else q[:0])
+        known = np.flatnonzero(self.solved)
+        return self.snapped(self.q[known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)]]
+                            if known.size else self.q[:0])
 
-    def snapped(Q):
+    def snapped(self, Q):
         """Poses to 1e-9 of their scales, as guesses from afar: both engines give them alike,
         where their poses differ at rounding and Newton from afar may land on another pose of
         the loop for that alone."""
-        return np.round(Q / model.col_scale, 9) * model.col_scale
+        return np.round(Q / self.model.col_scale, 9) * self.model.col_scale
 
-    def home(k, tries=3):
-        """(index from k, pose, modes) of the first anchor from k that the walk reaches from
-        the origin with no limit it met between, or None (a walk that meets a new limit on the
-        way tries the next such anchor)."""
+    def home(self, k, end, tries=3):
+        """(index from k, pose, modes) of the first anchor from k (below ``end``) that the walk
+        reaches from the origin with no limit it met between, or None (a walk that meets a new
+        limit on the way tries the next such anchor)."""
+        origin = self.origin
         for _ in range(tries):
             # (within a turn, not a value on an event: a limit's pose is no pose to go on from;
             # nor past a limit met the direct way, the way this walk goes)
-            V = U[anchors[k:end]]
-            c = np.flatnonzero(~past_limit(limits, origin[1][None], V) & ~on_event(model, V, events)
-                               & (scaled_norm(model, V - origin[1]) <= TURN))
+            V = self.U[self.anchors[k:end]]
+            c = np.flatnonzero(~past_limit(self.limits, origin[1][None], V) & ~on_event(self.model, V, self.events)
+                               & (scaled_norm(self.model, V - origin[1]) <= TURN))
             if not c.size:
                 return None
             # (the direct way: a limit it meets is then one between the origin and the values)
-            got = walk(origin, anchors[k + c[0]], -1, periodic=False)
+            got = self.walk(origin, self.anchors[k + c[0]], -1, periodic=False)
             if got[0] == "ok":
                 return int(c[0]), got[1], got[2]
             if got[0] != "limit":
                 return None
         return None
 
-    def further(failed, j, u_j, u):
+    def further(self, failed, j, u_j, u):
         """:func:`_further`, where the walk to ``u`` goes the way the failed one did: not
         for a value more than half a turn away of an input with a period (the walk may go the
         other way round, a period on, nearer to one value than to another)."""
         if not _further(failed, j, u_j, u):
             return False
-        return not (U.shape[1] == 1 and abs(float(u[0] - u_j[0])) > np.pi and walker.period() is not None)
+        return not (self.U.shape[1] == 1 and abs(float(u[0] - u_j[0])) > np.pi and self.walker.period() is not None)
 
-    def past(u_from, u_to, met=None):
+    def past(self, u_from, u_to, met=None):
         """A limit the walk met (``met``: those limits, else ``limits``) lies between u_from and
         u_to, periods of the input apart (asked only of values more than half a turn apart:
         nearer ones the walk goes to directly)."""
-        met = limits if met is None else met
-        far = met and U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
-        return past_limit(met, u_from, u_to, walker.period() if far else None)
+        met = self.limits if met is None else met
+        far = met and self.U.shape[1] == 1 and np.any(np.abs(u_to - u_from) > np.pi)
+        return past_limit(met, u_from, u_to, self.walker.period() if far else None)
 
-    # far values of an input whose pose is periodic (the same up to whole turns of its angles,
-    # or moved along the tangent where the rows read a coordinate linearly: an input that turns
-    # fully, a rocking input's range a period on, a gear train) are solved whole periods back,
-    # nearer the sketch, and shifted back at the end: angles of 1e6 rad would carry rounding of
-    # 1e-10 rad into the constraints
-    # (a rocking input's from two turns on: the walk through each period would meet its limits
-    # and search past its gaps again, several seconds for a six-bar swept over +-20 rad)
-    U_in, shift = U, None
-    options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
-    reach = np.max(np.abs(U[:, 0] - model.u0[0])) * input_scale(model)[0] if U.shape[1] == 1 else 0.0
-    if reach > ROCKING:
-        per = walker.period() or (None if _nested else _period_by_sweep(model, walker, options))
-        if per is not None and (reach > FAR or not walker.turns):
-            start = None  # the sketch, whole periods back, is nearer than any known pose
-            P, u0 = per[0], model.u0[0]
-            if walker.turns:
-                block = P * np.ceil(FAR / (P * input_scale(model)[0]))
-                k = np.trunc((U[:, 0] - u0) / block) * (block / P)
-            else:
-                # a rocking input: into the period that starts at a limit below the sketch's
-                # input (so two values in different periods have a limit between them)
-                c = walker.limit - np.ceil((walker.limit - u0) / P) * P
-                k = np.floor((U[:, 0] - c) / P)
-            U = less_periods(U[:, 0], k, P)[:, None]
-            shift = (k, per)
-
-    # 1. the sequential walk over anchors, from the assembled sketch
-    chosen = br.signs(model.q0[None], model.u0[None])[0]
-    if start is None:  # (a known pose was reached from the sketch: it passed)
-        check_sketch(model, p)
-    origin = (model.q0, model.u0, chosen) if start is None else (start[0], start[1], chosen)
-    # values given out of order (one input) are solved in the order of the input, from the end
-    # nearer the start, and put back in the asked order at the end: each is walked to from its
-    # neighbour in input, where a jumping sweep would walk back and forth across the range and
-    # search again for the range past each gap it meets
-    # (values solved whole periods back: in the one period from a limit below the start, the
-    # walk through it in the order of the input, as the walk through every period would go)
-    order, split = _input_order(U, origin[1][0], both=shift is None)
-    side = np.where(np.arange(N) >= split, split, 0)  # the first value of each value's side of the start
-    if order is not None:
-        U, Ud, Udd, U_in = U[order], Ud[order], Udd[order], U_in[order]
-        shift = None if shift is None else (shift[0][order], shift[1])
-    state = origin
-    limits = []  # (limit event, direction of the input that hit it)
-    round_limits = []  # the same, met only by the walk the other way round a period on
-    entries = 0  # ranges entered at a gap's far end
-    gaps = {}  # anchor index -> ranges entered at a gap's far end on the way to it
-    searched = []  # (input, direction) of the limits the gaps past which were searched
-    stops = []  # indices of the limits the walk stopped at, moving with the sweep
-    direct = []  # values entered directly, too far to walk
-    past_cap = []  # values entered directly past MAX_GAPS gaps on the way to one value
-    unentered = []  # values too far to walk where the branch's modes were not found
-    periods = []  # values walked to moved by whole periods of a rocking input, past their limits
-    anchors = np.union1d(sweep_anchors(model, U, max_step), np.arange(split, min(split + 1, N)))
-    kin = Kin()  # the anchors' kinematic coefficients where known (one input)
-    coef = None  # those of the state, where known
-    lo, k, wave = -1, 0, WAVE
-    # the walk's bound: the start's first side, then its second; a range skipped before is
-    # walked up to its end
-    end = int(np.searchsorted(anchors, split))
-    second = split >= N  # (on the second side, or none)
-    skipped = []  # (k, upto, u): anchors past a gap from u, passed over for the origin's stretch further on
-    while True:
-        while k < end:
-            idx = anchors[k : min(k + wave, end)]
-            stop = np.flatnonzero(past(state[1][None], U[idx]) | on_event(model, U[idx], events))
-            tried = stop[0] if stop.size else idx.size
-            # an anchor several steps from the one before (sparse values) is not tried in a wave
-            # (it would not reach it): it is reached through stations, or walked to
-            far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
-                                 > SPARSE * max_step)
-            tried = far[0] if far.size else tried
-            if tried == 0 and far.size:
-                # sparse values: the stations between them in waves, many gaps a batch (each
-                # within half a turn of the one before: the walk would go the direct way there)
-                near = idx[: stop[0] if stop.size else idx.size]
-                d = np.diff(U[near], axis=0, prepend=state[1][None])
-                ok = (scaled_norm(model, d) < TURN) & np.all(np.abs(d) <= np.pi, axis=1)
-                near = near[: int(np.argmin(ok)) if not ok.all() else near.size]
-                b, qb, kb, last = solve_stations(br, state, U, near, max_step, coef)
-                if last is not None:
-                    if b:
-                        q[near[:b]], solved[near[:b]], signs[near[:b]] = qb, True, state[2]
-                        if kb is not None:
-                            kin.add(near[:b], *kb)
-                        lo, k = near[b - 1], k + b
-                    state, coef = (last[0], last[1], state[2]), last[2]
+    def walk_over_anchors(self):
+        """1. The sequential walk over the anchors, from the assembled sketch (or the known pose
+        given): in waves where they pass, step by step where not, each gap's far range entered
+        where a sweep with values all the way would enter it; then the start's other side, and
+        the ranges passed over for the origin's own stretch."""
+        model, U, q, solved, signs, events = self.model, self.U, self.q, self.solved, self.signs, self.events
+        walker, br, kin, chosen, origin, past = self.walker, self.br, self.kin, self.chosen, self.origin, self.past
+        max_step, N, split, anchors = self.max_step, self.N, self.split, self.anchors
+        state = origin
+        gaps = {}  # anchor index -> ranges entered at a gap's far end on the way to it
+        coef = None  # the kinematic coefficients of the state, where known
+        lo, k, wave = -1, 0, WAVE
+        # the walk's bound: the start's first side, then its second; a range skipped before is
+        # walked up to its end
+        end = int(np.searchsorted(anchors, split))
+        second = split >= N  # (on the second side, or none)
+        skipped = []  # (k, upto, u): anchors past a gap from u, passed over for the origin's stretch further on
+        while True:
+            while k < end:
+                idx = anchors[k : min(k + wave, end)]
+                stop = np.flatnonzero(past(state[1][None], U[idx]) | on_event(model, U[idx], events))
+                tried = stop[0] if stop.size else idx.size
+                # an anchor several steps from the one before (sparse values) is not tried in a wave
+                # (it would not reach it): it is reached through stations, or walked to
+                far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
+                                     > SPARSE * max_step)
+                tried = far[0] if far.size else tried
+                if tried == 0 and far.size:
+                    # sparse values: the stations between them in waves, many gaps a batch (each
+                    # within half a turn of the one before: the walk would go the direct way there)
+                    near = idx[: stop[0] if stop.size else idx.size]
+                    d = np.diff(U[near], axis=0, prepend=state[1][None])
+                    ok = (scaled_norm(model, d) < TURN) & np.all(np.abs(d) <= np.pi, axis=1)
+                    near = near[: int(np.argmin(ok)) if not ok.all() else near.size]
+                    b, qb, kb, last = solve_stations(br, state, U, near, max_step, coef)
+                    if last is not None:
+                        if b:
+                            q[near[:b]], solved[near[:b]], signs[near[:b]] = qb, True, state[2]
+                            if kb is not None:
+                                kin.add(near[:b], *kb)
+                            lo, k = near[b - 1], k + b
+                        state, coef = (last[0], last[1], state[2]), last[2]
+                        continue
+                a, qa, ka = solve_wave(br, state, U, idx[:tried], coef)
+                if a:
+                    q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
+                    state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
+                    if ka is not None:
+                        kin.add(idx[:a], *ka)
+                        coef = ka[0][-1], ka[1][-1]
+                wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
+                # a wave that stopped part way goes on as a new wave from its last anchor (or through
+                # stations, where it stopped short of a sparse one); the walk takes the anchor where
+                # one accepted none (or where an event was located)
+                if k >= end or a == idx.size or 0 < a < tried or (a and far.size):
                     continue
-            a, qa, ka = solve_wave(br, state, U, idx[:tried], coef)
-            if a:
-                q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
-                state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
-                if ka is not None:
-                    kin.add(idx[:a], *ka)
-                    coef = ka[0][-1], ka[1][-1]
-            wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
-            # a wave that stopped part way goes on as a new wave from its last anchor (or through
-            # stations, where it stopped short of a sparse one); the walk takes the anchor where
-            # one accepted none (or where an event was located)
-            if k >= end or a == idx.size or 0 < a < tried or (a and far.size):
-                continue
-            coef = None
-            i = anchors[k]
-            got = ("lost",) if past(state[1][None], U[i][None])[0] else walk(state, i, lo)
-            lo = i
-            if at_events(model, U[i : i + 1], events):
-                k += 1
-                continue  # a value on a singular position is no pose to go on from
-            if got[0] == "ok":
-                q[i], solved[i], signs[i] = got[1], True, got[2]
-                state = (got[1], U[i], got[2])
-                k += 1
-                continue
-            if got[0] == "limit":
-                state = (got[2][0], got[2][1], state[2])
-            # out of reach: the next anchor that assembles on the branch, a whole period on from a
-            # value solved, else by one batched search, else (where only another circuit or mode
-            # assembles there) a period the other way round from the sketch
-            known = np.flatnonzero(solved)
-            found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
-            bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
-            far_end = entries < MAX_ENTRIES and gaps.get(anchors[k], 0) < MAX_GAPS
-            if found is None and got[0] == "limit" and far_end:
-                # the range past the gap entered at its far end, as a sweep with values all the way
-                # enters it: the first of the walk's steps past the limit where the branch can be
-                # entered, and walked on from there
-                first_search(state[1], U[anchors[k]])
-                grid = _past_gap(model, state[1], U[anchors[k]], max_step)
-                if grid.size and scaled_norm(model, U[anchors[k]] - state[1]) <= TURN:
-                    grid = np.vstack((grid, U[anchors[k]][None]))  # (and the value itself, a step or so on)
-                nearer, assembles = (walker.enter_any([state[0], model.q0], chosen, grid, poses=solved_poses())
-                                     if grid.size else (None, True))
-                if nearer is None and not assembles:  # (from the limit, past the pose before it, to the last step)
-                    bare = np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
-                if nearer is not None:
-                    entries += 1
-                    gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
-                    u_e = grid[nearer[0]]
-                    state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
-                    continue
-            homed = found is None and got[0] != "far" and not _nested
-            if homed:
-                # the origin's own stretch come back to from elsewhere (past a gap, from another
-                # interval of the range): walked to from the origin, no limit the walk met between
-                found = home(k)
-            upto = end if found is None else k + found[0]
-            guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
-            # (one input: every value from anchor k on, not the anchors only: an interval of the
-            # range narrower than their spacing may hold values and no anchor)
-            seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
-            if bare is not None:  # (not again where the search from the limit, from the same guesses, found none)
-                seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
-            nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=solved_poses(), circuit=got[0] != "far")
-                                 if seg.size else (None, False))
-            steps = (_steps_out(model, state[1], U[seg], max_step, bare)
-                     if seg.size and nearer is None and not assembles and got[0] == "limit" and far_end
-                     else None)
-            # where no value asked assembles at all (the first in the gap, least squares from
-            # there lands nowhere beyond it), the walk steps from the limit out to the values: a
-            # sweep with values all the way enters the range between them
-            ahead = None
-            if steps is not None:
-                # (what assembles there, in any modes, is as good a sign for the images below)
-                ahead, assembles = walker.enter_any(guesses, chosen, steps, poses=solved_poses())
-            if ahead is not None:
-                entries += 1
-                gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
-                u_e = steps[ahead[0]]
-                # the first value on from it an anchor (the walk from the entry solves it, and the
-                # stretch's values from it); the anchors before it, in the gap or reached back
-                # from it, are left to the walk back from the values after them
-                d = np.sign(u_e[0] - state[1][0])
-                v = seg[d * (U[seg, 0] - u_e[0]) >= 0][:1]
-                c = int(np.searchsorted(anchors, v[0])) if v.size else end
-                if v.size and anchors[c] != v[0]:
-                    anchors, end, upto = np.insert(anchors, c, v[0]), end + 1, upto + 1
-                k += int(np.argmin(np.r_[d * (U[anchors[k:upto], 0] - u_e[0]) < 0, False]))
-                state, coef = (walker.near_turns(ahead[1], u_e, chosen, state[0]), u_e, chosen), None
-                continue
-            # (entered past gaps not walked through, MAX_GAPS met on the way: a jump, whatever
-            # limits the walk met between it and the value asked before it)
-            capped = got[0] == "limit" and not far_end and nearer is not None
-            if nearer is not None:
-                c = int(np.searchsorted(anchors, seg[nearer[0]]))
-                if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
-                    anchors, end = np.insert(anchors, c, seg[nearer[0]]), end + 1
-                found, homed = (c - k, nearer[1], chosen), False
-            if found is None and assembles and not _nested:
-                found = _enter_by_images(model, walker, U[anchors[k:end]], state[1], chosen, options)
-            if found is None:
-                break
-            c, qe, se = found
-            if homed and c:
-                # (not where the search from the limit found nothing assembling)
-                passed = U[anchors[k : k + c], 0]
-                if bare is None or np.any((passed < bare[0]) | (passed > bare[1])):
-                    skipped.append((k, k + c, state[1]))
-            k += c
-            i = anchors[k]
-            qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
-            q[i], solved[i], signs[i] = qe, True, se
-            if got[0] == "far":
-                direct.append(i)
-            elif capped:
-                past_cap.append(i)
-            state, lo = (qe, U[i], se), i
-            k += 1
-        if not skipped:
-            if second:
-                break
-            # the other side of the start: walked from the start again
-            second = True
-            k, end = int(np.searchsorted(anchors, split)), anchors.size
-            state, lo, coef, wave = origin, split - 1, None, WAVE
-            continue
-        # a range passed over: entered a whole period on from a value solved since, or from
-        # the sweep of its images a period back where some lie in the origin's stretch (no
-        # limit met between), and walked on from there
-        k0, end, u_gap = skipped.pop()
-        known = np.flatnonzero(solved)
-        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k0:end]])
-        if found is None and not _nested:
-            V = _images(model, walker, U[anchors[k0:end]], u_gap)
-            if V is not None and np.any(~past(origin[1][None], V[0]) & (scaled_norm(model, V[0] - origin[1]) <= TURN)):
-                found = _enter_by_images(model, walker, U[anchors[k0:end]], u_gap, chosen, options)
-        k = end
-        if found is not None:
-            c, qe, se = found
-            k, i = k0 + c + 1, anchors[k0 + c]
-            q[i], solved[i], signs[i] = qe, True, se
-            state, lo, coef, wave = (qe, U[i], se), i, None, WAVE
-
-    # 2. every other value from an anchor of its own stretch (no event in between): first a
-    # finer set of anchors, so that the interpolation is at rounding level for the rest
-    at_event = at_events(model, U, events)
-    solved[list(at_event)] = False
-    out = Out(N, n, br.rates)
-    q_pred = {}  # index -> the best guess of a value left for the walk
-    done = np.zeros(N, bool)
-    todo = ~solved  # all but the solved anchors and the values on events
-    todo[list(at_event)] = False
-    # (and the start between its two sides: each side's values from its own anchors)
-    cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}
-                           | ({split} if split < N else set())), int)
-    fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
-                cuts=cuts, kin=kin)
-    if U.shape[1] == 1:
-        finer, _ = walk_anchors(U, input_scale(model), max_step / FINER)
-        finer = finer[todo[finer]]
-        # their poses and modes only (the table needs no more): their rates and statuses come
-        # with the bulk pass, which takes them again, or with the final step at the end
-        from_anchors(anchors=anchors, targets=finer, **dict(fill, br=Branch(model, p, tol, False, engine)))
-        finer = finer[solved[finer]]
-        done[finer] = False
-        anchors = np.union1d(anchors, finer)
-        todo[finer] = False
-    # the anchors too: their final step is due anyway, and the bulk's chunks become runs of
-    # consecutive values (slices where the results are written, not scatters)
-    from_anchors(anchors=anchors, targets=np.flatnonzero(todo | solved), **fill)
-
-    # 3. the rest one by one, from the solved point before each; values on an event or past a
-    # limit from there are set aside in one pass (out of range, there may be many)
-    rest = np.flatnonzero(~solved)
-    if rest.size:  # (the last solved value before each on its side of the start: N-sized, so only when needed)
-        last = _last_solved(solved, side)
-        u_from = _input_before(origin[1], U, last, rest, side)
-        rest = rest[~on_event(model, U[rest], events) & ~past(u_from, U[rest])]
-    failed, newest, failed_far = (None, None), -1, False
-    for i in rest:
-        if at_events(model, U[i : i + 1], events):
-            continue
-        j = max(int(last[i - 1]) if i > side[i] else -1, newest if newest >= side[i] else -1)
-        j = None if j < 0 else j
-        start = origin if j is None else (q[j], U[j], signs[j])
-        if further(failed, j, start[1], U[i]):
-            if failed_far:  # (further than a far value the search did not enter: as far out of reach)
-                unentered.append(i)
-            continue  # the walk from this pose failed nearer that way already
-        if past(start[1][None], U[i][None])[0]:
-            continue  # a limit lies between
-        got = walk(start, i, -1 if j is None else j)
-        if got[0] == "far":
-            got = enter_far(start, i)
-        if got[0] == "limit" and entries < MAX_ENTRIES:
-            got = enter_past(got[2], i, -1 if j is None else j)
-        if got[0] != "ok":
-            failed, failed_far = (j, U[i]), got[0] == "far"
-            continue
-        q[i], solved[i], signs[i], newest = got[1], True, got[2], i
-    # values still unreached past a gap in the range (re-entered further on): walked back from
-    # the solved value after them, so the branch is re-entered as far back as it reaches and
-    # the limit on the gap's far side is located
-    rest = np.flatnonzero(~solved)
-    if rest.size:
-        nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
-    failed, newest = (None, None), N
-    for i in rest[::-1]:
-        j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
-        j = N if i < split <= j else j  # (a value after i on its side of the start, or none)
-        if j >= N or at_events(model, U[i : i + 1], events):
-            continue
-        if further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
-            continue
-        got = walk((q[j], U[j], signs[j]), i, -1, back=j)
-        if got[0] == "far":
-            got = enter_far((q[j], U[j], signs[j]), i)
-        if got[0] != "ok":
-            failed = (j, U[i])
-            continue
-        q[i], solved[i], signs[i], newest = got[1], True, got[2], i
-    # a limit with no value between it and the re-entered branch (a pair of limits inside one
-    # step): the limit on the gap's far side, located walking back from the value past it, up
-    # to a turn of the input
-    at_event = at_events(model, U, events)
-    for f in {0, split} & set(stops):
-        if f < N and solved[f] and f not in at_event and U.shape[1] == 1:
-            # (the first value of a side of the start, past a limit pair from it: walked back
-            # towards the start)
-            walk((q[f], U[f], signs[f]), f, -1, back=f, periodic=False, to=origin[1])
-    for j in dict.fromkeys(stops):  # (once each: a walk meets many limits on its way to one value)
-        if side[j] < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
-            reach = side[j] + np.flatnonzero(scaled_norm(model, U[side[j]:j] - U[j]) <= TURN)
-            # (the direct way: only the limit it meets is wanted)
-            a = int(reach[0] if reach.size else j - 1)
-            got = walk((q[j], U[j], signs[j]), a, -1, back=j, periodic=False)
-            # the values that walk passed over unsolved: another stretch of the branch, over
-            # the same inputs, held the value before j, where the walk back past the gap
-            # stopped (those are still that stretch's)
-            over = np.arange(a, j)[~solved[a:j]]
-            if got[0] == "limit":
-                u_star = float(np.ravel(got[1].input)[0])
-                over = over[(U[over, 0] - u_star) * (U[j, 0] - u_star) > 0]
-            b = j
-            for i in over[::-1]:
+                coef = None
+                i = anchors[k]
+                got = ("lost",) if past(state[1][None], U[i][None])[0] else self.walk(state, i, lo)
+                lo = i
                 if at_events(model, U[i : i + 1], events):
+                    k += 1
+                    continue  # a value on a singular position is no pose to go on from
+                if got[0] == "ok":
+                    q[i], solved[i], signs[i] = got[1], True, got[2]
+                    state = (got[1], U[i], got[2])
+                    k += 1
                     continue
-                got = walk((q[b], U[b], signs[b]), i, -1, back=b, periodic=False)
-                if got[0] != "ok":
+                if got[0] == "limit":
+                    state = (got[2][0], got[2][1], state[2])
+                # out of reach: the next anchor that assembles on the branch, a whole period on from a
+                # value solved, else by one batched search, else (where only another circuit or mode
+                # assembles there) a period the other way round from the sketch
+                known = np.flatnonzero(solved)
+                found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
+                bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
+                far_end = self.entries < MAX_ENTRIES and gaps.get(anchors[k], 0) < MAX_GAPS
+                if found is None and got[0] == "limit" and far_end:
+                    # the range past the gap entered at its far end, as a sweep with values all the way
+                    # enters it: the first of the walk's steps past the limit where the branch can be
+                    # entered, and walked on from there
+                    self.first_search(state[1], U[anchors[k]])
+                    grid = _past_gap(model, state[1], U[anchors[k]], max_step)
+                    if grid.size and scaled_norm(model, U[anchors[k]] - state[1]) <= TURN:
+                        grid = np.vstack((grid, U[anchors[k]][None]))  # (and the value itself, a step or so on)
+                    nearer, assembles = (walker.enter_any([state[0], model.q0], chosen, grid,
+                                                          poses=self.solved_poses()) if grid.size else (None, True))
+                    if nearer is None and not assembles:  # (from the limit, past the pose before it, to the last step)
+                        bare = np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
+                    if nearer is not None:
+                        self.entries += 1
+                        gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
+                        u_e = grid[nearer[0]]
+                        state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
+                        continue
+                homed = found is None and got[0] != "far" and not self.nested
+                if homed:
+                    # the origin's own stretch come back to from elsewhere (past a gap, from another
+                    # interval of the range): walked to from the origin, no limit the walk met between
+                    found = self.home(k, end)
+                upto = end if found is None else k + found[0]
+                guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
+                # (one input: every value from anchor k on, not the anchors only: an interval of the
+                # range narrower than their spacing may hold values and no anchor)
+                seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
+                if bare is not None:  # (not again where the search from the limit, from the same guesses, found none)
+                    seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
+                nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=self.solved_poses(),
+                                                      circuit=got[0] != "far") if seg.size else (None, False))
+                steps = (_steps_out(model, state[1], U[seg], max_step, bare)
+                         if seg.size and nearer is None and not assembles and got[0] == "limit" and far_end
+                         else None)
+                # where no value asked assembles at all (the first in the gap, least squares from
+                # there lands nowhere beyond it), the walk steps from the limit out to the values: a
+                # sweep with values all the way enters the range between them
+                ahead = None
+                if steps is not None:
+                    # (what assembles there, in any modes, is as good a sign for the images below)
+                    ahead, assembles = walker.enter_any(guesses, chosen, steps, poses=self.solved_poses())
+                if ahead is not None:
+                    self.entries += 1
+                    gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
+                    u_e = steps[ahead[0]]
+                    # the first value on from it an anchor (the walk from the entry solves it, and the
+                    # stretch's values from it); the anchors before it, in the gap or reached back
+                    # from it, are left to the walk back from the values after them
+                    d = np.sign(u_e[0] - state[1][0])
+                    v = seg[d * (U[seg, 0] - u_e[0]) >= 0][:1]
+                    c = int(np.searchsorted(anchors, v[0])) if v.size else end
+                    if v.size and anchors[c] != v[0]:
+                        anchors, end, upto = np.insert(anchors, c, v[0]), end + 1, upto + 1
+                        self.anchors = anchors
+                    k += int(np.argmin(np.r_[d * (U[anchors[k:upto], 0] - u_e[0]) < 0, False]))
+                    state, coef = (walker.near_turns(ahead[1], u_e, chosen, state[0]), u_e, chosen), None
+                    continue
+                # (entered past gaps not walked through, MAX_GAPS met on the way: a jump, whatever
+                # limits the walk met between it and the value asked before it)
+                capped = got[0] == "limit" and not far_end and nearer is not None
+                if nearer is not None:
+                    c = int(np.searchsorted(anchors, seg[nearer[0]]))
+                    if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
+                        anchors, end = np.insert(anchors, c, seg[nearer[0]]), end + 1
+                        self.anchors = anchors
+                    found, homed = (c - k, nearer[1], chosen), False
+                if found is None and assembles and not self.nested:
+                    found = _enter_by_images(model, walker, U[anchors[k:end]], state[1], chosen, self.options)
+                if found is None:
                     break
-                q[i], solved[i], signs[i], b = got[1], True, got[2], i
-    at_event = at_events(model, U, events)
-    for i, ev in at_event.items():
-        q[i], solved[i], done[i] = ev.q, True, True
-    events.sort(key=lambda e: e.index)
-    # values left unsolved past a limit the walk met (from the solved value before them) are
-    # out of the branch's reach, however small their least-squares gap (the limits met the
-    # other way round a period on count here only: they are not the branch's events there)
-    beyond = np.zeros(N, bool)
-    miss = np.flatnonzero(~solved)
-    if miss.size and limits:
-        # (a value entered directly, too far to walk, is no walk's start: the gaps between it
-        # and the value are not known)
-        walked = solved.copy()
-        walked[direct] = False
-        last = _last_solved(walked, side)
-        beyond[miss] = past(_input_before(origin[1], U, last, miss, side), U[miss], limits + round_limits)
-    # (and those too far to walk where the search found other modes or nothing: out of the
-    # branch's reach as far as it knows, whatever their least-squares gap)
-    beyond[np.intersect1d(miss, unentered).astype(int)] = True
-    jumps = (stops + direct + periods + past_cap, None)
-    if order is not None:
-        # values asked one after the other with a limit the walk met between them (the direct
-        # way), or entered too far to walk: a jump
-        inv = np.empty_like(order)
-        inv[order] = np.arange(N)
-        prev = np.where(order > 0, inv[np.maximum(order - 1, 0)], -1)  # the value asked before each
-        cand = np.flatnonzero(prev >= 0)
-        if limits and cand.size:
-            # (either way: asked back over a limit the walk met, the two are on different stretches)
-            a, b = U[prev[cand]], U[cand]
-            cand = cand[past_limit(limits, a, b) | past_limit(limits, b, a)]
-        cand = cand if limits else np.zeros(0, int)
-        # (a value entered directly is a jump from the value asked before it where that one too
-        # is out of the walk's reach)
-        reach = WALK_STEPS * max_step
-        far = [j for j in direct if prev[j] >= 0 and scaled_norm(model, U[j] - U[prev[j]]) > reach]
-        # (and one on the other side of a move by whole periods of a rocking input)
-        moved = _apart(np.cumsum(np.isin(np.arange(N), periods)), prev)
-        jumps = (np.union1d(np.union1d(cand, far), np.union1d(moved, past_cap)).astype(int), prev)
-    if shift is not None and not walker.turns:
-        # values of a rocking input solved whole periods back: one in another period than the
-        # value asked before it has the limit that starts its period between them
-        before = prev if order is not None else np.arange(N) - 1
-        jumps = (np.union1d(jumps[0], _apart(shift[0], before)).astype(int), jumps[1])
-    if _reached is not None:
-        # (values solved whole periods back are a move by whole periods from the start)
-        cut = stops + direct + periods + past_cap + [e.index for e in events if e.kind in ("limit", "bifurcation", "singular")]
-        reached = np.arange(N) < (0 if shift is not None and not walker.turns else min(cut, default=N))
-        _reached.append(reached if order is None else reached[np.argsort(order)])
-    if isinstance(_nested, Walker):
-        _nested.rounds = walker.rounds
-    return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
-                   order, origin[1])
+                c, qe, se = found
+                if homed and c:
+                    # (not where the search from the limit found nothing assembling)
+                    passed = U[anchors[k : k + c], 0]
+                    if bare is None or np.any((passed < bare[0]) | (passed > bare[1])):
+                        skipped.append((k, k + c, state[1]))
+                k += c
+                i = anchors[k]
+                qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
+                q[i], solved[i], signs[i] = qe, True, se
+                if got[0] == "far":
+                    self.direct.append(i)
+                elif capped:
+                    self.past_cap.append(i)
+                state, lo = (qe, U[i], se), i
+                k += 1
+            if not skipped:
+                if second:
+                    break
+                # the other side of the start: walked from the start again
+                second = True
+                k, end = int(np.searchsorted(anchors, split)), anchors.size
+                state, lo, coef, wave = origin, split - 1, None, WAVE
+                continue
+            # a range passed over: entered a whole period on from a value solved since, or from
+            # the sweep of its images a period back where some lie in the origin's stretch (no
+            # limit met between), and walked on from there
+            k0, end, u_gap = skipped.pop()
+            known = np.flatnonzero(solved)
+            found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k0:end]])
+            if found is None and not self.nested:
+                V = _images(model, walker, U[anchors[k0:end]], u_gap)
+                if V is not None and np.any(~past(origin[1][None], V[0])
+                                            & (scaled_norm(model, V[0] - origin[1]) <= TURN)):
+                    found = _enter_by_images(model, walker, U[anchors[k0:end]], u_gap, chosen, self.options)
+            k = end
+            if found is not None:
+                c, qe, se = found
+                k, i = k0 + c + 1, anchors[k0 + c]
+                q[i], solved[i], signs[i] = qe, True, se
+                state, lo, coef, wave = (qe, U[i], se), i, None, WAVE
+
+    def bulk(self):
+        """2. Every other value from an anchor of its own stretch (no event in between): first a
+        finer set of anchors, so that the interpolation is at rounding level for the rest."""
+        model, U, Ud, Udd, q, solved, signs = self.model, self.U, self.Ud, self.Udd, self.q, self.solved, self.signs
+        br, p, events, kin, N, split, anchors = self.br, self.p, self.events, self.kin, self.N, self.split, self.anchors
+        max_step, tol, engine = self.max_step, self.options["tol"], self.options["engine"]
+        at_event = at_events(model, U, events)
+        solved[list(at_event)] = False
+        out = Out(N, model.n, br.rates)
+        q_pred = {}  # index -> the best guess of a value left for the walk
+        done = np.zeros(N, bool)
+        todo = ~solved  # all but the solved anchors and the values on events
+        todo[list(at_event)] = False
+        # (and the start between its two sides: each side's values from its own anchors)
+        cuts = np.array(sorted({e.index for e in events if e.kind in ("limit", "bifurcation", "singular")}
+                               | ({split} if split < N else set())), int)
+        fill = dict(br=br, U=U, Ud=Ud, Udd=Udd, q=q, signs=signs, solved=solved, done=done, out=out, q_pred=q_pred,
+                    cuts=cuts, kin=kin)
+        if U.shape[1] == 1:
+            finer, _ = walk_anchors(U, input_scale(model), max_step / FINER)
+            finer = finer[todo[finer]]
+            # their poses and modes only (the table needs no more): their rates and statuses come
+            # with the bulk pass, which takes them again, or with the final step at the end
+            from_anchors(anchors=anchors, targets=finer, **dict(fill, br=Branch(model, p, tol, False, engine)))
+            finer = finer[solved[finer]]
+            done[finer] = False
+            anchors = np.union1d(anchors, finer)
+            todo[finer] = False
+        # the anchors too: their final step is due anyway, and the bulk's chunks become runs of
+        # consecutive values (slices where the results are written, not scatters)
+        from_anchors(anchors=anchors, targets=np.flatnonzero(todo | solved), **fill)
+        self.out, self.q_pred, self.done = out, q_pred, done
+
+    def one_by_one(self):
+        """3. The rest one by one, from the solved value before each; values on an event or
+        past a limit from there are set aside in one pass (out of range, there may be many)."""
+        model, U, q, solved, signs, events = self.model, self.U, self.q, self.solved, self.signs, self.events
+        origin, side, past = self.origin, self.side, self.past
+        rest = np.flatnonzero(~solved)
+        if rest.size:  # (the last solved value before each on its side of the start: N-sized, so only when needed)
+            last = _last_solved(solved, side)
+            u_from = _input_before(origin[1], U, last, rest, side)
+            rest = rest[~on_event(model, U[rest], events) & ~past(u_from, U[rest])]
+        failed, newest, failed_far = (None, None), -1, False
+        for i in rest:
+            if at_events(model, U[i : i + 1], events):
+                continue
+            j = max(int(last[i - 1]) if i > side[i] else -1, newest if newest >= side[i] else -1)
+            j = None if j < 0 else j
+            start = origin if j is None else (q[j], U[j], signs[j])
+            if self.further(failed, j, start[1], U[i]):
+                if failed_far:  # (further than a far value the search did not enter: as far out of reach)
+                    self.unentered.append(i)
+                continue  # the walk from this pose failed nearer that way already
+            if past(start[1][None], U[i][None])[0]:
+                continue  # a limit lies between
+            got = self.walk(start, i, -1 if j is None else j)
+            if got[0] == "far":
+                got = self.enter_far(start, i)
+            if got[0] == "limit" and self.entries < MAX_ENTRIES:
+                got = self.enter_past(got[2], i, -1 if j is None else j)
+            if got[0] != "ok":
+                failed, failed_far = (j, U[i]), got[0] == "far"
+                continue
+            q[i], solved[i], signs[i], newest = got[1], True, got[2], i
+
+    def back_over_gaps(self):
+        """Values still unreached past a gap in the range (re-entered further on): walked back
+        from the solved value after them, so the branch is re-entered as far back as it reaches
+        and the limit on the gap's far side is located."""
+        model, U, q, solved, signs, events = self.model, self.U, self.q, self.solved, self.signs, self.events
+        N, split, past = self.N, self.split, self.past
+        rest = np.flatnonzero(~solved)
+        if rest.size:
+            nxt = np.minimum.accumulate(np.where(solved, np.arange(N), N)[::-1])[::-1]
+        failed, newest = (None, None), N
+        for i in rest[::-1]:
+            j = min(int(nxt[i + 1]) if i + 1 < N else N, newest)
+            j = N if i < split <= j else j  # (a value after i on its side of the start, or none)
+            if j >= N or at_events(model, U[i : i + 1], events):
+                continue
+            if self.further(failed, j, U[j], U[i]) or past(U[j][None], U[i][None])[0]:
+                continue
+            got = self.walk((q[j], U[j], signs[j]), i, -1, back=j)
+            if got[0] == "far":
+                got = self.enter_far((q[j], U[j], signs[j]), i)
+            if got[0] != "ok":
+                failed = (j, U[i])
+                continue
+            q[i], solved[i], signs[i], newest = got[1], True, got[2], i
+
+    def limit_pairs(self):
+        """A limit with no value between it and the re-entered branch (a pair of limits inside
+        one step): the limit on the gap's far side, located walking back from the value past it,
+        up to a turn of the input."""
+        model, U, q, solved, signs, events = self.model, self.U, self.q, self.solved, self.signs, self.events
+        origin, side, N, split, stops = self.origin, self.side, self.N, self.split, self.stops
+        at_event = at_events(model, U, events)
+        for f in {0, split} & set(stops):
+            if f < N and solved[f] and f not in at_event and U.shape[1] == 1:
+                # (the first value of a side of the start, past a limit pair from it: walked back
+                # towards the start)
+                self.walk((q[f], U[f], signs[f]), f, -1, back=f, periodic=False, to=origin[1])
+        for j in dict.fromkeys(stops):  # (once each: a walk meets many limits on its way to one value)
+            if side[j] < j < N and solved[j] and solved[j - 1] and j not in at_event and U.shape[1] == 1:
+                reach = side[j] + np.flatnonzero(scaled_norm(model, U[side[j]:j] - U[j]) <= TURN)
+                # (the direct way: only the limit it meets is wanted)
+                a = int(reach[0] if reach.size else j - 1)
+                got = self.walk((q[j], U[j], signs[j]), a, -1, back=j, periodic=False)
+                # the values that walk passed over unsolved: another stretch of the branch, over
+                # the same inputs, held the value before j, where the walk back past the gap
+                # stopped (those are still that stretch's)
+                over = np.arange(a, j)[~solved[a:j]]
+                if got[0] == "limit":
+                    u_star = float(np.ravel(got[1].input)[0])
+                    over = over[(U[over, 0] - u_star) * (U[j, 0] - u_star) > 0]
+                b = j
+                for i in over[::-1]:
+                    if at_events(model, U[i : i + 1], events):
+                        continue
+                    got = self.walk((q[b], U[b], signs[b]), i, -1, back=b, periodic=False)
+                    if got[0] != "ok":
+                        break
+                    q[i], solved[i], signs[i], b = got[1], True, got[2], i
+
+    def result(self, _reached):
+        """The :class:`planar.Sweep` (:func:`planar.sweep.finish.finish`): the values on events
+        posed there, those out of the branch's reach, the jumps; ``_reached`` as
+        :func:`run_sweep`'s."""
+        model, U, Ud, Udd, U_in, q, solved, events = self.model, self.U, self.Ud, self.Udd, self.U_in, self.q, \
+            self.solved, self.events
+        br, walker, origin, side, N, max_step, past = self.br, self.walker, self.origin, self.side, self.N, \
+            self.max_step, self.past
+        out, q_pred, done, order, shift = self.out, self.q_pred, self.done, self.order, self.shift
+        limits, direct, stops, periods, past_cap = self.limits, self.direct, self.stops, self.periods, self.past_cap
+        at_event = at_events(model, U, events)
+        for i, ev in at_event.items():
+            q[i], solved[i], done[i] = ev.q, True, True
+        events.sort(key=lambda e: e.index)
+        # values left unsolved past a limit the walk met (from the solved value before them) are
+        # out of the branch's reach, however small their least-squares gap (the limits met the
+        # other way round a period on count here only: they are not the branch's events there)
+        beyond = np.zeros(N, bool)
+        miss = np.flatnonzero(~solved)
+        if miss.size and limits:
+            # (a value entered directly, too far to walk, is no walk's start: the gaps between it
+            # and the value are not known)
+            walked = solved.copy()
+            walked[direct] = False
+            last = _last_solved(walked, side)
+            beyond[miss] = past(_input_before(origin[1], U, last, miss, side), U[miss], limits + self.round_limits)
+        # (and those too far to walk where the search found other modes or nothing: out of the
+        # branch's reach as far as it knows, whatever their least-squares gap)
+        beyond[np.intersect1d(miss, self.unentered).astype(int)] = True
+        jumps = (stops + direct + periods + past_cap, None)
+        if order is not None:
+            # values asked one after the other with a limit the walk met between them (the direct
+            # way), or entered too far to walk: a jump
+            inv = np.empty_like(order)
+            inv[order] = np.arange(N)
+            prev = np.where(order > 0, inv[np.maximum(order - 1, 0)], -1)  # the value asked before each
+            cand = np.flatnonzero(prev >= 0)
+            if limits and cand.size:
+                # (either way: asked back over a limit the walk met, the two are on different stretches)
+                a, b = U[prev[cand]], U[cand]
+                cand = cand[past_limit(limits, a, b) | past_limit(limits, b, a)]
+            cand = cand if limits else np.zeros(0, int)
+            # (a value entered directly is a jump from the value asked before it where that one too
+            # is out of the walk's reach)
+            reach = WALK_STEPS * max_step
+            far = [j for j in direct if prev[j] >= 0 and scaled_norm(model, U[j] - U[prev[j]]) > reach]
+            # (and one on the other side of a move by whole periods of a rocking input)
+            moved = _apart(np.cumsum(np.isin(np.arange(N), periods)), prev)
+            jumps = (np.union1d(np.union1d(cand, far), np.union1d(moved, past_cap)).astype(int), prev)
+        if shift is not None and not walker.turns:
+            # values of a rocking input solved whole periods back: one in another period than the
+            # value asked before it has the limit that starts its period between them
+            before = prev if order is not None else np.arange(N) - 1
+            jumps = (np.union1d(jumps[0], _apart(shift[0], before)).astype(int), jumps[1])
+        if _reached is not None:
+            # (values solved whole periods back are a move by whole periods from the start)
+            cut = stops + direct + periods + past_cap + [e.index for e in events
+                                                         if e.kind in ("limit", "bifurcation", "singular")]
+            reached = np.arange(N) < (0 if shift is not None and not walker.turns else min(cut, default=N))
+            _reached.append(reached if order is None else reached[np.argsort(order)])
+        if isinstance(self.nested, Walker):
+            self.nested.rounds = walker.rounds
+        return finish(model, br, U, Ud, Udd, q, solved, done, out, q_pred, events, at_event, beyond, jumps, U_in, shift,
+                       order, origin[1])
 
 
 def _once(met, limit):
