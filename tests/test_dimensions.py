@@ -17,7 +17,7 @@ import pytest
 from hypothesis import assume, example, given, settings, strategies as st
 
 import planar
-from planar import Status, dimensions, io
+from planar import dimensions, io
 from planar.errors import AssemblyError, FileFormatError, MobilityError, ModelError
 from planar.mechanisms import four_bar, inverted_slider_crank, slider_crank, stephenson_six_bar
 from planar.units import Units

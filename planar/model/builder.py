@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from planar.dimensions import Dimension, Dyad
-from planar.errors import InputError, ModelError
+from planar.errors import ModelError
 from planar.joints import (AngleDriver, CarrierGear, CoordinateDriver, Gear, Prismatic, RackPinion, Revolute,
                            RollingContact, Slot)
 import planar.model.checks as checks
