@@ -240,3 +240,19 @@ def test_values_next_to_a_change_point_are_solved_on_the_smooth_branch(engine):
         assert res.branch[1] == before
         # positions there are sensitive, to about eps over the distance (the events' estimate)
         np.testing.assert_allclose(res.position("B")[1], loop.sweep(u).position("B")[1], atol=1e-15 / d[k])
+
+
+@pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
+@pytest.mark.parametrize("lengths", [(1, 1e3, 1, 1e3), (1e4, 1, 1e4, 1)])
+def test_a_parallelogram_whose_branches_cross_at_a_shallow_angle_never_changes_branch_unsaid(lengths, engine):
+    # the parallelogram (rocker = crank) and the antiparallelogram cross at crank 0 and pi at an
+    # angle of ~2 / k; the tracer cannot certify a step over so shallow a crossing and gives the
+    # walk up, and the search for the next value enters it on the antiparallelogram, in the same
+    # modes: those values read SOLVED and NEAR_SINGULAR, as if walked to (docs/hardening.md)
+    U = np.linspace(0.5, 0.5 + 2 * np.pi, 73)
+    res = four_bar(*lengths, start=0.5).compile().sweep(U, engine=engine)
+    assert res.ok.all()
+    on = np.abs(np.angle(np.exp(1j * (res.q[:, 8] - U)))) <= 1e-9 * max(lengths)
+    assert on[0]
+    changes = np.flatnonzero(on[1:] != on[:-1]) + 1
+    assert [Status(s).name for s in res.status[changes]] == ["JUMPED"] * changes.size

@@ -349,7 +349,8 @@ class _Run:
                     continue
                 coef = None
                 i = anchors[k]
-                got = ("lost",) if past(state[1][None], U[i][None])[0] else self.walk(state, i, lo)
+                beyond = past(state[1][None], U[i][None])[0]
+                got = ("lost",) if beyond else self.walk(state, i, lo)
                 lo = i
                 if at_events(model, U[i : i + 1], events):
                     k += 1
@@ -449,7 +450,8 @@ class _Run:
                 i = anchors[k]
                 qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
                 q[i], solved[i], signs[i] = qe, True, se
-                if got[0] == "far":
+                if got[0] == "far" or (got[0] == "lost" and not beyond):
+                    # (too far to walk, or where the walk lost the branch: entered, not walked to)
                     self.direct.append(i)
                 elif capped:
                     self.past_cap.append(i)
