@@ -12,6 +12,7 @@ from planar.acceptance import CERT
 MOVE = 0.5
 GAP_CROSS = 1e-5  # scaled distance below which another curve is taken to cross this one
 CROSS_STEP = 1e-3  # scaled arclength of a step over a crossing
+OVER = 3.0  # a step over a crossing, in distances to it
 ROUNDING = 1e-12  # scaled correction at the corrector's own tolerance: no jump
 SLOPE = 0.01  # least rate of change of the gap along the curve that a step is sized for
 
@@ -150,30 +151,57 @@ class Tracer:
         is seen to change (taken as 1 at the first step, and at least SLOPE: two curves
         side by side, crossing at a shallow angle, are passed in long steps, checked at their
         midpoint). Closer than GAP_CROSS the curves are taken to cross: the step is at least
-        CROSS_STEP, over the crossing to where the curves are apart again."""
+        CROSS_STEP, and with the gap closing, OVER times the distance to the crossing, over it
+        to where the curves are as far apart again. Each step is predicted with the curve's
+        curvature (:meth:`bend`): where two branches cross at a shallow angle (the gap there
+        ~1 / k of their distance, a parallelogram of links k times its ground), the tangent's
+        own error over the step, growing as its square, is above the certificate."""
+        A = self.H(y)[1]
         if gap is None:
-            gap = self.gap(self.H(y)[1], t)
+            gap = self.gap(A, t)
             h = min(h, MOVE * gap)
         if gap < GAP_CROSS:
             h = max(h, CROSS_STEP)
+        bend = self.bend(y, A, t)
         while h > 1e-13:
-            got = self._landed(y, t, h, gap)
+            got = self._landed(y, t, bend, h, gap)
             if got is not None:
                 y1, t1, det1, gap1, rate = got
-                return y1, t1, det1, h, min(2 * h, self.h_max, MOVE * gap1 / max(rate, SLOPE)), gap1
+                h_next = min(2 * h, self.h_max, MOVE * gap1 / max(rate, SLOPE))
+                if gap1 < min(gap, GAP_CROSS):
+                    # closing in on a crossing, gap1 / rate ahead: the next step goes over it
+                    # from here, where the tangent and bend are still accurate (closer, they err
+                    # as the poses' rounding over the gap and its square)
+                    h_next = max(h_next, min(self.h_max, OVER * gap1 / rate))
+                return y1, t1, det1, h, h_next, gap1
             h /= 2
         return None
 
-    def _landed(self, y, t, h, gap):
-        """The step of length h from (y, t) if it is certified: (y1, t1, det1, gap1, the rate
-        of change of the gap over it), else None."""
-        got = self.correct(y + h * t, t)
+    def bend(self, y, A, t):
+        """The curve's second derivative y'' in arclength at y (A the Jacobian there, t the unit
+        tangent): [A; t] y'' = [rs gamma(q, q'); 0], the constraints' second derivative along the
+        curve (the input enters them linearly). A step predicted as y + h t + h^2/2 y'' errs as
+        h^3, not h^2, on the same hyperplane (t.y'' = 0). Zero where [A; t] is singular."""
+        qd = np.zeros(self.m.n)
+        qd[self.p.cols] = t[:-1] * self.cs
+        gam = self.p.system.gamma(self.q_of(y)[None], qd[None], self.u_of(y)[None])[0, self.p.rows] * self.rs
+        try:
+            b = np.linalg.solve(np.vstack((A, t)), np.append(gam, 0.0))
+        except np.linalg.LinAlgError:
+            return np.zeros_like(y)
+        return b if np.all(np.isfinite(b)) else np.zeros_like(y)
+
+    def _landed(self, y, t, bend, h, gap):
+        """The step of length h from (y, t) (``bend`` the curve's y'' there) if it is
+        certified: (y1, t1, det1, gap1, the rate of change of the gap over it), else None."""
+        y_pred = y + h * t + 0.5 * h * h * bend
+        got = self.correct(y_pred, t)
         if got is None:
             return None
         y1, A1 = got
         t1, det1 = self.tangent(A1, t)
         gap1 = self.gap(A1, t1)
-        moved = np.linalg.norm(y1 - (y + h * t))
+        moved = np.linalg.norm(y1 - y_pred)
         if not (moved <= 0.3 * h and t1 @ t > 0.8 and moved <= max(CERT * gap1, ROUNDING)):
             return None
         rate = abs(gap1 - gap) / h
@@ -181,13 +209,14 @@ class Tracer:
             return y1, t1, det1, gap1, rate
         # a long step: the gap at its midpoint too, and the step within MOVE times the
         # distance at which it would close at the steepest rate seen on either half
-        mid = self.correct(y + 0.5 * h * t, t)
+        ym_pred = y + 0.5 * h * t + 0.125 * h * h * bend
+        mid = self.correct(ym_pred, t)
         if mid is None:
             return None
         ym, Am = mid
         gm = self.gap(Am, self.tangent(Am, t)[0])
         rate = max(abs(gm - gap), abs(gap1 - gm)) / (0.5 * h)
-        if np.linalg.norm(ym - (y + 0.5 * h * t)) > max(CERT * gm, ROUNDING):
+        if np.linalg.norm(ym - ym_pred) > max(CERT * gm, ROUNDING):
             return None
         if h > MOVE * min(gap, gm, gap1) / max(rate, SLOPE):
             return None
