@@ -295,193 +295,222 @@ class _Run:
         """1. The sequential walk over the anchors, from the assembled sketch (or the known pose
         given): in waves where they pass, step by step where not, each gap's far range entered
         where a sweep with values all the way would enter it; then the start's other side, and
-        the ranges passed over for the origin's own stretch."""
-        model, U, q, solved, signs, events = self.model, self.U, self.q, self.solved, self.signs, self.events
-        walker, br, kin, chosen, origin, past = self.walker, self.br, self.kin, self.chosen, self.origin, self.past
-        max_step, N, split, anchors = self.max_step, self.N, self.split, self.anchors
-        state = origin
-        gaps = {}  # anchor index -> ranges entered at a gap's far end on the way to it
-        coef = None  # the kinematic coefficients of the state, where known
-        lo, k, wave = -1, 0, WAVE
-        # the walk's bound: the start's first side, then its second; a range skipped before is
-        # walked up to its end
-        end = int(np.searchsorted(anchors, split))
-        second = split >= N  # (on the second side, or none)
-        skipped = []  # (k, upto, u): anchors past a gap from u, passed over for the origin's stretch further on
+        the ranges passed over for the origin's own stretch. The walk's place: anchor ``k``
+        below the bound ``end`` (the start's first side, then its second; a range skipped
+        before, up to its end), the pose ``at`` (q, u, modes) and its kinematic coefficients
+        ``coef`` where known, the value ``lo`` walked from, the ``wave`` size."""
+        self.at, self.coef = self.origin, None
+        self.lo, self.k, self.wave = -1, 0, WAVE
+        self.end = int(np.searchsorted(self.anchors, self.split))
+        self.gaps = {}  # anchor index -> ranges entered at a gap's far end on the way to it
+        self.skipped = []  # (k, upto, u): anchors past a gap from u, passed over for the origin's stretch further on
+        second = self.split >= self.N  # (on the second side, or none)
         while True:
-            while k < end:
-                idx = anchors[k : min(k + wave, end)]
-                stop = np.flatnonzero(past(state[1][None], U[idx]) | on_event(model, U[idx], events))
-                tried = stop[0] if stop.size else idx.size
-                # an anchor several steps from the one before (sparse values) is not tried in a wave
-                # (it would not reach it): it is reached through stations, or walked to
-                far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=state[1][None]))
-                                     > SPARSE * max_step)
-                tried = far[0] if far.size else tried
-                if tried == 0 and far.size:
-                    # sparse values: the stations between them in waves, many gaps a batch (each
-                    # within half a turn of the one before: the walk would go the direct way there)
-                    near = idx[: stop[0] if stop.size else idx.size]
-                    d = np.diff(U[near], axis=0, prepend=state[1][None])
-                    ok = (scaled_norm(model, d) < TURN) & np.all(np.abs(d) <= np.pi, axis=1)
-                    near = near[: int(np.argmin(ok)) if not ok.all() else near.size]
-                    b, qb, kb, last = solve_stations(br, state, U, near, max_step, coef)
-                    if last is not None:
-                        if b:
-                            q[near[:b]], solved[near[:b]], signs[near[:b]] = qb, True, state[2]
-                            if kb is not None:
-                                kin.add(near[:b], *kb)
-                            lo, k = near[b - 1], k + b
-                        state, coef = (last[0], last[1], state[2]), last[2]
-                        continue
-                a, qa, ka = solve_wave(br, state, U, idx[:tried], coef)
-                if a:
-                    q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, state[2]
-                    state, lo, k = (qa[-1], U[idx[a - 1]], state[2]), idx[a - 1], k + a
-                    if ka is not None:
-                        kin.add(idx[:a], *ka)
-                        coef = ka[0][-1], ka[1][-1]
-                wave = min(2 * wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
-                # a wave that stopped part way goes on as a new wave from its last anchor (or through
-                # stations, where it stopped short of a sparse one); the walk takes the anchor where
-                # one accepted none (or where an event was located)
-                if k >= end or a == idx.size or 0 < a < tried or (a and far.size):
-                    continue
-                coef = None
-                i = anchors[k]
-                beyond = past(state[1][None], U[i][None])[0]
-                got = ("lost",) if beyond else self.walk(state, i, lo)
-                lo = i
-                if at_events(model, U[i : i + 1], events):
-                    k += 1
-                    continue  # a value on a singular position is no pose to go on from
-                if got[0] == "ok":
-                    q[i], solved[i], signs[i] = got[1], True, got[2]
-                    state = (got[1], U[i], got[2])
-                    k += 1
-                    continue
-                if got[0] == "limit":
-                    state = (got[2][0], got[2][1], state[2])
-                # out of reach: the next anchor that assembles on the branch, a whole period on from a
-                # value solved, else by one batched search, else (where only another circuit or mode
-                # assembles there) a period the other way round from the sketch
-                known = np.flatnonzero(solved)
-                found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
-                bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
-                far_end = self.entries < MAX_ENTRIES and gaps.get(anchors[k], 0) < MAX_GAPS
-                if found is None and got[0] == "limit" and far_end:
-                    # the range past the gap entered at its far end, as a sweep with values all the way
-                    # enters it: the first of the walk's steps past the limit where the branch can be
-                    # entered, and walked on from there
-                    self.first_search(state[1], U[anchors[k]])
-                    grid = _past_gap(model, state[1], U[anchors[k]], max_step)
-                    if grid.size and scaled_norm(model, U[anchors[k]] - state[1]) <= TURN:
-                        grid = np.vstack((grid, U[anchors[k]][None]))  # (and the value itself, a step or so on)
-                    nearer, assembles = (walker.enter_any([state[0], model.q0], chosen, grid,
-                                                          poses=self.solved_poses()) if grid.size else (None, True))
-                    if nearer is None and not assembles:  # (from the limit, past the pose before it, to the last step)
-                        bare = np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
-                    if nearer is not None:
-                        self.entries += 1
-                        gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
-                        u_e = grid[nearer[0]]
-                        state, coef = (walker.near_turns(nearer[1], u_e, chosen, state[0]), u_e, chosen), None
-                        continue
-                homed = found is None and got[0] != "far" and not self.nested
-                if homed:
-                    # the origin's own stretch come back to from elsewhere (past a gap, from another
-                    # interval of the range): walked to from the origin, no limit the walk met between
-                    found = self.home(k, end)
-                upto = end if found is None else k + found[0]
-                guesses = [model.q0, state[0]] if got[0] == "far" else [state[0], model.q0]
-                # (one input: every value from anchor k on, not the anchors only: an interval of the
-                # range narrower than their spacing may hold values and no anchor)
-                seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
-                if bare is not None:  # (not again where the search from the limit, from the same guesses, found none)
-                    seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
-                nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=self.solved_poses(),
-                                                      circuit=got[0] != "far") if seg.size else (None, False))
-                steps = (_steps_out(model, state[1], U[seg], max_step, bare)
-                         if seg.size and nearer is None and not assembles and got[0] == "limit" and far_end
-                         else None)
-                # where no value asked assembles at all (the first in the gap, least squares from
-                # there lands nowhere beyond it), the walk steps from the limit out to the values: a
-                # sweep with values all the way enters the range between them
-                ahead = None
-                if steps is not None:
-                    # (what assembles there, in any modes, is as good a sign for the images below)
-                    ahead, assembles = walker.enter_any(guesses, chosen, steps, poses=self.solved_poses())
-                if ahead is not None:
-                    self.entries += 1
-                    gaps[anchors[k]] = gaps.get(anchors[k], 0) + 1
-                    u_e = steps[ahead[0]]
-                    # the first value on from it an anchor (the walk from the entry solves it, and the
-                    # stretch's values from it); the anchors before it, in the gap or reached back
-                    # from it, are left to the walk back from the values after them
-                    d = np.sign(u_e[0] - state[1][0])
-                    v = seg[d * (U[seg, 0] - u_e[0]) >= 0][:1]
-                    c = int(np.searchsorted(anchors, v[0])) if v.size else end
-                    if v.size and anchors[c] != v[0]:
-                        anchors, end, upto = np.insert(anchors, c, v[0]), end + 1, upto + 1
-                        self.anchors = anchors
-                    k += int(np.argmin(np.r_[d * (U[anchors[k:upto], 0] - u_e[0]) < 0, False]))
-                    state, coef = (walker.near_turns(ahead[1], u_e, chosen, state[0]), u_e, chosen), None
-                    continue
-                # (entered past gaps not walked through, MAX_GAPS met on the way: a jump, whatever
-                # limits the walk met between it and the value asked before it)
-                capped = got[0] == "limit" and not far_end and nearer is not None
-                if nearer is not None:
-                    c = int(np.searchsorted(anchors, seg[nearer[0]]))
-                    if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
-                        anchors, end = np.insert(anchors, c, seg[nearer[0]]), end + 1
-                        self.anchors = anchors
-                    found, homed = (c - k, nearer[1], chosen), False
-                if found is None and assembles and not self.nested:
-                    found = _enter_by_images(model, walker, U[anchors[k:end]], state[1], chosen, self.options)
-                if found is None:
+            while self.k < self.end:
+                if not self.wave_on() and not self.walk_on():
                     break
-                c, qe, se = found
-                if homed and c:
-                    # (not where the search from the limit found nothing assembling)
-                    passed = U[anchors[k : k + c], 0]
-                    if bare is None or np.any((passed < bare[0]) | (passed > bare[1])):
-                        skipped.append((k, k + c, state[1]))
-                k += c
-                i = anchors[k]
-                qe = qe if homed else walker.near_turns(qe, U[i], se, state[0])
-                q[i], solved[i], signs[i] = qe, True, se
-                if got[0] == "far" or (got[0] == "lost" and not beyond):
-                    # (too far to walk, or where the walk lost the branch: entered, not walked to)
-                    self.direct.append(i)
-                elif capped:
-                    self.past_cap.append(i)
-                state, lo = (qe, U[i], se), i
-                k += 1
-            if not skipped:
-                if second:
-                    break
+            if self.skipped:
+                self.enter_skipped()
+            elif second:
+                break
+            else:
                 # the other side of the start: walked from the start again
                 second = True
-                k, end = int(np.searchsorted(anchors, split)), anchors.size
-                state, lo, coef, wave = origin, split - 1, None, WAVE
-                continue
-            # a range passed over: entered a whole period on from a value solved since, or from
-            # the sweep of its images a period back where some lie in the origin's stretch (no
-            # limit met between), and walked on from there
-            k0, end, u_gap = skipped.pop()
-            known = np.flatnonzero(solved)
-            found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k0:end]])
-            if found is None and not self.nested:
-                V = _images(model, walker, U[anchors[k0:end]], u_gap)
-                if V is not None and np.any(~past(origin[1][None], V[0])
-                                            & (scaled_norm(model, V[0] - origin[1]) <= TURN)):
-                    found = _enter_by_images(model, walker, U[anchors[k0:end]], u_gap, chosen, self.options)
-            k = end
-            if found is not None:
-                c, qe, se = found
-                k, i = k0 + c + 1, anchors[k0 + c]
-                q[i], solved[i], signs[i] = qe, True, se
-                state, lo, coef, wave = (qe, U[i], se), i, None, WAVE
+                self.k, self.end = int(np.searchsorted(self.anchors, self.split)), self.anchors.size
+                self.at, self.lo, self.coef, self.wave = self.origin, self.split - 1, None, WAVE
+
+    def wave_on(self):
+        """The anchors from k that the walk passes in one wave (or, to sparse ones, through
+        stations): whether the walk goes on from there, else it takes anchor k itself."""
+        model, U, q, solved, signs, br = self.model, self.U, self.q, self.solved, self.signs, self.br
+        k, end, at, max_step = self.k, self.end, self.at, self.max_step
+        idx = self.anchors[k : min(k + self.wave, end)]
+        stop = np.flatnonzero(self.past(at[1][None], U[idx]) | on_event(model, U[idx], self.events))
+        tried = stop[0] if stop.size else idx.size
+        # an anchor several steps from the one before (sparse values) is not tried in a wave
+        # (it would not reach it): it is reached through stations, or walked to
+        far = np.flatnonzero(scaled_norm(model, np.diff(U[idx[:tried]], axis=0, prepend=at[1][None]))
+                             > SPARSE * max_step)
+        tried = far[0] if far.size else tried
+        if tried == 0 and far.size:
+            # sparse values: the stations between them in waves, many gaps a batch (each
+            # within half a turn of the one before: the walk would go the direct way there)
+            near = idx[: stop[0] if stop.size else idx.size]
+            d = np.diff(U[near], axis=0, prepend=at[1][None])
+            ok = (scaled_norm(model, d) < TURN) & np.all(np.abs(d) <= np.pi, axis=1)
+            near = near[: int(np.argmin(ok)) if not ok.all() else near.size]
+            b, qb, kb, last = solve_stations(br, at, U, near, max_step, self.coef)
+            if last is not None:
+                if b:
+                    q[near[:b]], solved[near[:b]], signs[near[:b]] = qb, True, at[2]
+                    if kb is not None:
+                        self.kin.add(near[:b], *kb)
+                    self.lo, self.k = near[b - 1], k + b
+                self.at, self.coef = (last[0], last[1], at[2]), last[2]
+                return True
+        a, qa, ka = solve_wave(br, at, U, idx[:tried], self.coef)
+        if a:
+            q[idx[:a]], solved[idx[:a]], signs[idx[:a]] = qa, True, at[2]
+            self.at, self.lo, self.k = (qa[-1], U[idx[a - 1]], at[2]), idx[a - 1], k + a
+            if ka is not None:
+                self.kin.add(idx[:a], *ka)
+                self.coef = ka[0][-1], ka[1][-1]
+        self.wave = min(2 * self.wave, MAX_WAVE) if a == idx.size else max(a, WAVE)
+        # a wave that stopped part way goes on as a new wave from its last anchor (or through
+        # stations, where it stopped short of a sparse one); the walk takes the anchor where
+        # one accepted none (or where an event was located)
+        return bool(self.k >= end or a == idx.size or 0 < a < tried or (a and far.size))
+
+    def walk_on(self):
+        """The walk to anchor k; where it is out of reach, the next anchor that assembles on
+        the branch entered (:meth:`enter_out_of_reach`). False where none is."""
+        model, U = self.model, self.U
+        self.coef = None
+        i = self.anchors[self.k]
+        beyond = self.past(self.at[1][None], U[i][None])[0]
+        got = ("lost",) if beyond else self.walk(self.at, i, self.lo)
+        self.lo = i
+        if at_events(model, U[i : i + 1], self.events):
+            self.k += 1
+            return True  # a value on a singular position is no pose to go on from
+        if got[0] == "ok":
+            self.q[i], self.solved[i], self.signs[i] = got[1], True, got[2]
+            self.at = (got[1], U[i], got[2])
+            self.k += 1
+            return True
+        if got[0] == "limit":
+            self.at = (got[2][0], got[2][1], self.at[2])
+        return self.enter_out_of_reach(got, beyond)
+
+    def enter_out_of_reach(self, got, beyond):
+        """Anchor k out of the walk's reach (``got`` the walk's result; ``beyond``: past a limit
+        met before): the next anchor that assembles on the branch entered, a whole period on
+        from a value solved, else by one batched search, else (where only another circuit or
+        mode assembles there) a period the other way round from the sketch. False where none
+        is."""
+        model, U, q, solved, signs, walker, chosen = (self.model, self.U, self.q, self.solved, self.signs, self.walker,
+                                                      self.chosen)
+        k, end, anchors = self.k, self.end, self.anchors
+        known = np.flatnonzero(solved)
+        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
+        bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
+        far_end = self.entries < MAX_ENTRIES and self.gaps.get(anchors[k], 0) < MAX_GAPS
+        if found is None and got[0] == "limit" and far_end:
+            entered, bare = self.enter_far_end(got)
+            if entered:
+                return True
+        homed = found is None and got[0] != "far" and not self.nested
+        if homed:
+            # the origin's own stretch come back to from elsewhere (past a gap, from another
+            # interval of the range): walked to from the origin, no limit the walk met between
+            found = self.home(k, end)
+        upto = end if found is None else k + found[0]
+        guesses = [model.q0, self.at[0]] if got[0] == "far" else [self.at[0], model.q0]
+        # (one input: every value from anchor k on, not the anchors only: an interval of the
+        # range narrower than their spacing may hold values and no anchor)
+        seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
+        if bare is not None:  # (not again where the search from the limit, from the same guesses, found none)
+            seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
+        nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=self.solved_poses(),
+                                              circuit=got[0] != "far") if seg.size else (None, False))
+        if seg.size and nearer is None and not assembles and got[0] == "limit" and far_end:
+            # where no value asked assembles at all (the first in the gap, least squares from
+            # there lands nowhere beyond it), the walk steps from the limit out to the values: a
+            # sweep with values all the way enters the range between them
+            steps = _steps_out(model, self.at[1], U[seg], self.max_step, bare)
+            if steps is not None:
+                # (what assembles there, in any modes, is as good a sign for the images below)
+                ahead, assembles = walker.enter_any(guesses, chosen, steps, poses=self.solved_poses())
+                if ahead is not None:
+                    self.enter_ahead(seg, steps[ahead[0]], ahead[1], upto)
+                    return True
+        # (entered past gaps not walked through, MAX_GAPS met on the way: a jump, whatever
+        # limits the walk met between it and the value asked before it)
+        capped = got[0] == "limit" and not far_end and nearer is not None
+        if nearer is not None:
+            c = int(np.searchsorted(anchors, seg[nearer[0]]))
+            if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
+                self.anchors, self.end = np.insert(anchors, c, seg[nearer[0]]), end + 1
+            found, homed = (c - k, nearer[1], chosen), False
+        if found is None and assembles and not self.nested:
+            found = _enter_by_images(model, walker, U[self.anchors[k:self.end]], self.at[1], chosen, self.options)
+        if found is None:
+            return False
+        c, qe, se = found
+        if homed and c:
+            # (not where the search from the limit found nothing assembling)
+            passed = U[self.anchors[k : k + c], 0]
+            if bare is None or np.any((passed < bare[0]) | (passed > bare[1])):
+                self.skipped.append((k, k + c, self.at[1]))
+        k += c
+        i = self.anchors[k]
+        qe = qe if homed else walker.near_turns(qe, U[i], se, self.at[0])
+        q[i], solved[i], signs[i] = qe, True, se
+        if got[0] == "far" or (got[0] == "lost" and not beyond):
+            # (too far to walk, or where the walk lost the branch: entered, not walked to)
+            self.direct.append(i)
+        elif capped:
+            self.past_cap.append(i)
+        self.at, self.lo, self.k = (qe, U[i], se), i, k + 1
+        return True
+
+    def enter_far_end(self, got):
+        """The range past the gap at the limit the walk met (``got``) towards anchor k entered
+        at its far end, as a sweep with values all the way enters it: the first of the walk's
+        steps past the limit where the branch can be entered, and walked on from there.
+        (whether entered, the (lo, hi) of inputs past the limit where nothing assembles or None)."""
+        model, U, walker, chosen, at = self.model, self.U, self.walker, self.chosen, self.at
+        a = self.anchors[self.k]
+        self.first_search(at[1], U[a])
+        grid = _past_gap(model, at[1], U[a], self.max_step)
+        if grid.size and scaled_norm(model, U[a] - at[1]) <= TURN:
+            grid = np.vstack((grid, U[a][None]))  # (and the value itself, a step or so on)
+        nearer, assembles = (walker.enter_any([at[0], model.q0], chosen, grid, poses=self.solved_poses())
+                             if grid.size else (None, True))
+        if nearer is None:  # (from the limit, past the pose before it, to the last step)
+            return False, None if assembles else np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
+        self.entries += 1
+        self.gaps[a] = self.gaps.get(a, 0) + 1
+        u_e = grid[nearer[0]]
+        self.at, self.coef = (walker.near_turns(nearer[1], u_e, chosen, at[0]), u_e, chosen), None
+        return True, None
+
+    def enter_ahead(self, seg, u_e, qe, upto):
+        """The range between the limit and the values ``seg`` entered at the walk's step u_e
+        out from the limit (pose qe there): the first value on from it an anchor (the walk from
+        the entry solves it, and the stretch's values from it); the anchors before it, in the
+        gap or reached back from it, are left to the walk back from the values after them."""
+        U, k = self.U, self.k
+        self.entries += 1
+        self.gaps[self.anchors[k]] = self.gaps.get(self.anchors[k], 0) + 1
+        d = np.sign(u_e[0] - self.at[1][0])
+        v = seg[d * (U[seg, 0] - u_e[0]) >= 0][:1]
+        c = int(np.searchsorted(self.anchors, v[0])) if v.size else self.end
+        if v.size and self.anchors[c] != v[0]:
+            self.anchors, self.end, upto = np.insert(self.anchors, c, v[0]), self.end + 1, upto + 1
+        self.k = k + int(np.argmin(np.r_[d * (U[self.anchors[k:upto], 0] - u_e[0]) < 0, False]))
+        self.at, self.coef = (self.walker.near_turns(qe, u_e, self.chosen, self.at[0]), u_e, self.chosen), None
+
+    def enter_skipped(self):
+        """The last range passed over for the origin's stretch: entered a whole period on from a
+        value solved since, or from the sweep of its images a period back where some lie in the
+        origin's stretch (no limit met between), and walked on from there."""
+        model, U, q, solved, signs, walker, anchors = (self.model, self.U, self.q, self.solved, self.signs,
+                                                       self.walker, self.anchors)
+        k0, end, u_gap = self.skipped.pop()
+        known = np.flatnonzero(solved)
+        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k0:end]])
+        if found is None and not self.nested:
+            V = _images(model, walker, U[anchors[k0:end]], u_gap)
+            if V is not None and np.any(~self.past(self.origin[1][None], V[0])
+                                        & (scaled_norm(model, V[0] - self.origin[1]) <= TURN)):
+                found = _enter_by_images(model, walker, U[anchors[k0:end]], u_gap, self.chosen, self.options)
+        self.k, self.end = end, end
+        if found is not None:
+            c, qe, se = found
+            self.k, i = k0 + c + 1, anchors[k0 + c]
+            q[i], solved[i], signs[i] = qe, True, se
+            self.at, self.lo, self.coef, self.wave = (qe, U[i], se), i, None, WAVE
 
     def bulk(self):
         """2. Every other value from an anchor of its own stretch (no event in between): first a
