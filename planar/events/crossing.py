@@ -11,11 +11,12 @@ from planar.events.tracer import CROSS_STEP, GAP_CROSS, Tracer
 
 MAX_EVENTS = 8  # singular positions one crossing may locate before it gives the branch up
 SAME_EVENT = 1e-8  # scaled input within which two crossings of branches located are one
-# consecutive steps closer than GAP_CROSS to another curve, the input not leading (less than LEADS
-# of the unit tangent), before a crossing gives the curve up: a crossing is passed in a few such
-# steps, and a curve that runs that close for longer (a crank 1e4 times its coupler) gains next to
-# nothing of input per step (two branches crossing at a shallow angle, a parallelogram of crank 1
-# and coupler 1e4, part slowly, but the input leads); MAX_CRAWL of them in a row that
+# consecutive steps closer than GAP_CROSS to another curve, shorter than CROSS_STEP or the input not
+# leading (less than LEADS of the unit tangent), before a crossing gives the curve up: a crossing
+# is passed in a few such steps, and a curve that runs that close for longer (a crank 1e4 times
+# its coupler) gains next to nothing of input per step (two branches crossing at a shallow angle,
+# a parallelogram of crank 1 and coupler 1e4, part slowly, in full steps the input leads); MAX_CRAWL
+# of them in a row that
 # could not take CROSS_STEP (halved ~15 times, each a corrector solve) with the gap unchanged to
 # STEADY: the curve runs alongside the other (a pivot moved 1e7 away), it does not cross it
 MAX_CLOSE = 100
@@ -216,9 +217,9 @@ def cross(model, plan, q, u_a, u_b, max_step, *, other=False, index=0, resume=Fa
 
 
 class _Stall:
-    """A tracing's steps in a row close to another curve (within GAP_CROSS) with the input not
-    leading, and those of them halved below CROSS_STEP with the gap unchanged: past MAX_CLOSE or
-    MAX_CRAWL it is stuck."""
+    """A tracing's steps in a row close to another curve (within GAP_CROSS), short or with the
+    input not leading, and those of them halved below CROSS_STEP with the gap unchanged: past
+    MAX_CLOSE or MAX_CRAWL it is stuck."""
 
     def __init__(self):
         self.close = self.crawl = 0
@@ -228,7 +229,7 @@ class _Stall:
         from a point at ``gap`` (None where not known yet)."""
         along = gap is not None and gap < GAP_CROSS and st[3] < CROSS_STEP and abs(st[5] - gap) <= STEADY * gap
         self.crawl = self.crawl + 1 if along else 0
-        self.close = self.close + 1 if st[5] < GAP_CROSS and abs(st[1][-1]) < LEADS else 0
+        self.close = self.close + 1 if st[5] < GAP_CROSS and (abs(st[1][-1]) < LEADS or st[3] < CROSS_STEP) else 0
         return self.close > MAX_CLOSE or self.crawl > MAX_CRAWL
 
 
