@@ -262,7 +262,8 @@ def test_a_parallelogram_whose_branches_cross_at_a_shallow_angle_keeps_its_branc
 def test_a_parallelogram_whose_branches_cross_too_shallow_to_certify_never_changes_branch_unsaid(engine):
     # at 3e5 the step over the crossing is not certified: the walk is lost there, and the search
     # for the next value enters it on the antiparallelogram, in the same modes; such values read
-    # SOLVED and NEAR_SINGULAR, as if walked to, unless marked (docs/hardening.md)
+    # SOLVED and NEAR_SINGULAR, as if walked to, unless marked (docs/hardening.md; a tracer that
+    # certifies this crossing too changes no branch here: a wilder ratio then tests the mark)
     lengths = (3e5, 1, 3e5, 1)
     U = np.linspace(0.5, 0.5 + 2 * np.pi, 73)
     res = four_bar(*lengths, start=0.5).compile().sweep(U, engine=engine)

@@ -15,10 +15,10 @@ SAME_EVENT = 1e-8  # scaled input within which two crossings of branches located
 # leading (less than LEADS of the unit tangent), before a crossing gives the curve up: a crossing
 # is passed in a few such steps, and a curve that runs that close for longer (a crank 1e4 times
 # its coupler) gains next to nothing of input per step (two branches crossing at a shallow angle,
-# a parallelogram of crank 1 and coupler 1e4, part slowly, in full steps the input leads); MAX_CRAWL
-# of them in a row that
-# could not take CROSS_STEP (halved ~15 times, each a corrector solve) with the gap unchanged to
-# STEADY: the curve runs alongside the other (a pivot moved 1e7 away), it does not cross it
+# a parallelogram of crank 1 and coupler 1e4, part slowly, in full steps the input leads);
+# MAX_CRAWL of them in a row that could not take CROSS_STEP (halved ~15 times, each a corrector
+# solve) with the gap unchanged to STEADY: the curve runs alongside the other (a pivot moved 1e7
+# away), it does not cross it
 MAX_CLOSE = 100
 MAX_CRAWL = 10
 STEADY = 1e-3
