@@ -155,7 +155,7 @@ class _Run:
         self.entries = 0  # ranges entered at a gap's far end
         self.searched = []  # (input, direction) of the limits the gaps past which were searched
         self.stops = []  # indices of the limits the walk stopped at, moving with the sweep
-        self.direct = []  # values entered directly, too far to walk
+        self.direct = []  # values entered directly: too far to walk, or where the walk lost the branch
         self.past_cap = []  # values entered directly past MAX_GAPS gaps on the way to one value
         self.unentered = []  # values too far to walk where the branch's modes were not found
         self.periods = []  # values walked to moved by whole periods of a rocking input, past their limits
