@@ -2,6 +2,7 @@
 spacing and repetition of the values, and a far input costs what a near one does (the pose of a
 full-turn crank repeats every turn). Closed forms from tests/oracles.py."""
 
+import json
 import os
 import runpy
 
@@ -25,6 +26,7 @@ from planar.units import Units
 from planar.sweep import walk as walk_module
 from planar.sweep.branch import Branch
 from tests import oracles
+from tests.strategies import build
 
 # a sweep with far, repeated and out-of-order values costs ~0.1-0.5 s: 40 examples in CI, the
 # profile's own count in a long run (HYPOTHESIS_PROFILE=long)
@@ -1490,3 +1492,53 @@ def test_a_value_that_assembles_is_not_reported_out_of_range_where_least_squares
     res = four_bar(3.0, 1.0, 1e7, 1e7).compile().sweep(np.linspace(0.0, 1.0, 11))
     assert not np.any(res.status == Status.NOT_ASSEMBLABLE), res
     assert np.all(np.isnan(res.gap) | (res.gap <= 1e-12))
+
+
+@pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
+def test_an_interval_past_a_gap_that_the_search_misses_is_posed_from_its_image_a_turn_back(engine):
+    # (found by a fuzz campaign) past the limit at 6.3362 the crank's range holds [6.6658,
+    # 6.6879], no anchor inside it. Least squares from the limit stops in another valley (its gap
+    # rising to 0.015), so the search past the gap found nothing and 6.68 was NOT_ASSEMBLABLE. The
+    # interval a turn back, [0.3826, 0.4047], is entered from the other side of the start
+    kw = dict(frame_angle=0.8296850447425062, frame_angle_2=1.265679468035648, phase=-0.07327897854953314,
+              crossed=True, crossed_2=False, start=2.992811428728971)
+    r = (3.7036892862606177, 3.6273127009190063, 10.731987426190987, 9.184264610372368, 7.51415853722821,
+         3.960932393755239, 12.804072692913797, 8.488747118229444)
+    m = two_loop_six_bar(r, **kw).compile()
+    U = np.arange(-1.0, 7.0, 0.02)
+    res = m.sweep(U, engine=engine)
+    limits = np.round([float(e.input) for e in res.events if e.kind == "limit"], 4)
+    assert {0.3826, 0.4047, 6.3362, 6.6658, 6.6879} <= set(limits.tolist())
+    inside = (U > 6.6658) & (U < 6.6879)
+    assert inside.sum() == 1 and res.status[inside][0] == Status.SOLVED
+    # the pose a turn back, up to whole turns of its angles
+    back = m.sweep(U[inside] - 2 * np.pi, engine=engine)
+    assert back.status[0] in POSED
+    d = res.q[inside][0] - back.q[0]
+    d[2::3] = (d[2::3] + np.pi) % (2 * np.pi) - np.pi
+    assert np.max(np.abs(d)) < 1e-9
+
+
+@pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
+def test_an_interval_entered_by_period_from_a_pose_next_to_its_limit_is_walked_into(engine):
+    # (found by a fuzz campaign of random linkages) a crank with three slider dyads whose range
+    # is five narrow intervals a turn; [3.5976, 3.8208] past the limit at 0.0037 is the image of
+    # [-2.6856, -2.4624], where the walk down had solved two values next to the lower limit. The
+    # search past the gap found nothing there in the sketch's modes; the entry by period tried
+    # only values within a walk step of those poses' images (3.589, whose walk met the limit at
+    # 3.5976), and the interval's values were NOT_ASSEMBLABLE
+    data = json.loads((Path(__file__).parent / "data" / "random_linkage_narrow_intervals.json").read_text())
+    m = build(data["desc"])[0].compile()
+    U = np.array(data["values_rad"])
+    res = m.sweep(U, engine=engine)
+    limits = sorted(np.round([float(e.input) for e in res.events if e.kind == "limit"], 4).tolist())
+    assert limits == [-2.6856, -2.4624, -1.1645, -0.7661, -0.4951, -0.0907, -0.0082, 0.0037, 3.5976, 3.8208]
+    inside = (U > 3.5976) & (U < 3.8208)
+    assert inside.sum() == 4 and (res.status[inside] == Status.SOLVED).all()
+    # the poses a turn back (swept with the others: alone, the search does not find that
+    # interval either), up to whole turns of their angles
+    back = m.sweep(np.r_[U, U[inside] - 2 * np.pi], engine=engine)
+    assert POSED[back.status[-4:]].all()
+    d = res.q[inside] - back.q[-4:]
+    d[:, 2::3] = (d[:, 2::3] + np.pi) % (2 * np.pi) - np.pi
+    assert np.max(np.abs(d)) < 1e-9

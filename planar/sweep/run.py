@@ -304,13 +304,18 @@ class _Run:
         self.end = int(np.searchsorted(self.anchors, self.split))
         self.gaps = {}  # anchor index -> ranges entered at a gap's far end on the way to it
         self.skipped = []  # (k, upto, u): anchors past a gap from u, passed over for the origin's stretch further on
+        self.unreached = []  # (k, upto, None): anchors the walk found no way into, tried again at the end
         second = self.split >= self.N  # (on the second side, or none)
         while True:
             while self.k < self.end:
                 if not self.wave_on() and not self.walk_on():
+                    self.unreached.append((self.k, self.end, None))
                     break
             if self.skipped:
-                self.enter_skipped()
+                self.enter_passed(*self.skipped.pop())
+            elif second and self.unreached:
+                # (values solved since, on the other side of the start, may be their images)
+                self.enter_passed(*self.unreached.pop())
             elif second:
                 break
             else:
@@ -390,9 +395,9 @@ class _Run:
         is."""
         model, U, q, solved, signs, walker, chosen = (self.model, self.U, self.q, self.solved, self.signs, self.walker,
                                                       self.chosen)
-        k, end, anchors = self.k, self.end, self.anchors
-        known = np.flatnonzero(solved)
-        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k:end]])
+        k = self.k
+        found = self.by_period(k, self.end)
+        end, anchors = self.end, self.anchors
         bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
         far_end = self.entries < MAX_ENTRIES and self.gaps.get(anchors[k], 0) < MAX_GAPS
         if found is None and got[0] == "limit" and far_end:
@@ -428,10 +433,7 @@ class _Run:
         # limits the walk met between it and the value asked before it)
         capped = got[0] == "limit" and not far_end and nearer is not None
         if nearer is not None:
-            c = int(np.searchsorted(anchors, seg[nearer[0]]))
-            if anchors[c] != seg[nearer[0]]:  # a value between anchors: one now
-                self.anchors, self.end = np.insert(anchors, c, seg[nearer[0]]), end + 1
-            found, homed = (c - k, nearer[1], chosen), False
+            found, homed = (self.anchor_at(seg[nearer[0]]) - k, nearer[1], chosen), False
         if found is None and assembles and not self.nested:
             found = _enter_by_images(model, walker, U[self.anchors[k:self.end]], self.at[1], chosen, self.options)
         if found is None:
@@ -491,26 +493,48 @@ class _Run:
         self.k = k + int(np.argmin(np.r_[d * (U[self.anchors[k:upto], 0] - u_e[0]) < 0, False]))
         self.at, self.coef = (self.walker.near_turns(qe, u_e, self.chosen, self.at[0]), u_e, self.chosen), None
 
-    def enter_skipped(self):
-        """The last range passed over for the origin's stretch: entered a whole period on from a
-        value solved since, or from the sweep of its images a period back where some lie in the
-        origin's stretch (no limit met between), and walked on from there."""
-        model, U, q, solved, signs, walker, anchors = (self.model, self.U, self.q, self.solved, self.signs,
-                                                       self.walker, self.anchors)
-        k0, end, u_gap = self.skipped.pop()
-        known = np.flatnonzero(solved)
-        found = walker.enter_by_period(q[known], U[known], signs[known], U[anchors[k0:end]])
-        if found is None and not self.nested:
-            V = _images(model, walker, U[anchors[k0:end]], u_gap)
-            if V is not None and np.any(~self.past(self.origin[1][None], V[0])
-                                        & (scaled_norm(model, V[0] - self.origin[1]) <= TURN)):
-                found = _enter_by_images(model, walker, U[anchors[k0:end]], u_gap, self.chosen, self.options)
+    def enter_passed(self, k0, end, u_gap):
+        """A range of anchors passed over (for the origin's stretch further on, past a gap from
+        ``u_gap``) or found no way into (``u_gap`` None): entered a whole period on from a value
+        solved since, or, passed over, from the sweep of its images a period back where some lie
+        in the origin's stretch (no limit met between), and walked on from there. A range the
+        search past a gap found nothing in (least squares from the limit stops in another valley)
+        may hold the image of an interval entered since (a two-loop six-bar's [6.6658, 6.6879]
+        past its limit at 6.3362: [0.3826, 0.4047], entered from the other side of the start)."""
         self.k, self.end = end, end
+        found = self.by_period(k0, end)
+        if found is None and u_gap is not None and not self.nested:
+            V = _images(self.model, self.walker, self.U[self.anchors[k0:end]], u_gap)
+            if V is not None and np.any(~self.past(self.origin[1][None], V[0])
+                                        & (scaled_norm(self.model, V[0] - self.origin[1]) <= TURN)):
+                found = _enter_by_images(self.model, self.walker, self.U[self.anchors[k0:end]], u_gap, self.chosen,
+                                         self.options)
         if found is not None:
             c, qe, se = found
-            self.k, i = k0 + c + 1, anchors[k0 + c]
-            q[i], solved[i], signs[i] = qe, True, se
-            self.at, self.lo, self.coef, self.wave = (qe, U[i], se), i, None, WAVE
+            i = self.anchors[k0 + c]
+            self.q[i], self.solved[i], self.signs[i] = qe, True, se
+            self.k, self.at, self.lo, self.coef, self.wave = k0 + c + 1, (qe, self.U[i], se), i, None, WAVE
+
+    def by_period(self, k, end):
+        """(index from anchor k, pose, modes) of the first value from anchor k on (below
+        ``end``) entered a whole period on from a value solved (:meth:`Walker.enter_by_period`),
+        made an anchor if it is none; None if none is. Every value, not the anchors only: an
+        interval of the range narrower than their spacing may hold values and no anchor."""
+        anchors = self.anchors
+        seg = np.arange(anchors[k], anchors[end - 1] + 1) if self.U.shape[1] == 1 else anchors[k:end]
+        known = np.flatnonzero(self.solved)
+        found = self.walker.enter_by_period(self.q[known], self.U[known], self.signs[known], self.U[seg])
+        if found is None:
+            return None
+        c, qe, se = found
+        return self.anchor_at(seg[c]) - k, qe, se
+
+    def anchor_at(self, i):
+        """The index of value i among the anchors, made one where it is not (a value between them)."""
+        c = int(np.searchsorted(self.anchors, i))
+        if c == self.anchors.size or self.anchors[c] != i:
+            self.anchors, self.end = np.insert(self.anchors, c, i), self.end + 1
+        return c
 
     def bulk(self):
         """2. Every other value from an anchor of its own stretch (no event in between): first a

@@ -389,11 +389,14 @@ class Walker:
         return None
 
     def enter_by_period(self, qs, us, signs, targets, tries=8):
-        """(index, pose, modes) of the first of ``targets`` (M, 1) within a step of a pose solved
-        on the branch (``qs``, ``us``, ``signs``) moved by whole periods of the input
-        (:meth:`period`): the same pose shifted by whole turns, walked to from there. Exact where
-        the search of :meth:`enter_any` finds only another circuit (values past a limit pair that
-        are a turn on from the stretch already solved). None if none."""
+        """(index, pose, modes) of a target (M, 1) near a pose solved on the branch (``qs``,
+        ``us``, ``signs``) moved by whole periods of the input (:meth:`period`): the same pose
+        shifted by whole turns, walked to from there. The first of ``targets`` within a walk
+        step of such a pose, else the nearest one within SPREAD steps (the walk to a value next
+        to the pose may meet the limit of an interval narrower than a step's spacing of the
+        poses solved, where the walk to one further in goes on). Exact where the search of
+        :meth:`enter_any` finds only another circuit (values past a limit pair that are a turn
+        on from the stretch already solved), or nothing. None if none."""
         if targets.shape[1] != 1 or not len(us) or self.period() is None:
             return None
         P, _ = self.period()
@@ -401,7 +404,10 @@ class Walker:
         n = np.round((t[:, None] - us[None, :, 0]) / P)
         off = np.where(n != 0, np.abs(t[:, None] - us[None, :, 0] - n * P), np.inf)
         j = np.argmin(off, axis=1)
-        for c in np.flatnonzero(off[np.arange(t.size), j] <= self.max_step)[:tries]:
+        near = off[np.arange(t.size), j]
+        c = np.flatnonzero(near <= SPREAD * self.max_step)
+        further = near[c] > self.max_step
+        for c in c[np.lexsort((np.where(further, near[c], c), further))][:tries]:
             k = int(j[c])
             image = self._shorten(qs[k], us[k], signs[k], n[c, k])
             if image is None:
