@@ -405,9 +405,9 @@ class Walker:
         off = np.where(n != 0, np.abs(t[:, None] - us[None, :, 0] - n * P), np.inf)
         j = np.argmin(off, axis=1)
         near = off[np.arange(t.size), j]
-        c = np.flatnonzero(near <= SPREAD * self.max_step)
-        further = near[c] > self.max_step
-        for c in c[np.lexsort((np.where(further, near[c], c), further))][:tries]:
+        within = np.flatnonzero(near <= SPREAD * self.max_step)
+        further = near[within] > self.max_step
+        for c in within[np.lexsort((np.where(further, near[within], within), further))][:tries]:
             k = int(j[c])
             image = self._shorten(qs[k], us[k], signs[k], n[c, k])
             if image is None:
