@@ -159,6 +159,19 @@ def test_a_crossing_of_branches_met_again_is_given_up_not_located_over_and_over(
     assert [e.kind for e in res.events] == ["near_singular", "bifurcation"]
 
 
+def test_a_tracing_that_creeps_up_on_a_crossing_in_halved_steps_is_given_up_in_bounded_work():
+    # a parallelogram of crank 3e5 and coupler 1: its branches cross at pi at an angle of
+    # ~7e-6, too shallow to certify (the value past it is JUMPED); each of the three tracings
+    # towards it creeps on in steps halved below CROSS_STEP, the input leading, and is given
+    # up after MAX_CLOSE of them, ~915 corrector solves (~1,500 if only steps where the input
+    # does not lead counted)
+    model = four_bar(3e5, 1, 3e5, 1, start=0.5).compile()
+    with Evaluations(Tracer, "correct") as solves:
+        res = model.sweep([3.0, 3.3])
+    assert solves.calls <= 3300, solves.calls
+    assert list(res.status) == [Status.NEAR_SINGULAR, Status.JUMPED]
+
+
 def test_a_far_input_turns_the_coupler_of_a_drag_link_by_whole_turns():
     r = (2.2446494252851754, 3.18098070513203, 2.812102452743045, 3.625213568033311)  # ground shortest
     res = four_bar(*r, start=2.28).sweep([0.0, 8896.990394966295, -1633.4524182775226, 0.1])
