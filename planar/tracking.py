@@ -18,6 +18,8 @@ known pose on the branch. Values each within the sweep's direct reach of a known
 of a dragged input; a sweep over a stretch the model has swept) are solved in one batch, each
 as one walk step from the known pose nearest it (:func:`direct`, the direct path: none of the
 sweep's machinery), with the sweep's acceptance test; what it cannot certify goes to the sweep.
+A value past the branch's first limit, inside a stretch where a sweep from the sketch found
+nothing that assembles (:meth:`Poses.learn_bare`), gets that sweep's result with its own gap.
 Models with more inputs sweep from the sketch.
 
 >>> import numpy as np
@@ -31,6 +33,7 @@ Models with more inputs sweep from the sketch.
 """
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -78,6 +81,7 @@ class Poses:
         nan = np.full_like(model.q0[None], np.nan)
         self._keep(np.array([self.u0]), np.stack((model.q0[None], nan, nan), axis=1))
         self.signs, self.broken = None, False
+        self.bare = {}  # (limit input, max_step, upwards) -> (lo, hi, sweep): see learn_bare
 
     def _keep(self, u, rows):
         """Hold the known poses u (K,) and their rows (K, 3, n), with room for CAP more after them."""
@@ -162,6 +166,40 @@ class Poses:
         self.size += 1
         self.refused = None
 
+    def learn_bare(self, res, bare, max_step):
+        """Remember, from the sweep ``res`` of one value from the sketch, out of reach past the
+        limit its walk met (its one event), the stretch from that limit where its search found
+        nothing that assembles, in any modes (``bare``, as :func:`planar.sweep.run_sweep` gives
+        it): the sweep of any value in that stretch walks to the same limit and finds the
+        same."""
+        if len(res.events) != 1 or res.events[0].kind != "limit" or res.status[0] != Status.NOT_ASSEMBLABLE:
+            return
+        L = float(res.events[0].input)
+        for ev, (lo, hi) in bare:
+            key = (L, max_step, lo == L)  # (one stretch each way from each limit: the widest)
+            known = self.bare.get(key)
+            if float(np.ravel(ev.input)[0]) == L and lo <= res.inputs[0, 0] <= hi and \
+                    (known is None or hi - lo > known[1] - known[0]):
+                self.bare[key] = (lo, hi, res)
+
+    def past_limit(self, model, U, Ud, Udd, max_step):
+        """The sweep of one value U (1, 1) in a stretch past a limit where nothing assembles
+        (:meth:`learn_bare`), or None: the sweep that found it with this value, its rates and
+        its gap (least squares from the limit's pose), as the sweep from the sketch gives it."""
+        from planar.solver import least_squares_gap
+
+        res = self.bare_at(U[0, 0], max_step)
+        if res is None:
+            return None
+        gap = least_squares_gap(model, res.events[0].q[None], U)[1]
+        return replace(res, inputs=U, input_rates=Ud, input_accelerations=Udd, gap=gap)
+
+    def bare_at(self, u, max_step):
+        """The sweep that found a stretch past a limit where nothing assembles holding input u
+        (past the limit), or None."""
+        return next((res for (L, step, _), (lo, hi, res) in self.bare.items()
+                     if step == max_step and lo <= u <= hi and u != L), None)
+
     def coefficients(self, br):
         """Every known pose's coefficients, where not known yet (with the branch's solves ``br``)."""
         new = np.flatnonzero(np.isnan(self.qu[:, 0]))
@@ -184,6 +222,11 @@ def sweep(model, U, Ud, Udd, **options):
     if res is not None:
         return res
     poses = _poses(model, options.get("branch", "smooth"), options.get("tol", 1e-12))
+    one = U.shape[0] == 1 and options.get("outputs") is None
+    if one:
+        res = poses.past_limit(model, U, Ud, Udd, options.get("max_step", 0.05))
+        if res is not None:
+            return res
     k = poses.nearest(U[:1, 0])[0]
     start = poses.q[k], poses.u[k : k + 1]
     known = poses.u
@@ -193,14 +236,17 @@ def sweep(model, U, Ud, Udd, **options):
         # periods back, from the sketch, or values past the known poses on a branch that meets
         # limits (the sweep from a known pose would meet one and be done again from the sketch)
         start = None
-    reached = []
-    res = run_sweep(model, U, Ud, Udd, start, _reached=reached, **options)
+    reached, bare = [], []
+    res = run_sweep(model, U, Ud, Udd, start, _reached=reached, _bare=bare if start is None else None, **options)
     if start is not None and not _clean(res):
         # past a limit or a branch event the way on (re-entering the range, the branch taken)
         # depends on the whole walk: the walk from the sketch decides
-        res = run_sweep(model, U, Ud, Udd, _reached=reached, **options)
+        start = None
+        res = run_sweep(model, U, Ud, Udd, _reached=reached, _bare=bare, **options)
     if options.get("outputs") is None:
         poses.learn(res, reached[-1])
+    if one and start is None:
+        poses.learn_bare(res, bare, options.get("max_step", 0.05))
     return res
 
 
@@ -240,7 +286,8 @@ class Direct:
         # the inputs the path takes: within FAR of the sketch's, scaled (the sweep solves those
         # further whole periods back, where the input is periodic)
         scale = float(input_scale(model)[0])
-        self.far, self.reach = FAR / scale, SPARSE * options.get("max_step", 0.05) / scale
+        self.max_step = options.get("max_step", 0.05)
+        self.far, self.reach = FAR / scale, SPARSE * self.max_step / scale
         self.rates = options.get("rates", True)
         self._br = None
 
@@ -261,8 +308,8 @@ class Direct:
         if not (abs(first - self.u0) if M == 1 else np.max(np.abs(u - self.u0))) <= self.far:
             return None  # (NaN inputs: the sweep's)
         poses = _poses(self.model, *self.key)
-        if M == 1 and first == poses.refused:
-            return None
+        if M == 1 and (first == poses.refused or poses.bare_at(first, self.max_step) is not None):
+            return None  # (the sweep's: it knows the stretch past a limit with nothing there)
         br = self.branch()
         if poses.signs is None:
             from planar.sweep import check_sketch

@@ -103,6 +103,42 @@ def test_beyond_a_limit_stays_unassemblable_and_moving_back_works():
     _same(back, _from_sketch("crank-rocker by its rocker", [np.radians(150.0)]))
 
 
+def test_moves_back_into_a_stretch_past_a_limit_that_holds_nothing_run_no_sweep(monkeypatch):
+    # a triple rocker dragged past its limit at 1.7913: each move out is a sweep from the sketch,
+    # whose search past the limit finds nothing up to the value, in any modes; a move back into
+    # that stretch is that sweep's result with its own gap (least squares from the limit's
+    # pose), not a sweep again (~100 ms each)
+    import functools
+
+    import planar.sweep
+
+    model = MECHANISMS["triple rocker"]().compile()
+    tracker = model.track()
+    for u in (1.85, 2.2, 3.0):
+        tracker.move(u)
+    runs = []
+    real = planar.sweep.run_sweep
+
+    @functools.wraps(real)
+    def counted(*args, **kw):
+        runs.append(1)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(planar.sweep, "run_sweep", counted)
+    back = [2.5, 1.8, 3.0, 2.0]
+    moves = [tracker.move(u) for u in back]
+    assert not runs and not tracker.direct
+    monkeypatch.undo()
+    for u, res in zip(back, moves):
+        want = _from_sketch("triple rocker", [u])
+        assert res.status[0] == Status.NOT_ASSEMBLABLE
+        _same(res, want)
+        np.testing.assert_allclose(res.gap, want.gap, rtol=1e-4)
+        np.testing.assert_allclose(res.nearest_limit, want.nearest_limit, atol=1e-9, rtol=0)
+    # (past the stretch searched: a sweep)
+    _same(tracker.move(3.2), _from_sketch("triple rocker", [3.2]))
+
+
 def test_a_pose_a_turn_on_is_another_pose():
     model = MECHANISMS["gear train"]().compile()
     tracker = model.track()

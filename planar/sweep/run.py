@@ -63,7 +63,7 @@ def output_columns(model, outputs):
 
 
 def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
-              engine="numpy", _nested=False, _reached=None):
+              engine="numpy", _nested=False, _reached=None, _bare=None):
     """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
     from instead of the sketch, reached from the sketch by continuation with no event between
     (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``_nested``: a
@@ -73,7 +73,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     which the sweep appends (N,) True for the values its walk reached from the start by
     continuation, before any limit, bifurcation or singular position, jump, direct entry or
     move by whole periods of an input that does not turn fully (what :mod:`planar.tracking`
-    may remember)."""
+    may remember). ``_bare``: a list, to which the sweep adds (limit event, (lo, hi)) for each
+    stretch from a limit it met where its search past the gap found nothing that assembles, in
+    any modes (none where it moved values by whole periods)."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
@@ -83,7 +85,10 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     run.one_by_one()
     run.back_over_gaps()
     run.limit_pairs()
-    return run.result(_reached)
+    res = run.result(_reached)
+    if _bare is not None and run.shift is None:
+        _bare.extend(run.bare)
+    return res
 
 
 class _Run:
@@ -154,6 +159,7 @@ class _Run:
         self.round_limits = []  # the same, met only by the walk the other way round a period on
         self.entries = 0  # ranges entered at a gap's far end
         self.searched = []  # (input, direction) of the limits the gaps past which were searched
+        self.bare = []  # (limit event, (lo, hi)): stretches from a limit where nothing assembles
         self.stops = []  # indices of the limits the walk stopped at, moving with the sweep
         self.direct = []  # values entered directly: too far to walk, or where the walk lost the branch
         self.past_cap = []  # values entered directly past MAX_GAPS gaps on the way to one value
@@ -470,7 +476,11 @@ class _Run:
         nearer, assembles = (walker.enter_any([at[0], model.q0], chosen, grid, poses=self.solved_poses())
                              if grid.size else (None, True))
         if nearer is None:  # (from the limit, past the pose before it, to the last step)
-            return False, None if assembles else np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
+            if assembles:
+                return False, None
+            bare = np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
+            self.bare.append((got[1], bare))
+            return False, bare
         self.entries += 1
         self.gaps[a] = self.gaps.get(a, 0) + 1
         u_e = grid[nearer[0]]
