@@ -170,8 +170,8 @@ class Poses:
         """Remember, from the sweep ``res`` of one value from the sketch, out of reach past the
         limit its walk met (its one event), the stretch from that limit where its search found
         nothing that assembles, in any modes (``bare``, as :func:`planar.sweep.run_sweep` gives
-        it): the sweep of any value in that stretch walks to the same limit and finds the
-        same."""
+        it): the sweep of any value in that stretch walks to the same limit and searches the
+        part of it up to the value, at the walk's steps from the limit as this one did."""
         if len(res.events) != 1 or res.events[0].kind != "limit" or res.status[0] != Status.NOT_ASSEMBLABLE:
             return
         L = float(res.events[0].input)
