@@ -1555,3 +1555,30 @@ def test_an_interval_entered_by_period_from_a_pose_next_to_its_limit_is_walked_i
     d = res.q[inside] - back.q[-4:]
     d[:, 2::3] = (d[:, 2::3] + np.pi) % (2 * np.pi) - np.pi
     assert np.max(np.abs(d)) < 1e-9
+
+
+def test_the_entry_by_period_does_not_spend_its_tries_on_values_past_a_limit_it_met():
+    # (found by benchmarks/fuzz_campaign.py, seed 2397) a Stephenson six-bar whose crank rocks
+    # over [-0.3557, 4.8098]: past the limit at 4.8098 its values up to 5.9275 lie in the gap
+    # and those after it in the range a turn on. The entry by period tries the values within a
+    # step of a solved pose's image first, in order: the three next to 4.8098 and the five
+    # next to 5.9275 (each walk meets the limit) spent its eight tries, and 5.9403 was
+    # NOT_ASSEMBLABLE in a dense sweep (SOLVED in a sparser one)
+    m = stephenson_six_bar(5.283821535801237, 3.9793694733762446, 6.685887685709365, 4.391479271731757,
+                           coupler_point=(5.429544943676676, 3.612385665322961), link_5=3.013987434278115,
+                           link_6=7.539636103895253, pivot_6=(1.2365703166466138, 3.1039796387087266),
+                           frame_angle=-1.0587573264435375, crossed=True, crossed_2=True,
+                           start=1.9705113833240304).compile()
+    us = np.array([[-1.4788773313], [-0.3531998805]])  # (poses the sweep had solved, next to the limits)
+    qs = m.sweep(us).q
+    br = Branch(m, block_plan(m, None), 1e-12)
+    walker = walk_module.Walker(br, 0.05, False)
+    signs = np.repeat(br.signs(m.q0[None], m.u0[None]), 2, 0)
+    T = np.array([4.8211, 4.8385, 4.8411, 5.8811, 5.8857, 5.9011, 5.9123, 5.9211, 5.9403])[:, None]
+    c, q, s = walker.enter_by_period(qs, us, signs, T)
+    assert c == 8 and np.array_equal(s, signs[0])
+    # the pose a turn back, up to whole turns of its angles
+    back = m.sweep(T[8] - 2 * np.pi).q[0]
+    d = q - back
+    d[2::3] = (d[2::3] + np.pi) % (2 * np.pi) - np.pi
+    assert np.max(np.abs(d)) < 1e-9

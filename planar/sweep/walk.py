@@ -407,14 +407,26 @@ class Walker:
         near = off[np.arange(t.size), j]
         within = np.flatnonzero(near <= SPREAD * self.max_step)
         further = near[within] > self.max_step
-        for c in within[np.lexsort((np.where(further, near[within], within), further))][:tries]:
+        met = []  # (input, direction) of the limits the tries' walks met
+        for c in within[np.lexsort((np.where(further, near[within], within), further))]:
             k = int(j[c])
+            v = float(add_periods(us[k], n[c, k], P)[0])
+            d = np.sign(t[c] - v)
+            # (a target past a limit met the same way from before it is not a try: the targets
+            # next to a limit, tried first, would spend them all on it)
+            if any(w == d and (lim - v) * d > 0 and (t[c] - lim) * d >= 0 for lim, w in met):
+                continue
+            if tries == 0:
+                break
+            tries -= 1
             image = self._shorten(qs[k], us[k], signs[k], n[c, k])
             if image is None:
                 continue
             got = self.walk(*image, signs[k], targets[c], int(c))
             if got[0] == "ok":
                 return int(c), got[1], got[2]
+            if got[0] == "limit":
+                met.append((float(np.ravel(got[1].input)[0]), d))
         return None
 
     def near_turns(self, q, u, signs, ref):
