@@ -18,7 +18,7 @@ other way) and ``apart`` (both posed, neither ``JUMPED``, a coordinate more than
 an angle times L, up to whole turns). On a geared five-bar, whose loop closes in the
 branch's modes on many stretches (its crank has no period), a value that both sweeps reach
 only past a limit they meet between the start and it is counted ``past`` where it would be
-lost or apart: which stretch a search past a gap enters depends on the values asked
+lost, extra or apart: which stretch a search past a gap enters depends on the values asked
 (docs/sweeps.md, events).
 
     python3 benchmarks/fuzz_campaign.py 0 50 > camp.jsonl            # seeds 0-49, numpy
@@ -130,8 +130,9 @@ def compare(r, ref, values, L, u0, kind):
         apart[apart] = np.nanmax(np.abs(d), axis=1) > 1e-8 * L
     past = np.zeros_like(lost)
     if kind in MANY_STRETCHES:
-        past = (lost | apart) & _past_limits(r, u, u0) & _past_limits(ref, u, u0)
-    return int((lost & ~past).sum()), int(past.sum()), int(extra.sum()), int((apart & ~past).sum())
+        past = (lost | extra | apart) & _past_limits(r, u, u0) & _past_limits(ref, u, u0)
+    return (int((lost & ~past).sum()), int(past.sum()), int((extra & ~past).sum()),
+            int((apart & ~past).sum()))
 
 
 MANY_STRETCHES = ("geared_five_bar",)

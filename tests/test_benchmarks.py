@@ -95,3 +95,23 @@ def test_the_fuzz_campaign_writes_a_line_a_sweep_and_sums_them_up(capsys, tmp_pa
     campaign.main(["--summary", str(path)])
     out = capsys.readouterr().out
     assert out.startswith("6 sweeps, 1 mechanisms") and "lost: 0 sweeps" in out
+
+
+def test_the_fuzz_campaign_counts_a_geared_five_bars_values_past_a_limit_apart_from_its_errors():
+    from types import SimpleNamespace as NS
+    from planar import Status
+
+    campaign = _load("fuzz_campaign")
+    values = np.array([0.0, 1.0, 2.0, 3.0])
+    limit = [NS(kind="limit", input=1.5)]
+    S, N = Status.SOLVED, Status.NOT_ASSEMBLABLE
+
+    def sweep(status, events):
+        return NS(status=np.array(status), inputs=values[:, None], q=np.zeros((4, 3)), events=events)
+
+    # posed here, not in the dense sweep: before the limit an error, past it (both met it) a stretch
+    r, ref = sweep([S, S, S, S], limit), sweep([S, N, N, S], limit)
+    assert campaign.compare(r, ref, values, 1.0, 0.0, "geared_five_bar") == (0, 1, 1, 0)
+    assert campaign.compare(r, ref, values, 1.0, 0.0, "four_bar") == (0, 0, 2, 0)
+    # the other way round: lost
+    assert campaign.compare(ref, r, values, 1.0, 0.0, "geared_five_bar") == (1, 1, 0, 0)
