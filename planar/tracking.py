@@ -3,8 +3,10 @@ the :class:`Tracker` that follows an input moved by hand.
 
 A one-input model remembers, per branch option and tolerance, poses its sweeps solved on the
 branch drawn in the sketch (:class:`Poses`, at most ``CAP``). A pose is remembered only when
-the continuation reached it from the sketch with no limit, bifurcation or singular position, no
-jump or move by whole periods of a rocking input, and no invalid value on the way, so the
+the continuation reached it from the sketch with no limit, bifurcation, singular position or
+close approach to one (a walk step may pass over a limit pair narrower than the step there,
+and a walk with other steps meet it), no jump or move by whole periods of a rocking input, and
+no invalid value on the way, so the
 remembered poses span one interval of the unwrapped input, around the sketch's, on which the
 branch is a smooth function of the input (for a crank that
 turns fully, u and u + 2 pi are different inputs, and for a geared train different poses). A
@@ -46,7 +48,8 @@ from planar.results import Status, Sweep
 CAP = 256  # poses kept per branch option: a turn of the crank at the default max_step is ~126
 KEYS = 4  # branch options and tolerances remembered per model (the oldest is forgotten)
 CLEAN = (Status.SOLVED, Status.NEAR_SINGULAR)  # values reached on the branch, no event at them
-BREAKS = ("limit", "bifurcation", "singular")  # events past which the branch is not a function of the input
+# events past which the branch is not a function of the input, or not one every walk follows
+BREAKS = ("limit", "bifurcation", "singular", "near_singular")
 NEWTON = 8  # Newton steps of the direct path (the sweep's walk step allows as many)
 SLOWEST = np.sqrt(np.finfo(float).tiny)  # input rates below this teach no kinematic coefficients
 DIRECT = 4096  # values the direct path takes in one batch: more are the sweep's (its bulk is made for them)

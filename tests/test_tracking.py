@@ -139,6 +139,29 @@ def test_moves_back_into_a_stretch_past_a_limit_that_holds_nothing_run_no_sweep(
     _same(tracker.move(3.2), _from_sketch("triple rocker", [3.2]))
 
 
+def test_values_past_a_close_approach_are_not_reached_from_poses_learned_past_it():
+    # (found by a fuzz of tracker moves) a geared five-bar with a limit pair 1.4e-6 apart at
+    # -3.8766: the sweep of a turn steps over it (a near_singular event), the sweep of one
+    # value at -5.96 from the sketch meets the limits. The poses past the close approach are
+    # not learned, so the move is the sweep from the sketch, not a step from the turn's pose.
+    def build():
+        from planar.mechanisms import geared_five_bar
+
+        return geared_five_bar(ground=19.128453614447388, gear_radius_2=8.429099894103178,
+                               gear_radius_4=9.280480566143305, link_5=16.996051107697404, crossed=True,
+                               start=-1.6216414602953408)
+
+    model = build().compile()
+    turn = model.sweep(model.u0[0] - np.linspace(0, 2 * np.pi, 60))
+    assert [e.kind for e in turn.events] == ["near_singular"]
+    u = -5.959109614199423
+    want = build().compile().sweep([u])
+    assert [e.kind for e in want.events] == ["limit", "near_singular"]
+    tracker = model.track()
+    _same(tracker.move(u), want)
+    assert not tracker.direct
+
+
 def test_a_pose_a_turn_on_is_another_pose():
     model = MECHANISMS["gear train"]().compile()
     tracker = model.track()
