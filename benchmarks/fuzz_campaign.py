@@ -8,6 +8,8 @@ start), swept in six scenarios
     d  60 values asked three times each, shuffled
     e  a turn in 0.035 rad steps, then 30 values jumping over +-20 rad
     f  from a start 1e-9..1e-2 inside an end of the motion range, 181 values across it
+    g  40 tracker moves (drags of up to 0.06 rad, steps of up to 0.5, jumps within 7 rad of the
+       start) on a model that knows no pose, has swept a turn, or 30 values within 4 rad
 
 and each sweep's values within 25 rad of the start against a dense sweep of them (their sorted
 union with a 0.02 rad grid, on a fresh model; with --warm, every sweep of a mechanism on one
@@ -19,7 +21,9 @@ an angle times L, up to whole turns). On a geared five-bar, whose loop closes in
 branch's modes on many stretches (its crank has no period), a value that both sweeps reach
 only past a limit they meet between the start and it is counted ``past`` where it would be
 lost, extra or apart: which stretch a search past a gap enters depends on the values asked
-(docs/sweeps.md, events).
+(docs/sweeps.md, events). Each move of g is checked against the sweep of its value alone on a
+fresh model, as a move promises (statuses, event kinds, poses to 1e-10 L): ``off`` counts the
+moves that differ.
 
     python3 benchmarks/fuzz_campaign.py 0 50 > camp.jsonl            # seeds 0-49, numpy
     python3 benchmarks/fuzz_campaign.py 0 50 --kinds watt_six_bar --engine numba
@@ -164,6 +168,44 @@ def sweep(kind, kw, values, engine):
     return r, time.process_time() - t, None
 
 
+def moves(kind, kw, u0, rng, engine):
+    """Scenario g: (its record's fields, the moves that differ from the sweep of their value
+    alone on a fresh model: (move, value, why), at most three)."""
+    model = CATALOGUE[kind](**kw).compile()
+    warm = int(rng.integers(3))
+    if warm == 1:
+        model.sweep(u0 + np.linspace(0, 2 * np.pi * rng.choice([-1, 1]), 60), engine=engine)
+    elif warm == 2:
+        model.sweep(u0 + rng.uniform(-4, 4, 30), engine=engine)
+    tracker = model.track(engine=engine)
+    L = max(1.0, float(model.L))
+    u, cpu, status, off = u0, 0.0, [], []
+    for k in range(40):
+        r = rng.random()
+        u = float(u + rng.uniform(-0.06, 0.06) if r < 0.6 else u0 + rng.uniform(-7, 7) if r < 0.8
+                  else u + rng.uniform(-0.5, 0.5))
+        t = time.process_time()
+        try:
+            got = tracker.move(u)
+        except planar.PlanarError as e:
+            off.append((k, u, type(e).__name__))
+            continue
+        finally:
+            cpu += time.process_time() - t
+        want = CATALOGUE[kind](**kw).compile().sweep([u], engine=engine)
+        status.append(int(got.status[0]))
+        why = (f"status {got.status[0]} against {want.status[0]}" if got.status[0] != want.status[0] else
+               "events" if [e.kind for e in got.events] != [e.kind for e in want.events] else
+               "pose" if not np.allclose(got.q, want.q, atol=1e-10 * L, rtol=0, equal_nan=True) else None)
+        if why:
+            off.append((k, u, why))
+        if len(off) > 3:
+            break
+    st, counts = np.unique(status, return_counts=True)
+    return dict(warm=warm, cpu=round(cpu, 3), status={Status(s).name: int(c) for s, c in zip(st, counts)},
+                off=len(off), first=off[:3])
+
+
 def run_seed(seed, kinds, engine, out):
     rng = np.random.default_rng(seed)
     kind = kinds[seed % len(kinds)]
@@ -197,12 +239,16 @@ def run_seed(seed, kinds, engine, out):
                     rec["ref_error"] = rerr
         out.write(json.dumps(rec) + "\n")
         out.flush()
+    rec = dict(seed=seed, kind=kind, kw=kw, scenario="g", engine=engine, error=None)
+    rec.update(moves(kind, kw, u0, rng, engine))
+    out.write(json.dumps(rec) + "\n")
+    out.flush()
 
 
 def summary(path):
     recs = [json.loads(line) for line in open(path)]
     print(f"{len(recs)} sweeps, {len({r['seed'] for r in recs})} mechanisms")
-    for key in ("error", "lost", "past", "extra", "apart"):
+    for key in ("error", "lost", "past", "extra", "apart", "off"):
         bad = [r for r in recs if r.get(key)]
         print(f"{key}: {len(bad)} sweeps", [(r["seed"], r["scenario"], r[key]) for r in bad[:20]])
     nc = [r for r in recs if r.get("status", {}).get("NOT_CONVERGED")]

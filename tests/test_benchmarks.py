@@ -81,11 +81,12 @@ def test_the_fuzz_campaign_writes_a_line_a_sweep_and_sums_them_up(capsys, tmp_pa
     campaign.main(["4", "5", "--kinds", "slider_crank"])  # (its crank rocks: a start next to a limit too)
     lines = capsys.readouterr().out.splitlines()
     recs = [json.loads(line) for line in lines]
-    assert [r["scenario"] for r in recs] == list("abcdef")
+    assert [r["scenario"] for r in recs] == list("abcdefg")
     for r in recs:
         assert r["seed"] == 4 and r["kind"] == "slider_crank" and r["error"] is None and r["cpu"] > 0
-        assert sum(r["status"].values()) in (30, 180, 181, 210) and "NOT_CONVERGED" not in r["status"]
-        assert (r["lost"], r["extra"], r["apart"]) == (0, 0, 0)
+        assert sum(r["status"].values()) in (30, 40, 180, 181, 210) and "NOT_CONVERGED" not in r["status"]
+        assert (r.get("lost"), r.get("extra"), r.get("apart"), r.get("off")) == \
+            ((None,) * 3 + (0,) if r["scenario"] == "g" else (0, 0, 0, None))
     # each mechanism's sweeps on one model (it remembers poses): the same statuses
     campaign.main(["4", "5", "--kinds", "slider_crank", "--warm"])
     warm = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
@@ -94,7 +95,7 @@ def test_the_fuzz_campaign_writes_a_line_a_sweep_and_sums_them_up(capsys, tmp_pa
     path.write_text("\n".join(lines) + "\n")
     campaign.main(["--summary", str(path)])
     out = capsys.readouterr().out
-    assert out.startswith("6 sweeps, 1 mechanisms") and "lost: 0 sweeps" in out
+    assert out.startswith("7 sweeps, 1 mechanisms") and "lost: 0 sweeps" in out and "off: 0 sweeps" in out
 
 
 def test_the_fuzz_campaign_counts_a_geared_five_bars_values_past_a_limit_apart_from_its_errors():
