@@ -188,14 +188,19 @@ class Poses:
     def past_limit(self, model, U, Ud, Udd, max_step):
         """The sweep of one value U (1, 1) in a stretch past a limit where nothing assembles
         (:meth:`learn_bare`), or None: the sweep that found it with this value, its rates and
-        its gap (least squares from the limit's pose), as the sweep from the sketch gives it."""
-        from planar.solver import least_squares_gap
+        its gap (least squares from the limit's pose), as the sweep from the sketch gives it.
+        None too where the value assembles from the limit's pose or the sketch's: the sweep of
+        the value alone searches the value itself from those, which the remembered sweep did not
+        (it may enter there: an interval between the remembered search's steps)."""
+        from planar.solver import GAP, least_squares_gap
 
         res = self.bare_at(U[0, 0], max_step)
         if res is None:
             return None
-        gap = least_squares_gap(model, res.events[0].q[None], U)[1]
-        return replace(res, inputs=U, input_rates=Ud, input_accelerations=Udd, gap=gap)
+        gap = least_squares_gap(model, np.stack((res.events[0].q, model.q0)), np.repeat(U, 2, axis=0))[1]
+        if np.any(gap <= GAP):
+            return None
+        return replace(res, inputs=U, input_rates=Ud, input_accelerations=Udd, gap=gap[:1])
 
     def bare_at(self, u, max_step):
         """The sweep that found a stretch past a limit where nothing assembles holding input u

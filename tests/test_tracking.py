@@ -139,6 +139,23 @@ def test_moves_back_into_a_stretch_past_a_limit_that_holds_nothing_run_no_sweep(
     _same(tracker.move(3.2), _from_sketch("triple rocker", [3.2]))
 
 
+def test_a_value_that_assembles_inside_a_stretch_remembered_as_holding_nothing_is_swept():
+    # (found by a fuzz of tracker moves) a geared five-bar closes in its modes on many
+    # stretches: the sweep of -2.151 found nothing past the limit at -1.9975 at its search's
+    # steps, but -2.137 swept alone lands on a stretch from the sketch's pose. The move there
+    # is that sweep, not the remembered result.
+    from planar.mechanisms import geared_five_bar
+
+    def build():
+        return geared_five_bar(13.6016, 8.6520, 7.3942, 12.8716, start=-1.5954)
+
+    tracker = build().compile().track()
+    assert tracker.move(-2.151).status[0] == Status.NOT_ASSEMBLABLE
+    want = build().compile().sweep([-2.137])
+    assert want.status[0] == Status.SOLVED
+    _same(tracker.move(-2.137), want)
+
+
 def test_values_past_a_close_approach_are_not_reached_from_poses_learned_past_it():
     # (found by a fuzz of tracker moves) a geared five-bar with a limit pair 1.4e-6 apart at
     # -3.8766: the sweep of a turn steps over it (a near_singular event), the sweep of one
