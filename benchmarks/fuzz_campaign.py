@@ -182,9 +182,9 @@ def moves(kind, kw, u0, rng, engine):
     L = max(1.0, float(model.L))
     u, cpu, status, off, past = u0, 0.0, [], [], 0
     for k in range(40):
-        r = rng.random()
-        u = float(u + rng.uniform(-0.06, 0.06) if r < 0.6 else u0 + rng.uniform(-7, 7) if r < 0.8
-                  else u + rng.uniform(-0.5, 0.5))
+        kind_of_move = rng.random()
+        u = float(u + rng.uniform(-0.06, 0.06) if kind_of_move < 0.6 else u0 + rng.uniform(-7, 7)
+                  if kind_of_move < 0.8 else u + rng.uniform(-0.5, 0.5))
         t = time.process_time()
         try:
             got = tracker.move(u)
@@ -198,7 +198,7 @@ def moves(kind, kw, u0, rng, engine):
         why = (f"status {got.status[0]} against {want.status[0]}" if got.status[0] != want.status[0] else
                "events" if [e.kind for e in got.events] != [e.kind for e in want.events] else
                "pose" if not np.allclose(got.q, want.q, atol=1e-10 * L, rtol=0, equal_nan=True) else None)
-        if why and kind in MANY_STRETCHES and all(_past_limits(r, [u], u0)[0] for r in (got, want)):
+        if why and kind in MANY_STRETCHES and all(_past_limits(res, [u], u0)[0] for res in (got, want)):
             past += 1
         elif why:
             off.append((k, u, why))

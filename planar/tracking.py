@@ -6,9 +6,8 @@ branch drawn in the sketch (:class:`Poses`, at most ``CAP``). A pose is remember
 the continuation reached it from the sketch with no limit, bifurcation, singular position or
 close approach to one (a walk step may pass over a limit pair narrower than the step there,
 and a walk with other steps meet it), no jump or move by whole periods of a rocking input, and
-no invalid value on the way, so the
-remembered poses span one interval of the unwrapped input, around the sketch's, on which the
-branch is a smooth function of the input (for a crank that
+no invalid value on the way, so the remembered poses span one interval of the unwrapped input,
+around the sketch's, on which the branch is a smooth function of the input (for a crank that
 turns fully, u and u + 2 pi are different inputs, and for a geared train different poses). A
 sweep walks from the remembered pose nearest its first value: inside that interval the pose at
 any input is the branch's, whichever way it is reached; outside, the walk from the interval's
