@@ -105,7 +105,9 @@ def test_tracker_moves_equal_the_sweep_of_each_value_alone(desc, warm, moves):
     """On a model that knows no pose, or has swept a turn or values on both sides of its
     sketch, each move (a drag or step from the value before, or a jump from the sketch's)
     gives what a fresh model's sweep of that value gives: the same error, or the same
-    statuses, event kinds and poses."""
+    statuses, poses and events but near_singular ones (a walk that needs the tracer, from a
+    near-singular sketch, may report an avoided crossing where a move from a pose known
+    nearer does not: docs/sweeps.md)."""
     m, _ = compiled(desc)
     model = m.compile()
     u0 = float(model.u0[0])
@@ -127,7 +129,8 @@ def test_tracker_moves_equal_the_sweep_of_each_value_alone(desc, warm, moves):
             return
         got = tracker.move(u)
         assert got.status.tolist() == want.status.tolist()
-        assert [e.kind for e in got.events] == [e.kind for e in want.events]
+        events = [[e.kind for e in r.events if e.kind != "near_singular"] for r in (got, want)]
+        assert events[0] == events[1]
         cond = max(1.0, 1e-3 / want.singularity[0]) if want.singularity[0] > 0 else 1.0
         np.testing.assert_allclose(got.q, want.q, atol=1e-9 * L * cond, rtol=0)
 
