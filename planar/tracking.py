@@ -20,8 +20,8 @@ of a dragged input; a sweep over a stretch the model has swept) are solved in on
 as one walk step from the known pose nearest it (:func:`direct`, the direct path: none of the
 sweep's machinery), with the sweep's acceptance test; what it cannot certify goes to the sweep.
 A value past the branch's first limit, inside a stretch where a sweep from the sketch found
-nothing that assembles (:meth:`Poses.learn_bare`), gets that sweep's result with its own gap.
-Models with more inputs sweep from the sketch.
+nothing that assembles (:meth:`Poses.learn_bare`; not on a geared linkage), gets that sweep's
+result with its own gap. Models with more inputs sweep from the sketch.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -187,19 +187,14 @@ class Poses:
     def past_limit(self, model, U, Ud, Udd, max_step):
         """The sweep of one value U (1, 1) in a stretch past a limit where nothing assembles
         (:meth:`learn_bare`), or None: the sweep that found it with this value, its rates and
-        its gap (least squares from the limit's pose), as the sweep from the sketch gives it.
-        None too where the value assembles from the limit's pose or the sketch's: the sweep of
-        the value alone searches the value itself from those, which the remembered sweep did not
-        (it may enter there: an interval between the remembered search's steps)."""
-        from planar.solver import GAP, least_squares_gap
+        its gap (least squares from the limit's pose), as the sweep from the sketch gives it."""
+        from planar.solver import least_squares_gap
 
         res = self.bare_at(U[0, 0], max_step)
         if res is None:
             return None
-        gap = least_squares_gap(model, np.stack((res.events[0].q, model.q0)), np.repeat(U, 2, axis=0))[1]
-        if np.any(gap <= GAP):
-            return None
-        return replace(res, inputs=U, input_rates=Ud, input_accelerations=Udd, gap=gap[:1])
+        gap = least_squares_gap(model, res.events[0].q[None], U)[1]
+        return replace(res, inputs=U, input_rates=Ud, input_accelerations=Udd, gap=gap)
 
     def bare_at(self, u, max_step):
         """The sweep that found a stretch past a limit where nothing assembles holding input u
