@@ -59,6 +59,9 @@ class Joint:
     pin: ClassVar[bool] = False
     slides: ClassVar[bool] = False
     relative_angle: ClassVar[bool] = False
+    # whether its rows tie its bodies' angles as they are, by a ratio (a gear, a rack, a wheel
+    # rolling): a linkage with one closes in the same assembly modes at many poses, far apart
+    rolls: ClassVar[bool] = False
     # the scalar kernels of the compiled engine (planar.joints.scalar): (the parameters they read,
     # kernel, gamma kernel); None: engine="numba" refuses the type
     scalar_kernels: ClassVar[tuple | None] = None

@@ -54,6 +54,7 @@ class CarrierGear(Joint):
     the carrier as torques, past the pins that carry it).
     """
 
+    rolls = True
     n_rows = 1
     scalar_kernels = (("R",), carrier_gear, scalar.linear_gamma)
     n_bodies = 3
@@ -230,6 +231,7 @@ class Gear(Joint):
     sit on one arm.
     """
 
+    rolls = True
     n_rows = 1
     scalar_kernels = (("s", "R"), gear, gear_gamma)
     n_bodies = 2

@@ -36,6 +36,7 @@ class RackPinion(Joint):
     the directed line. A wheel rolling to the right on a floor turns clockwise.
     """
 
+    rolls = True
     n_rows = 2
     scalar_kernels = (("s", "u", "sR"), rack_pinion, rack_pinion_gamma)
     n_bodies = 2

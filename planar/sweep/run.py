@@ -75,9 +75,9 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     move by whole periods of an input that does not turn fully (what :mod:`planar.tracking`
     may remember). ``_bare``: a list, to which the sweep adds (limit event, (lo, hi)) for each
     stretch from a limit it met where its search past the gap found nothing that assembles, in
-    any modes (none where it moved values by whole periods, nor on a linkage whose rows read an
-    angle as it is, a geared one: it closes on many stretches, far apart, and least squares
-    from the limit cannot tell that none reaches a value)."""
+    any modes (none where it moved values by whole periods, nor on a linkage with a joint that
+    ``rolls``, a geared one: it closes on many stretches, far apart, and least squares from the
+    limit cannot tell that none reaches a value)."""
     if branch not in ("smooth", "other"):
         raise InputError(f"branch must be 'smooth' or 'other', got {branch!r}")
     options = dict(tol=tol, max_step=max_step, outputs=outputs, branch=branch, engine=engine)
@@ -88,7 +88,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     run.back_over_gaps()
     run.limit_pairs()
     res = run.result(_reached)
-    if _bare is not None and run.shift is None and run.walker.periodic():
+    if _bare is not None and run.shift is None and not any(j.rolls for j in model.joints):
         _bare.extend(run.bare)
     return res
 
