@@ -160,7 +160,8 @@ def test_a_geared_linkage_remembers_no_stretch_past_a_limit_as_holding_nothing(e
     _same(tracker.move(-2.137), want)
 
 
-def test_values_past_a_close_approach_are_not_reached_from_poses_learned_past_it():
+@pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
+def test_values_past_a_close_approach_are_not_reached_from_poses_learned_past_it(engine):
     # (found by a fuzz of tracker moves) a geared five-bar with a limit pair 1.4e-6 apart at
     # -3.8766: the sweep of a turn steps over it (a near_singular event), the sweep of one
     # value at -5.96 from the sketch meets the limits. The poses past the close approach are
@@ -173,12 +174,12 @@ def test_values_past_a_close_approach_are_not_reached_from_poses_learned_past_it
                                start=-1.6216414602953408)
 
     model = build().compile()
-    turn = model.sweep(model.u0[0] - np.linspace(0, 2 * np.pi, 60))
+    turn = model.sweep(model.u0[0] - np.linspace(0, 2 * np.pi, 60), engine=engine)
     assert [e.kind for e in turn.events] == ["near_singular"]
     u = -5.959109614199423
-    want = build().compile().sweep([u])
+    want = build().compile().sweep([u], engine=engine)
     assert [e.kind for e in want.events] == ["limit", "near_singular"]
-    tracker = model.track()
+    tracker = model.track(engine=engine)
     _same(tracker.move(u), want)
     assert not tracker.direct
 
