@@ -18,6 +18,7 @@ MECHANISMS = {
     # 96.67..166.71 deg on the branch drawn (and 193.29..263.33 in the other mode)
     "crank-rocker by its rocker": lambda: four_bar(4, 2, 3, 3.5, driver="rocker", start=2.0),
     "triple rocker": lambda: four_bar(4, 3, 3, 2.5),  # limit at 1.7913
+    "rocking slider-crank": lambda: slider_crank(3, 2.5, offset=0.2, start=0.3),  # -0.8736..1.1198
     "parallelogram": lambda: four_bar(4, 2, 4, 2, start=0.5, crossed=True),  # change points at 0 and pi
 }
 
@@ -103,18 +104,22 @@ def test_beyond_a_limit_stays_unassemblable_and_moving_back_works():
     _same(back, _from_sketch("crank-rocker by its rocker", [np.radians(150.0)]))
 
 
-def test_moves_back_into_a_stretch_past_a_limit_that_holds_nothing_run_no_sweep(monkeypatch):
-    # a triple rocker dragged past its limit at 1.7913: each move out is a sweep from the sketch,
-    # whose search past the limit finds nothing up to the value, in any modes; a move back into
-    # that stretch is that sweep's result with its own gap (least squares from the limit's
-    # pose), not a sweep again (~100 ms each)
+@pytest.mark.parametrize("name, out, back, beyond", [
+    ("triple rocker", (1.85, 2.2, 3.0), [2.5, 1.8, 3.0, 2.0], 3.2),
+    ("rocking slider-crank", (1.2, 2.0), [1.5, 1.8, 1.13], 2.01),  # (a slider: not geared)
+])
+def test_moves_back_into_a_stretch_past_a_limit_that_holds_nothing_run_no_sweep(monkeypatch, name, out, back, beyond):
+    # a rocker dragged past its limit (the triple rocker's at 1.7913): each move out is a sweep
+    # from the sketch, whose search past the limit finds nothing up to the value, in any modes;
+    # a move back into that stretch is that sweep's result with its own gap (least squares from
+    # the limit's pose), not a sweep again (~100 ms each)
     import functools
 
     import planar.sweep
 
-    model = MECHANISMS["triple rocker"]().compile()
+    model = MECHANISMS[name]().compile()
     tracker = model.track()
-    for u in (1.85, 2.2, 3.0):
+    for u in out:
         tracker.move(u)
     runs = []
     real = planar.sweep.run_sweep
@@ -125,18 +130,17 @@ def test_moves_back_into_a_stretch_past_a_limit_that_holds_nothing_run_no_sweep(
         return real(*args, **kw)
 
     monkeypatch.setattr(planar.sweep, "run_sweep", counted)
-    back = [2.5, 1.8, 3.0, 2.0]
     moves = [tracker.move(u) for u in back]
     assert not runs and not tracker.direct
     monkeypatch.undo()
     for u, res in zip(back, moves):
-        want = _from_sketch("triple rocker", [u])
+        want = _from_sketch(name, [u])
         assert res.status[0] == Status.NOT_ASSEMBLABLE
         _same(res, want)
         np.testing.assert_allclose(res.gap, want.gap, rtol=1e-4)
         np.testing.assert_allclose(res.nearest_limit, want.nearest_limit, atol=1e-9, rtol=0)
     # (past the stretch searched: a sweep)
-    _same(tracker.move(3.2), _from_sketch("triple rocker", [3.2]))
+    _same(tracker.move(beyond), _from_sketch(name, [beyond]))
 
 
 @pytest.mark.parametrize("engine", ["numpy", pytest.param("numba", marks=pytest.mark.numba)])
