@@ -141,3 +141,40 @@ def test_bad_arguments_are_refused_by_name(build, kw, match):
 def test_redundant_rows_are_reported():
     assert rack_and_pinion().compile().redundant_joints == ("mesh",)  # its tangency row: the joint added last
     assert planetary_gear_train(planets=1).compile().redundant_joints == ()
+
+
+def test_a_rack_on_a_slider_drives_a_linkage():
+    """Rack-and-pinion steering: the pinion (radius 1, at the origin, driven) moves a rack that
+    slides on the ground, s = R th, and a tie rod from the rack's end E turns a knuckle (arm
+    1.5, pivot K): its arm's tip T meets the circle of the tie rod about E. The
+    mesh's tangency row repeats what the slider holds: redundant, and the mechanism still has
+    one degree of freedom (at a pose near the sketch, the slider's angle and the mesh's phase
+    are held as drawn)."""
+    R, arm, K, E0 = 1.0, 1.5, np.array([4.5, 0.5]), np.array([2.0, -1.0])
+    tip0 = K + arm * np.array([np.cos(2.5), np.sin(2.5)])
+    m = planar.Mechanism("steering")
+    for b in ("pinion", "rack", "rod", "knuckle"):
+        m.add_body(b)
+    m.add_revolute("O", m.ground, "pinion", at=(0, 0))
+    m.add_prismatic("slide", m.ground, "rack", at=(0, -R), direction=(1, 0))
+    m.add_rack_pinion("mesh", "pinion", "rack", R, centre=(0, 0), through=(0, -R), direction=(1, 0))
+    m.add_revolute("E", "rack", "rod", at=E0)
+    m.add_revolute("T", "rod", "knuckle", at=tip0)
+    m.add_revolute("K", "knuckle", m.ground, at=K)
+    m.drive("O")
+    model = m.compile()
+    assert model.dof == 1 and model.redundant_joints == ("mesh",)
+    th = np.linspace(-0.3, 0.3, 13)
+    res = model.sweep(th)
+    assert res.ok.all()
+    E = E0 + np.outer(R * th, [1.0, 0.0])
+    assert_close(res.position("E"), E, np.abs(E).max(), 1e-12, "rack travel")
+    rod = np.hypot(*(tip0 - E0))
+    # the knuckle's tip: on the arm's circle about K and the rod's about E, on the sketch's side
+    d = np.linalg.norm(E - K, axis=1)
+    along = (arm**2 - rod**2 + d**2) / (2 * d)
+    across = np.sqrt(arm**2 - along**2)
+    ex = (E - K) / d[:, None]
+    side = np.sign((E0 - K)[0] * (tip0 - K)[1] - (E0 - K)[1] * (tip0 - K)[0])
+    tip = K + along[:, None] * ex + side * across[:, None] * np.stack([-ex[:, 1], ex[:, 0]], 1)
+    assert_close(res.position("T"), tip, 10.0, 1e-10, "knuckle tip")

@@ -32,8 +32,8 @@ def sweep(m, du, **kw):
 
 
 def compiled(desc, **kw):
-    m, pins = build(desc, **kw)
     try:
+        m, pins = build(desc, **kw)
         m.compile()
     except planar.PlanarError:
         assume(False)  # a degenerate draw refused with a named error is the right answer
@@ -63,6 +63,18 @@ def compiled(desc, **kw):
                      2, (-1.3181370971067814, 1.4800863420125303), 0.07565548249853234)]},
     du=[1.601450410972273, -2.3200459043526163, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.6840582710449397])
 def test_random_linkages_never_return_garbage(desc, du):
+    never_garbage(desc, du)
+
+
+@settings(max_examples=20)
+@given(desc=linkages(max_dyads=2, rolling=True), du=offsets)
+def test_random_rolling_linkages_never_return_garbage(desc, du):
+    """The same of linkages with a loop closed by a gear or a rack (a geared linkage closes in
+    the same modes at many poses, far apart)."""
+    never_garbage(desc, du)
+
+
+def never_garbage(desc, du):
     m, pins = compiled(desc)
     res = sweep(m, du, velocity=1.3, acceleration=-0.4)
     model = m.compile()
@@ -97,10 +109,12 @@ def test_random_linkages_never_return_garbage(desc, du):
     assert np.all(err <= 1e-9 * max(1.0, model.L) * cond[:, None]), (err.max(), res.singularity)
 
 
+tracker_moves = st.lists(st.one_of(st.floats(-4.0, 4.0), st.tuples(st.just("drag"), st.floats(-0.08, 0.08)),
+                                   st.tuples(st.just("step"), st.floats(-0.6, 0.6))), min_size=1, max_size=6)
+
+
 @settings(max_examples=25)
-@given(desc=linkages(), warm=st.sampled_from([None, 2 * np.pi, 3.0]),
-       moves=st.lists(st.one_of(st.floats(-4.0, 4.0), st.tuples(st.just("drag"), st.floats(-0.08, 0.08)),
-                                st.tuples(st.just("step"), st.floats(-0.6, 0.6))), min_size=1, max_size=6))
+@given(desc=linkages(), warm=st.sampled_from([None, 2 * np.pi, 3.0]), moves=tracker_moves)
 def test_tracker_moves_equal_the_sweep_of_each_value_alone(desc, warm, moves):
     """On a model that knows no pose, or has swept a turn or values on both sides of its
     sketch, each move (a drag or step from the value before, or a jump from the sketch's)
@@ -108,6 +122,16 @@ def test_tracker_moves_equal_the_sweep_of_each_value_alone(desc, warm, moves):
     statuses, poses and events but near_singular ones (a walk that needs the tracer, from a
     near-singular sketch, may report an avoided crossing where a move from a pose known
     nearer does not: docs/sweeps.md)."""
+    moves_as_sweeps(desc, warm, moves)
+
+
+@settings(max_examples=10)
+@given(desc=linkages(max_dyads=2, rolling=True), warm=st.sampled_from([None, 2 * np.pi, 3.0]), moves=tracker_moves)
+def test_tracker_moves_on_rolling_linkages_equal_the_sweep_of_each_value_alone(desc, warm, moves):
+    moves_as_sweeps(desc, warm, moves)
+
+
+def moves_as_sweeps(desc, warm, moves):
     m, _ = compiled(desc)
     model = m.compile()
     u0 = float(model.u0[0])

@@ -57,7 +57,7 @@ def compile_sketch(name, sk, plan=True):
 
     # independent rows first (the rank does not depend on the constants), then assemble the
     # sketch on the independent geometric rows and take the rolling constants there
-    rank, independent, unresolved = _joint_rank(system, q0, joint_rows, geometric, row_scale, col_scale)
+    rank, independent, unresolved = _joint_rank(system, q0, joint_rows, sketch_rows, row_scale, col_scale)
     redundant = np.setdiff1d(joint_rows, independent)
     names = lambda rows: sorted({_owner(int(i), row_adr, constraints).name for i in rows})  # noqa: E731
     q0 = _assemble(system, q0, np.intersect1d(geometric, independent), row_scale, col_scale, joints, row_adr)
@@ -117,14 +117,16 @@ def _owner(row, row_adr, constraints):
     return constraints[int(np.searchsorted(row_adr, row, side="right") - 1)]
 
 
-def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50):
-    """Minimum-norm Gauss-Newton on ``rows`` from q: the assembled pose nearest the sketch."""
+def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50, held=0.0):
+    """Minimum-norm Gauss-Newton on ``rows`` from q: the assembled pose nearest the sketch
+    (``held``: (m,) the rows' values to hold, 0 where they are to vanish)."""
     q = q.copy()
     if rows.size == 0:
         return q
+    held = np.broadcast_to(held, system.m)
     for _ in range(iterations):
         Phi, J = system.evaluate(q[None])
-        r = Phi[0, rows] * rs[rows]
+        r = (Phi[0, rows] - held[rows]) * rs[rows]
         if np.max(np.abs(r)) <= 1e-14:
             return q
         Js = J[0][rows] * rs[rows, None] * cs[None, :]
@@ -132,7 +134,7 @@ def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50):
         dx *= min(1.0, 0.3 / max(np.max(np.abs(dx)), 1e-300))
         q -= dx * cs
     Phi, _ = system.evaluate(q[None], jacobian=False)
-    r = np.abs(Phi[0, rows] * rs[rows])
+    r = np.abs((Phi[0, rows] - held[rows]) * rs[rows])
     if r.max() > 1e-9:
         worst = _owner(int(rows[np.argmax(r)]), row_adr, joints)
         raise AssemblyError(f"the sketch does not assemble: {worst.describe()} stays off by {r.max():.3g} x L; "
@@ -140,7 +142,7 @@ def _assemble(system, q, rows, rs, cs, joints, row_adr, iterations=50):
     return q
 
 
-def _joint_rank(system, q0, rows, geometric, rs, cs):
+def _joint_rank(system, q0, rows, sketch_rows, rs, cs):
     """Rank of the joint rows, the independent ones, and the largest of the others' pivots
     over the largest (``unresolved``: 0 where every row is independent; the largest at the
     poses tried of that rank), at the sketch or, if the sketch is a singular pose, at a nearby
@@ -148,6 +150,11 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
     best = None
     rng = np.random.default_rng(0)
     q = q0
+    # a pose nearby holds the rows whose constants the sketch gives (a slider's angle, a mesh's
+    # phase) at their values there: left free, a redundancy that holds only with them (a rack's
+    # mesh beside the slider that carries it) reads as independent
+    held = np.zeros(system.m)
+    held[sketch_rows] = system.evaluate(q0[None], jacobian=False)[0][0, sketch_rows]
     for trial in range(3):
         _, J = system.evaluate(q[None])
         Js = J[0][rows] * rs[rows, None] * cs[None, :]
@@ -173,7 +180,7 @@ def _joint_rank(system, q0, rows, geometric, rs, cs):
         null = Vt[rank:]
         q = q + (null.T @ rng.normal(size=null.shape[0])) * 0.05 * cs
         try:
-            q = _assemble(system, q, np.intersect1d(best[1], geometric), rs, cs, [], np.zeros(0))
+            q = _assemble(system, q, best[1], rs, cs, [], np.zeros(0), held=held)
         except (AssemblyError, IndexError):
             break
     return best
