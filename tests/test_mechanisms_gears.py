@@ -15,6 +15,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 import planar
+from planar.analysis import motion_range
 from planar.mechanisms import gear_train, planetary_gear_train, rack_and_pinion, rolling_wheel
 from tests.test_mechanisms_four_bar import FAST, SWEEPS, assert_close, rate
 
@@ -146,10 +147,11 @@ def test_redundant_rows_are_reported():
 def test_a_rack_on_a_slider_drives_a_linkage():
     """Rack-and-pinion steering: the pinion (radius 1, at the origin, driven) moves a rack that
     slides on the ground, s = R th, and a tie rod from the rack's end E turns a knuckle (arm
-    1.5, pivot K): its arm's tip T meets the circle of the tie rod about E. The
-    mesh's tangency row repeats what the slider holds: redundant, and the mechanism still has
-    one degree of freedom (at a pose near the sketch, the slider's angle and the mesh's phase
-    are held as drawn)."""
+    1.5, pivot K): its arm's tip T meets the circle of the tie rod about E. The mesh's tangency
+    row repeats what the slider holds: redundant, and the mechanism still has one degree of
+    freedom (at a pose near the sketch, the slider's angle and the mesh's phase are held as
+    drawn). The pinion turns more than a turn between the ends of its range, where the rod and
+    the arm lie in line, and its pose does not repeat a turn on."""
     R, arm, K, E0 = 1.0, 1.5, np.array([4.5, 0.5]), np.array([2.0, -1.0])
     tip0 = K + arm * np.array([np.cos(2.5), np.sin(2.5)])
     m = planar.Mechanism("steering")
@@ -178,3 +180,6 @@ def test_a_rack_on_a_slider_drives_a_linkage():
     side = np.sign((E0 - K)[0] * (tip0 - K)[1] - (E0 - K)[1] * (tip0 - K)[0])
     tip = K + along[:, None] * ex + side * across[:, None] * np.stack([-ex[:, 1], ex[:, 0]], 1)
     assert_close(res.position("T"), tip, 10.0, 1e-10, "knuckle tip")
+    dx, dy = K - E0
+    ends = (dx + np.array([-1.0, 1.0]) * np.sqrt((arm + rod) ** 2 - dy**2)) / R
+    np.testing.assert_allclose(motion_range(model), [ends], atol=1e-10)

@@ -20,13 +20,17 @@ from planar import arguments
 from planar.blocks import plan as block_plan
 from planar.errors import InputError
 from planar.results import POSED, Status, as_sweep
-from planar.sweep import Branch, Walker
-from planar.sweep.walk import whole_turns
+from planar.sweep import Branch, Walker, input_scale
+from planar.sweep.walk import WALK_STEPS, whole_turns
 
 TURN = 2 * np.pi
 # sweep values per turn or per travel: far more than any range needs (its ends are located
 # events, not samples); a four-bar's range of 1e5 took 3-6 s, of 1e6 over 40 s and 640 MB
 MAX_SAMPLES = 10**4
+# turns of an angle input whose pose does not repeat each turn (a rack's travel, a geared
+# linkage) looked along for the ends of the sketch's stretch: one walk's reach at the default
+# step (planar.sweep.walk.WALK_STEPS)
+FAR_TURNS = 15
 
 
 def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.05):
@@ -46,7 +50,9 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
     -------
     tuple of (float, float)
         Sorted intervals; an angle interval starts in [-pi, pi) and may run past pi; a full
-        turn is ``((-pi, pi),)``. Ends are limit positions, to about 1e-12.
+        turn is ``((-pi, pi),)``. Ends are limit positions, to about 1e-12. Where the sketch's
+        stretch runs a turn and its pose does not repeat (a rack or a gear drives a linkage),
+        the input's own ends, within ``FAR_TURNS`` turns of the sketch's input each way.
     """
     model = mechanism.compile() if hasattr(mechanism, "compile") else mechanism
     if not hasattr(model, "drivers"):
@@ -74,6 +80,12 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
     grid = u0 + np.linspace(0, TURN, samples + 1)
     stretches, back = _stretches(model, grid, tol, max_step, turn=True)
     first, rest = stretches[0], stretches[1:]
+    if first[1] is None and not back:
+        # the sketch's stretch runs a turn without coming back to its pose (a rack or a gear
+        # drives the linkage): the input's own ends, as far as FAR_TURNS each way
+        (lo, reach), (hi, _) = (_far_end(model, way, tol, max_step) for way in (-1, 1))
+        if lo is not None or hi is not None:
+            return ((u0 - reach if lo is None else lo, u0 + reach if hi is None else hi),)
     if first[1] is None:  # (the sketch's stretch turns fully)
         return ((-np.pi, np.pi),)
     into = [st for st in rest if st[1] is None]
@@ -200,6 +212,20 @@ def _between(u, a, b):
 
 
 def _lower_end(model, u0, tol, max_step):
-    """The limit that ends the sketch's stretch below its input (the sweep went up from it)."""
+    """The limit that ends the sketch's stretch below its input (the sweep went up from it):
+    within a turn where the pose repeats each turn, else as far as FAR_TURNS."""
     (_, end), *_ = _stretches(model, u0 - np.linspace(0, TURN, 361), tol, max_step)[0]
+    if end is None:
+        end = _far_end(model, -1, tol, max_step)[0]
     return u0 - TURN if end is None else end
+
+
+def _far_end(model, way, tol, max_step):
+    """(the limit the walk from the sketch meets going ``way`` (+-1) or None, how far it
+    looked): FAR_TURNS turns of the input, less where that is beyond one walk's reach (steps
+    smaller than the default)."""
+    walker = Walker(Branch(model, block_plan(model), tol), max_step, False)
+    signs = walker.br.signs(model.q0[None], model.u0[None])[0]
+    reach = min(FAR_TURNS * TURN, 0.99 * WALK_STEPS * max_step / float(input_scale(model)[0]))
+    got = walker.walk(model.q0, model.u0, signs, model.u0 + way * reach, 0)
+    return (float(np.ravel(got[1].input)[0]) if got[0] == "limit" else None), reach
