@@ -16,6 +16,7 @@ from hypothesis import given, strategies as st
 
 import planar
 from planar.analysis import motion_range
+from planar.results import POSED
 from planar.mechanisms import gear_train, planetary_gear_train, rack_and_pinion, rolling_wheel
 from tests.test_mechanisms_four_bar import FAST, SWEEPS, assert_close, rate
 
@@ -183,3 +184,81 @@ def test_a_rack_on_a_slider_drives_a_linkage():
     dx, dy = K - E0
     ends = (dx + np.array([-1.0, 1.0]) * np.sqrt((arm + rod) ** 2 - dy**2)) / R
     np.testing.assert_allclose(motion_range(model), [ends], atol=1e-10)
+
+
+def geared_inverted_slider():
+    """A crank about O = (0, 0.5) drives a block that slides along it and is pinned to a rocker
+    about the origin: the block sits at B = P + t d, P = O + R(u)(-O), d = (cos u, sin u), and
+    |B| = 1 gives t = (-sin u + s sqrt(2) cos(u/2) sqrt(3 - cos u)) / 2 on the smooth branch s
+    (+1 at the sketch): its two closures touch at u = pi, a change point every turn. The crank
+    also meshes (radii sqrt(5)/4 both) with a gear on an arm about O, whose pin a link of
+    length 2 ties to the ground at G = (0, 2): that loop's ends are limits, and its pose
+    comes back a turn on only with the gear turned one back."""
+    m = planar.Mechanism("geared inverted slider")
+    for b in ("crank", "rocker", "block", "arm", "gear", "link"):
+        m.add_body(b)
+    m.add_revolute("O", m.ground, "crank", at=(0, 0.5))
+    m.add_revolute("A", m.ground, "rocker", at=(0, 0))
+    m.add_revolute("B", "rocker", "block", at=(1, 0))
+    m.add_prismatic("S", "crank", "block", at=(1, 0), direction=(1, 0))
+    m.add_revolute("ra", m.ground, "arm", at=(0, 0.5))
+    m.add_revolute("rb", "arm", "gear", at=(1, 0))
+    r = np.sqrt(5) / 4
+    m.add_gear("mesh", "crank", "gear", r, r, carrier="arm")
+    m.add_revolute("rc", "gear", "link", at=(0, 0))
+    m.add_revolute("rd", "link", m.ground, at=(0, 2))
+    m.drive("O")
+    return m.compile()
+
+
+def block_smooth(u, s):
+    """The block's position on the smooth branch s (:func:`geared_inverted_slider`)."""
+    P = np.stack((0.5 * np.sin(u), 0.5 - 0.5 * np.cos(u)), -1)
+    t = (-np.sin(u) + s * np.sqrt(2) * np.cos(u / 2) * np.sqrt(3 - np.cos(u))) / 2
+    return P + t[:, None] * np.stack((np.cos(u), np.sin(u)), -1)
+
+
+def test_a_stretch_walked_back_through_a_change_point_on_a_value_keeps_the_smooth_branch():
+    """Over a turn the crank meets the gear loop's limit near 0.73 and jumps to another stretch,
+    walked back from further on through the change point at pi, a value of the sweep: the walk
+    from that value on must keep the smooth branch, one s on the whole stretch."""
+    model = geared_inverted_slider()
+    u = np.linspace(0, 2 * np.pi, 721)
+    res = model.sweep(u)
+    assert POSED[res.status].all()
+    jump = np.flatnonzero(res.status == planar.Status.JUMPED)
+    assert jump.size == 1 and 0.7 < u[jump[0]] < 0.8
+    B = res.position("B")
+    for part in (slice(0, jump[0]), slice(jump[0], None)):
+        err = [np.abs(B[part] - block_smooth(u[part], s)).max() for s in (1, -1)]
+        assert min(err) <= 1e-12, err
+
+
+def test_motion_range_of_a_geared_stretch_longer_than_a_turn():
+    """The sketch's stretch runs from the gear loop's limit below, over a turn down, to the one
+    near 0.73: the range the sweeps from the sketch meet, each end a double root in the arm's
+    angle of the link's closure |Q - G|^2 = 4 (the gear turns 2 a - u with the arm's a)."""
+    model = geared_inverted_slider()
+    ((lo, hi),) = motion_range(model)
+    span = hi - lo
+    assert 2 * np.pi < span < 4 * np.pi
+    hi = hi - 2 * np.pi * np.round(hi / (2 * np.pi))  # (the end near the sketch's input)
+    lo = hi - span
+    for end in (lo, hi):
+        u = np.linspace(0, end + np.sign(end) * 0.05, 201)
+        res = model.sweep(u)
+        met = [float(np.ravel(e.input)[0]) for e in res.events if e.kind == "limit"]
+        assert any(abs(v - end) <= 1e-9 for v in met), (end, met)
+        assert POSED[res.status[np.abs(u) < abs(end)]].all()
+        at = model.sweep([0, end])
+        assert at.status[1] == planar.Status.LIMIT
+        a = float(np.diff(at.angle("arm"))[0])  # (from the sketch's)
+        C0, Q0, O, G = np.array([1, 0]), np.zeros(2), np.array([0, 0.5]), np.array([0, 2])
+
+        def f(a):
+            rot = lambda v, th: np.array([np.cos(th) * v[0] - np.sin(th) * v[1], np.sin(th) * v[0] + np.cos(th) * v[1]])  # noqa: E731
+            Q = O + rot(C0 - O, a) + rot(Q0 - C0, 2 * a - end)
+            return np.sum((Q - G) ** 2) - 4
+
+        h = 1e-5
+        assert abs(f(a)) <= 1e-10 and abs(f(a + h) - f(a - h)) / (2 * h) <= 1e-6

@@ -90,7 +90,10 @@ def motion_range(mechanism, *, travel=None, samples=720, tol=1e-12, max_step=0.0
         return ((-np.pi, np.pi),)
     into = [st for st in rest if st[1] is None]
     if into:  # a stretch runs through the end of the turn into the first (the sketch's pose a turn on)
-        first = (into[0][0] - TURN, first[1])
+        # (where it reaches back over the sketch's input with no limit, a geared linkage's, the
+        # first's lower end is below the turn's: walked down to from the sketch)
+        lo = into[0][0]
+        first = (_lower_end(model, u0, tol, max_step) if lo is None else lo - TURN, first[1])
         rest = [st for st in rest if st[1] is not None]
     else:
         # the sketch's stretch started at u0 but did not come back around: find its lower end
@@ -149,7 +152,8 @@ def _turn(lo, hi):
 def _stretches(model, grid, tol, max_step, turn=False):
     """(stretches, back): the stretches of ``grid`` (from the sketch's input on) that assemble,
     [(lo, hi)], hi the limit that ends a stretch (None when it runs to the end of the grid), lo
-    the limit that starts it (the grid's first value for the first stretch); ``back``: whether
+    the limit that starts it (the grid's first value for the first stretch; None for one that
+    runs into the first a turn on and reaches back past the grid's start); ``back``: whether
     the pose at the grid's end is the sketch's a whole turn on (``turn``: an angle grid of a
     turn), so that a stretch running to the end runs into the first. A stretch that reaches
     over the inputs of another (a geared linkage's, past a gap) is one of its own."""
@@ -190,21 +194,26 @@ def _stretches(model, grid, tol, max_step, turn=False):
         # back to the limit that starts it, as far as the sweep's start (values just inside
         # may have been missed by the sweep, or posed on another stretch over them)
         lo = grid[0] if a == 0 else limit(a, grid[0])
-        lo = 0.5 * (grid[a - 1] + grid[a]) if lo is None else lo
         hi = None
         if e + 1 < len(grid):
             ends = [v for v in limits if _between(v, grid[e], grid[e + 1])]
             # (on past a value posed on another stretch, as far as the grid's end)
             hi = ends[0] if ends and not posed[e + 1] else limit(e, grid[-1])
+        if lo is None and not (hi is None and back):
+            lo = 0.5 * (grid[a - 1] + grid[a])  # (a geared linkage's stretch back over the sketch's)
         if hi is None and turn and not back and a > 0:
             # a geared linkage's stretch over the end of the turn (its pose does not repeat
             # each turn): on to its end, within another turn
             beyond = limit(len(grid) - 1, grid[-1] + TURN) if beyond is None else beyond
             hi = beyond if beyond is not None else lo + TURN
-        if not any(abs(lo - p) <= 1e-9 and (hi is None if h is None else hi is not None and abs(hi - h) <= 1e-9)
-                   for p, h in out):
-            out.append((float(lo), None if hi is None else float(hi)))
+        if not any(_near(lo, p) and _near(hi, h) for p, h in out):
+            out.append((lo if lo is None else float(lo), hi if hi is None else float(hi)))
     return (out or [(grid[0], grid[0])]), back
+
+
+def _near(a, b):
+    """Whether two stretch ends (None: not located) are one."""
+    return a is None if b is None else a is not None and abs(a - b) <= 1e-9
 
 
 def _between(u, a, b):
@@ -216,8 +225,9 @@ def _lower_end(model, u0, tol, max_step):
     within a turn where the pose repeats each turn, else as far as FAR_TURNS."""
     (_, end), *_ = _stretches(model, u0 - np.linspace(0, TURN, 361), tol, max_step)[0]
     if end is None:
-        end = _far_end(model, -1, tol, max_step)[0]
-    return u0 - TURN if end is None else end
+        end, reach = _far_end(model, -1, tol, max_step)
+        end = u0 - reach if end is None else end
+    return end
 
 
 def _far_end(model, way, tol, max_step):

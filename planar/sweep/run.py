@@ -612,6 +612,8 @@ class _Run:
             if got[0] != "ok":
                 failed, failed_far = (j, U[i]), got[0] == "far"
                 continue
+            if at_events(model, U[i : i + 1], events):
+                continue  # (the walk located a singular position at the value: no pose to go on from)
             q[i], solved[i], signs[i], newest = got[1], True, got[2], i
 
     def back_over_gaps(self):
@@ -637,6 +639,8 @@ class _Run:
             if got[0] != "ok":
                 failed = (j, U[i])
                 continue
+            if at_events(model, U[i : i + 1], events):
+                continue  # (as in one_by_one)
             q[i], solved[i], signs[i], newest = got[1], True, got[2], i
 
     def limit_pairs(self):
@@ -671,7 +675,8 @@ class _Run:
                     got = self.walk((q[b], U[b], signs[b]), i, -1, back=b, periodic=False)
                     if got[0] != "ok":
                         break
-                    q[i], solved[i], signs[i], b = got[1], True, got[2], i
+                    if not at_events(model, U[i : i + 1], events):  # (as in one_by_one)
+                        q[i], solved[i], signs[i], b = got[1], True, got[2], i
 
     def result(self, _reached):
         """The :class:`planar.Sweep` (:func:`planar.sweep.finish.finish`): the values on events
