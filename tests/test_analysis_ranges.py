@@ -2,10 +2,14 @@
 
 import numpy as np
 import pytest
+from hypothesis import assume, example, given, settings, strategies as st
 
+import planar
 from planar.analysis.ranges import motion_range, runs, swept_ranges
 from planar.mechanisms import four_bar, geared_five_bar, slider_crank
+from planar.results import POSED, Status
 from tests import oracles
+from tests.strategies import build, linkages
 
 REF = oracles.load_reference()
 LIMIT_CASES = sorted(k for k in REF if k.startswith("slider_limits_"))
@@ -71,3 +75,41 @@ def test_a_limit_on_a_sample_of_the_turn_is_the_end_of_its_range():
     # (rounding put it just outside the pair of samples), and the range ended half a sample on
     got = motion_range(slider_crank(2, 1.5, offset=0.5))
     np.testing.assert_allclose(got, oracles.slider_crank_limits(2, 1.5, 0.5, "crank"), rtol=0, atol=1e-9)
+
+
+@settings(max_examples=6)
+@given(desc=st.one_of(linkages(), linkages(max_dyads=2, rolling=True)))
+@example(desc={"pivot": (0.0, 0.5), "crank_tip": (0.0, 0.0), "dyads": [("RRP", 0, (0.0, 0.0), (1.0, 0.0), 1, (0.0, 0.0), 0.0)],
+               "rolling": ("gear", 0, (1.0, 0.0), (0.0, 0.0), 0, (0.0, 2.0), 0.5, False, 0.0, "left")})
+def test_motion_range_agrees_with_the_sweeps_from_the_sketch_on_random_linkages(desc):
+    """Random linkages, some closed by a gear or a rack: an interval that holds the sketch's
+    input (whole turns on or not; a geared linkage's may overlap others) is posed inside by the
+    sweep from the sketch, and that sweep a little past each of its ends meets the limit there
+    or leaves the branch; a full turn meets no limit over two turns each way. A sketch near a
+    singular position is an ambiguous start (docs/hardening.md) and is left out."""
+    try:
+        model = build(desc)[0].compile()
+        R = motion_range(model)
+    except planar.PlanarError:
+        assume(False)
+    u0 = float(model.u0[0])
+    assume(model.sweep([u0]).status[0] == Status.SOLVED)
+    if R == ((-np.pi, np.pi),):
+        res = model.sweep(u0 + np.linspace(-4 * np.pi, 4 * np.pi, 161))
+        assert not [e for e in res.events if e.kind == "limit"]
+        return
+    turns = 2 * np.pi * np.arange(-20, 21)
+    held = [(lo + k, hi + k) for lo, hi in R for k in turns if lo + k - 1e-9 <= u0 <= hi + k + 1e-9]
+    assert held, (u0, R)
+    why = []
+    for lo, hi in held:
+        inside = model.sweep(np.linspace(lo, hi, 23)[1:-1])
+        ends = []
+        for end, way in ((hi, 1), (lo, -1)):
+            past = model.sweep([u0, end + way * 1e-3 * max(1.0, hi - lo)])
+            met = [float(np.ravel(e.input)[0]) for e in past.events if e.kind == "limit"]
+            ends.append(any(abs(v - end) <= 1e-8 * max(1.0, abs(end)) for v in met) or past.status[1] != Status.SOLVED)
+        if POSED[inside.status].all() and all(ends):
+            return
+        why.append((lo, hi, inside.status.tolist(), ends))
+    raise AssertionError(f"no interval holding the sketch's input agrees with the sweeps: {why}")
