@@ -162,7 +162,7 @@ def values(model, U, step):
         steps = float(np.sum(np.max(jumps, axis=1))) / step
         d = np.diff(U[:, 0])
         if U.shape[1] == 1 and len(U) >= 3 and not (np.all(d >= 0) or np.all(d <= 0)):
-            # solved in the order of the input (planar.sweep.run._input_order): to the nearer end, then across
+            # solved in the order of the input (planar.sweep.order.input_order): to the nearer end, then across
             u, u0 = U[:, 0] / scale[0], model.u0[0] / scale[0]
             steps = float(min(abs(u0 - u.min()), abs(u.max() - u0)) + u.max() - u.min()) / step
     if not steps <= MAX_STEPS:

@@ -30,13 +30,17 @@ The rooms: :mod:`~planar.sweep.branch` (solves on one plan, the final step; the 
 itself is :mod:`planar.acceptance`, shared with the compiled engine), :mod:`~planar.sweep.walk`
 (the sequential walk, events, re-entry, periods), :mod:`~planar.sweep.anchors` (anchors, waves,
 the bulk from them), :mod:`~planar.sweep.located` (values against located events),
-:mod:`~planar.sweep.finish` (the results) and :mod:`~planar.sweep.run` (the entry point).
+:mod:`~planar.sweep.finish` (the results), :mod:`~planar.sweep.run` (the entry point and its
+passes), :mod:`~planar.sweep.entries` (entering the branch where the walk cannot go),
+:mod:`~planar.sweep.gaps` (where to look past a gap), :mod:`~planar.sweep.order` (the order of
+the values) and :mod:`~planar.sweep.checks` (what a sweep asks of the model first).
 """
 
 from planar.sweep.anchors import CHUNK, sweep_anchors
 from planar.sweep.branch import Branch, final_step, input_scale
 from planar.sweep.finish import near_stretches
-from planar.sweep.run import FAR, ROCKING, SPARSE, check_sketch, output_columns, run_sweep
+from planar.sweep.checks import check_sketch, output_columns
+from planar.sweep.run import FAR, ROCKING, SPARSE, run_sweep
 from planar.sweep.walk import Walker
 
 __all__ = ["CHUNK", "FAR", "ROCKING", "SPARSE", "Branch", "Walker", "check_sketch", "final_step", "input_scale",

@@ -1,6 +1,7 @@
 """The sweep's entry point (:func:`run_sweep`): the walk over the anchors, the bulk from them,
 the rest one by one and the gaps walked back, each a pass of one sweep (:class:`_Run`) over the
-arrays they share; and the few helpers they alone use."""
+arrays they share (its entries past gaps and out of reach: :mod:`planar.sweep.entries`); the
+periods a far sweep moves its values by."""
 
 import functools
 from dataclasses import replace
@@ -8,58 +9,23 @@ from dataclasses import replace
 import numpy as np
 
 from planar.blocks import plan as block_plan
-from planar.errors import AssemblyError, InputError
-from planar.events import SINGULAR
+from planar.errors import InputError
 from planar.sweep.anchors import (MAX_WAVE, WAVE, Kin, from_anchors, solve_stations, solve_wave, sweep_anchors,
                                   walk_anchors)
 from planar.sweep.branch import Branch, input_scale, scaled_norm
+from planar.sweep.checks import check_sketch, output_columns
+from planar.sweep.entries import MAX_ENTRIES, Entries
 from planar.sweep.finish import Out, finish
+from planar.sweep.gaps import TURN
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
-from planar.sweep.walk import MODE_PERIODS, SPREAD, WALK_STEPS, Walker, less_periods, whole_turns
+from planar.sweep.order import apart, further, input_before, input_order, last_solved
+from planar.sweep.walk import MODE_PERIODS, WALK_STEPS, Walker, less_periods, whole_turns
 
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
-TURN = 2 * np.pi  # scaled input reach of the search for a limit behind a jump
 SPARSE = 4  # anchors further apart than SPARSE * max_step are reached through stations, not tried in a wave
-MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
-# ranges entered at a gap's far end on the way to one value: past more gaps (a geared linkage's
-# limit pairs every few radians between far values) the value itself is entered, JUMPED either way
-MAX_GAPS = 8
-GUESSES = 64  # poses solved that a value too far to walk to is entered from, at most
 FAR = 100.0  # scaled input from the sketch beyond which a periodic input is solved periods back
 ROCKING = 4 * np.pi  # the same for an input that rocks (its walk would meet two limits a period)
-
-
-def output_columns(model, outputs):
-    """Coordinates the named bodies, points, joints or inputs depend on."""
-    if outputs is None:
-        return None
-    given = outputs
-    try:
-        outputs = [outputs] if isinstance(outputs, str) else list(outputs)
-    except TypeError:
-        outputs = [None]
-    if not all(isinstance(x, str) for x in outputs):
-        raise InputError(f"outputs must be a name or a list of names of bodies, points or joints, got {given!r}")
-    cols = set()
-    for name in outputs:
-        bodies = []
-        if name in model.body_names:
-            bodies = [model.body_id(name)]
-        elif name in model.points:
-            bodies = [model.points[name][0]]
-        elif name in model.coordinates or name in model.input_names:
-            j = next((d for d in model.drivers if d.name == name), None) or model.joint(name)
-            bodies = [model.body_id(b) for b in j.bodies]
-        else:
-            raise InputError(f"unknown output {name!r}: name bodies {list(model.body_names[1:])}, points or "
-                             f"joints {sorted(model.points)}")
-        for b in bodies:
-            if b > 0:
-                cols.update(range(3 * b - 3, 3 * b))
-    # outputs fixed to the ground depend on no coordinate: the whole model is solved (the
-    # statuses still say whether each value assembles)
-    return sorted(cols) or None
 
 
 def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, outputs=None, branch="smooth", rates=True,
@@ -67,7 +33,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     """See :meth:`planar.Model.sweep`. ``start``: a known pose (q, u) of the branch to walk
     from instead of the sketch, reached from the sketch by continuation with no event between
     (:mod:`planar.tracking` picks it); the sweep is then the one from the sketch. ``_nested``: a
-    sweep made by another for what it asks of the branch (:func:`_enter_by_images`,
+    sweep made by another for what it asks of the branch (:func:`planar.sweep.entries.enter_by_images`,
     :func:`_period_by_sweep`), which makes no such sweeps itself (a Walker: the one of the sweep
     that made it, whose tracings round a circuit it shares). ``_reached``: a list, to
     which the sweep appends (N,) True for the values its walk reached from the start by
@@ -93,7 +59,7 @@ def run_sweep(model, U, Ud, Udd, start=None, *, tol=1e-12, max_step=0.05, output
     return res
 
 
-class _Run:
+class _Run(Entries):
     """One sweep's passes over the arrays they share (the poses ``q``, which values are
     ``solved``, the blocks' modes ``signs`` at each, the ``events`` met) and what its walks
     learn on the way (the limits met, the gaps searched, the values entered directly):
@@ -151,7 +117,7 @@ class _Run:
         # search again for the range past each gap it meets
         # (values solved whole periods back: in the one period from a limit below the start, the
         # walk through it in the order of the input, as the walk through every period would go)
-        order, split = _input_order(U, self.origin[1][0], both=shift is None)
+        order, split = input_order(U, self.origin[1][0], both=shift is None)
         self.side = np.where(np.arange(N) >= split, split, 0)  # the first value of each value's side of the start
         if order is not None:
             U, Ud, Udd, U_in = U[order], Ud[order], Udd[order], U_in[order]
@@ -206,88 +172,11 @@ class _Run:
                 _once(self.round_limits, walker.also)
         return got
 
-    def enter_far(self, start, i):
-        """Value i, too far from ``start`` to walk with no period to shorten the way, entered
-        directly in the sketch's modes: past every gap between, the walk would re-enter the
-        branch in them, and within a stretch it keeps them."""
-        # (its angles counted as the sketch's first; then from up to GUESSES poses solved; not
-        # round a circuit, ~100s of solves for one of the many stretches a direct entry may land on)
-        qe = self.walker.enter([self.model.q0, self.snapped(start[0])], self.chosen, self.U[i], self.solved_poses(),
-                               circuit=False)
-        if qe is None:
-            self.unentered.append(i)
-            return ("far",)
-        self.direct.append(i)  # (not reached continuously from the value before it: JUMPED)
-        return "ok", qe, self.chosen
-
-    def enter_past(self, limit, i, lo):
-        """Value i past the limit ``limit`` (its pose and input) the walk to it met: the range
-        past the gap entered where a sweep with values all the way would enter it (the walk's
-        steps past the limit, and the value), and walked to i from there; i is not reached
-        continuously (JUMPED). ("limit",) where the search finds no entry."""
-        U, chosen = self.U, self.chosen
-        if not self.first_search(limit[1], U[i]):
-            return ("limit",)
-        grid = np.vstack((_past_gap(self.model, limit[1], U[i], self.max_step), U[i][None]))
-        nearer, _ = self.walker.enter_any([limit[0], self.model.q0], chosen, grid, poses=self.solved_poses())
-        if nearer is None:
-            return ("limit",)
-        self.entries += 1
-        c, qe = nearer[0], self.walker.near_turns(nearer[1], grid[nearer[0]], chosen, limit[0])
-        got = ("ok", qe, chosen) if c == len(grid) - 1 else self.walk((qe, grid[c], chosen), i, lo)
-        if got[0] == "ok":
-            self.direct.append(i)
-        return got
-
-    def first_search(self, u_limit, u):
-        """Whether the gap past the limit at ``u_limit`` towards u is searched for the first
-        time (it then counts as searched): each limit's gap each way once a sweep, the main
-        walk's search past it having found what there is to enter."""
-        way = float(np.sign(u[0] - u_limit[0]))
-        if any(w == way and abs(v - u_limit[0]) <= 1e-9 / input_scale(self.model)[0] for v, w in self.searched):
-            return False
-        self.searched.append((float(u_limit[0]), way))
-        return True
-
-    def solved_poses(self):
-        """Up to GUESSES of the poses solved, spread over them: where a search's guesses land
-        in other modes, Newton from one of these may land in ours (:meth:`Walker.enter`)."""
-        known = np.flatnonzero(self.solved)
-        return self.snapped(self.q[known[np.linspace(0, known.size - 1, min(known.size, GUESSES)).astype(int)]]
-                            if known.size else self.q[:0])
-
-    def snapped(self, Q):
-        """Poses to 1e-9 of their scales, as guesses from afar: both engines give them alike,
-        where their poses differ at rounding and Newton from afar may land on another pose of
-        the loop for that alone."""
-        return np.round(Q / self.model.col_scale, 9) * self.model.col_scale
-
-    def home(self, k, end, tries=3):
-        """(index from k, pose, modes) of the first anchor from k (below ``end``) that the walk
-        reaches from the origin with no limit it met between, or None (a walk that meets a new
-        limit on the way tries the next such anchor)."""
-        origin = self.origin
-        for _ in range(tries):
-            # (within a turn, not a value on an event: a limit's pose is no pose to go on from;
-            # nor past a limit met the direct way, the way this walk goes)
-            V = self.U[self.anchors[k:end]]
-            c = np.flatnonzero(~past_limit(self.limits, origin[1][None], V) & ~on_event(self.model, V, self.events)
-                               & (scaled_norm(self.model, V - origin[1]) <= TURN))
-            if not c.size:
-                return None
-            # (the direct way: a limit it meets is then one between the origin and the values)
-            got = self.walk(origin, self.anchors[k + c[0]], -1, periodic=False)
-            if got[0] == "ok":
-                return int(c[0]), got[1], got[2]
-            if got[0] != "limit":
-                return None
-        return None
-
     def further(self, failed, j, u_j, u):
-        """:func:`_further`, where the walk to ``u`` goes the way the failed one did: not
+        """:func:`planar.sweep.order.further`, where the walk to ``u`` goes the way the failed one did: not
         for a value more than half a turn away of an input with a period (the walk may go the
         other way round, a period on, nearer to one value than to another)."""
-        if not _further(failed, j, u_j, u):
+        if not further(failed, j, u_j, u):
             return False
         return not (self.U.shape[1] == 1 and abs(float(u[0] - u_j[0])) > np.pi and self.walker.period() is not None)
 
@@ -395,159 +284,6 @@ class _Run:
             self.at = (got[2][0], got[2][1], self.at[2])
         return self.enter_out_of_reach(got, beyond)
 
-    def enter_out_of_reach(self, got, beyond):
-        """Anchor k out of the walk's reach (``got`` the walk's result; ``beyond``: past a limit
-        met before): the next anchor that assembles on the branch entered, a whole period on
-        from a value solved, else by one batched search, else (where only another circuit or
-        mode assembles there) a period the other way round from the sketch. False where none
-        is."""
-        model, U, q, solved, signs, walker, chosen = (self.model, self.U, self.q, self.solved, self.signs, self.walker,
-                                                      self.chosen)
-        k = self.k
-        found = self.by_period(k, self.end)
-        end, anchors = self.end, self.anchors
-        bare = None  # (lo, hi) of inputs the search from the limit found nothing assembling in
-        far_end = self.entries < MAX_ENTRIES and self.gaps.get(anchors[k], 0) < MAX_GAPS
-        if found is None and got[0] == "limit" and far_end:
-            entered, bare = self.enter_far_end(got)
-            if entered:
-                return True
-        homed = found is None and got[0] != "far" and not self.nested
-        if homed:
-            # the origin's own stretch come back to from elsewhere (past a gap, from another
-            # interval of the range): walked to from the origin, no limit the walk met between
-            found = self.home(k, end)
-        upto = end if found is None else k + found[0]
-        guesses = [model.q0, self.at[0]] if got[0] == "far" else [self.at[0], model.q0]
-        # (one input: every value from anchor k on, not the anchors only: an interval of the
-        # range narrower than their spacing may hold values and no anchor)
-        seg = np.arange(anchors[k], anchors[upto - 1] + 1) if upto > k and U.shape[1] == 1 else anchors[k:upto]
-        if bare is not None:  # (not again where the search from the limit, from the same guesses, found none)
-            seg = seg[~((U[seg, 0] >= bare[0]) & (U[seg, 0] <= bare[1]))]
-        nearer, assembles = (walker.enter_any(guesses, chosen, U[seg], poses=self.solved_poses(),
-                                              circuit=got[0] != "far") if seg.size else (None, False))
-        if seg.size and nearer is None and not assembles and got[0] == "limit" and far_end:
-            # where no value asked assembles at all (the first in the gap, least squares from
-            # there lands nowhere beyond it), the walk steps from the limit out to the values: a
-            # sweep with values all the way enters the range between them
-            steps = _steps_out(model, self.at[1], U[seg], self.max_step, bare)
-            if steps is not None:
-                # (what assembles there, in any modes, is as good a sign for the images below)
-                ahead, assembles = walker.enter_any(guesses, chosen, steps, poses=self.solved_poses())
-                if ahead is not None:
-                    self.enter_ahead(seg, steps[ahead[0]], ahead[1], upto)
-                    return True
-        # (entered past gaps not walked through, MAX_GAPS met on the way: a jump, whatever
-        # limits the walk met between it and the value asked before it)
-        capped = got[0] == "limit" and not far_end and nearer is not None
-        if nearer is not None:
-            found, homed = (self.anchor_at(seg[nearer[0]]) - k, nearer[1], chosen), False
-        if found is None and assembles and not self.nested:
-            found = _enter_by_images(model, walker, U[self.anchors[k:self.end]], self.at[1], chosen, self.options)
-        if found is None:
-            return False
-        c, qe, se = found
-        if homed and c:
-            # (not where the search from the limit found nothing assembling)
-            passed = U[self.anchors[k : k + c], 0]
-            if bare is None or np.any((passed < bare[0]) | (passed > bare[1])):
-                self.skipped.append((k, k + c, self.at[1]))
-        k += c
-        i = self.anchors[k]
-        qe = qe if homed else walker.near_turns(qe, U[i], se, self.at[0])
-        q[i], solved[i], signs[i] = qe, True, se
-        if got[0] == "far" or (got[0] == "lost" and not beyond):
-            # (too far to walk, or where the walk lost the branch: entered, not walked to)
-            self.direct.append(i)
-        elif capped:
-            self.past_cap.append(i)
-        self.at, self.lo, self.k = (qe, U[i], se), i, k + 1
-        return True
-
-    def enter_far_end(self, got):
-        """The range past the gap at the limit the walk met (``got``) towards anchor k entered
-        at its far end, as a sweep with values all the way enters it: the first of the walk's
-        steps past the limit where the branch can be entered, and walked on from there.
-        (whether entered, the (lo, hi) of inputs past the limit where nothing assembles or None)."""
-        model, U, walker, chosen, at = self.model, self.U, self.walker, self.chosen, self.at
-        a = self.anchors[self.k]
-        self.first_search(at[1], U[a])
-        grid = _past_gap(model, at[1], U[a], self.max_step)
-        if grid.size and scaled_norm(model, U[a] - at[1]) <= TURN:
-            grid = np.vstack((grid, U[a][None]))  # (and the value itself, a step or so on)
-        nearer, assembles = (walker.enter_any([at[0], model.q0], chosen, grid, poses=self.solved_poses())
-                             if grid.size else (None, True))
-        if nearer is None:  # (from the limit, past the pose before it, to the last step)
-            if assembles:
-                return False, None
-            bare = np.sort([float(np.ravel(got[1].input)[0]), float(grid[-1, 0])])
-            self.bare.append((got[1], bare))
-            return False, bare
-        self.entries += 1
-        self.gaps[a] = self.gaps.get(a, 0) + 1
-        u_e = grid[nearer[0]]
-        self.at, self.coef = (walker.near_turns(nearer[1], u_e, chosen, at[0]), u_e, chosen), None
-        return True, None
-
-    def enter_ahead(self, seg, u_e, qe, upto):
-        """The range between the limit and the values ``seg`` entered at the walk's step u_e
-        out from the limit (pose qe there): the first value on from it an anchor (the walk from
-        the entry solves it, and the stretch's values from it); the anchors before it, in the
-        gap or reached back from it, are left to the walk back from the values after them."""
-        U, k = self.U, self.k
-        self.entries += 1
-        self.gaps[self.anchors[k]] = self.gaps.get(self.anchors[k], 0) + 1
-        d = np.sign(u_e[0] - self.at[1][0])
-        v = seg[d * (U[seg, 0] - u_e[0]) >= 0][:1]
-        c = int(np.searchsorted(self.anchors, v[0])) if v.size else self.end
-        if v.size and self.anchors[c] != v[0]:
-            self.anchors, self.end, upto = np.insert(self.anchors, c, v[0]), self.end + 1, upto + 1
-        self.k = k + int(np.argmin(np.r_[d * (U[self.anchors[k:upto], 0] - u_e[0]) < 0, False]))
-        self.at, self.coef = (self.walker.near_turns(qe, u_e, self.chosen, self.at[0]), u_e, self.chosen), None
-
-    def enter_passed(self, k0, end, u_gap):
-        """A range of anchors passed over (for the origin's stretch further on, past a gap from
-        ``u_gap``) or found no way into (``u_gap`` None): entered a whole period on from a value
-        solved since, or, passed over, from the sweep of its images a period back where some lie
-        in the origin's stretch (no limit met between), and walked on from there. A range the
-        search past a gap found nothing in (least squares from the limit stops in another valley)
-        may hold the image of an interval entered since (a two-loop six-bar's [6.6658, 6.6879]
-        past its limit at 6.3362: [0.3826, 0.4047], entered from the other side of the start)."""
-        self.k, self.end = end, end
-        found = self.by_period(k0, end)
-        if found is None and u_gap is not None and not self.nested:
-            V = _images(self.model, self.walker, self.U[self.anchors[k0:end]], u_gap)
-            if V is not None and np.any(~self.past(self.origin[1][None], V[0])
-                                        & (scaled_norm(self.model, V[0] - self.origin[1]) <= TURN)):
-                found = _enter_by_images(self.model, self.walker, self.U[self.anchors[k0:end]], u_gap, self.chosen,
-                                         self.options)
-        if found is not None:
-            c, qe, se = found
-            i = self.anchors[k0 + c]
-            self.q[i], self.solved[i], self.signs[i] = qe, True, se
-            self.k, self.at, self.lo, self.coef, self.wave = k0 + c + 1, (qe, self.U[i], se), i, None, WAVE
-
-    def by_period(self, k, end):
-        """(index from anchor k, pose, modes) of the first value from anchor k on (below
-        ``end``) entered a whole period on from a value solved (:meth:`Walker.enter_by_period`),
-        made an anchor if it is none; None if none is. Every value, not the anchors only: an
-        interval of the range narrower than their spacing may hold values and no anchor."""
-        anchors = self.anchors
-        seg = np.arange(anchors[k], anchors[end - 1] + 1) if self.U.shape[1] == 1 else anchors[k:end]
-        known = np.flatnonzero(self.solved)
-        found = self.walker.enter_by_period(self.q[known], self.U[known], self.signs[known], self.U[seg])
-        if found is None:
-            return None
-        c, qe, se = found
-        return self.anchor_at(seg[c]) - k, qe, se
-
-    def anchor_at(self, i):
-        """The index of value i among the anchors, made one where it is not (a value between them)."""
-        c = int(np.searchsorted(self.anchors, i))
-        if c == self.anchors.size or self.anchors[c] != i:
-            self.anchors, self.end = np.insert(self.anchors, c, i), self.end + 1
-        return c
-
     def bulk(self):
         """2. Every other value from an anchor of its own stretch (no event in between): first a
         finer set of anchors, so that the interpolation is at rounding level for the rest."""
@@ -588,8 +324,8 @@ class _Run:
         origin, side, past = self.origin, self.side, self.past
         rest = np.flatnonzero(~solved)
         if rest.size:  # (the last solved value before each on its side of the start: N-sized, so only when needed)
-            last = _last_solved(solved, side)
-            u_from = _input_before(origin[1], U, last, rest, side)
+            last = last_solved(solved, side)
+            u_from = input_before(origin[1], U, last, rest, side)
             rest = rest[~on_event(model, U[rest], events) & ~past(u_from, U[rest])]
         failed, newest, failed_far = (None, None), -1, False
         for i in rest:
@@ -702,8 +438,8 @@ class _Run:
             # and the value are not known)
             walked = solved.copy()
             walked[direct] = False
-            last = _last_solved(walked, side)
-            beyond[miss] = past(_input_before(origin[1], U, last, miss, side), U[miss], limits + self.round_limits)
+            last = last_solved(walked, side)
+            beyond[miss] = past(input_before(origin[1], U, last, miss, side), U[miss], limits + self.round_limits)
         # (and those too far to walk where the search found other modes or nothing: out of the
         # branch's reach as far as it knows, whatever their least-squares gap)
         beyond[np.intersect1d(miss, self.unentered).astype(int)] = True
@@ -725,13 +461,13 @@ class _Run:
             reach = WALK_STEPS * max_step
             far = [j for j in direct if prev[j] >= 0 and scaled_norm(model, U[j] - U[prev[j]]) > reach]
             # (and one on the other side of a move by whole periods of a rocking input)
-            moved = _apart(np.cumsum(np.isin(np.arange(N), periods)), prev)
+            moved = apart(np.cumsum(np.isin(np.arange(N), periods)), prev)
             jumps = (np.union1d(np.union1d(cand, far), np.union1d(moved, past_cap)).astype(int), prev)
         if shift is not None and not walker.turns:
             # values of a rocking input solved whole periods back: one in another period than the
             # value asked before it has the limit that starts its period between them
             before = prev if order is not None else np.arange(N) - 1
-            jumps = (np.union1d(jumps[0], _apart(shift[0], before)).astype(int), jumps[1])
+            jumps = (np.union1d(jumps[0], apart(shift[0], before)).astype(int), jumps[1])
         if _reached is not None:
             # (values solved whole periods back are a move by whole periods from the start)
             cut = stops + direct + periods + past_cap + [e.index for e in events
@@ -750,98 +486,6 @@ def _once(met, limit):
     u = np.atleast_1d(ev.input)
     if not any(np.array_equal(np.atleast_1d(e.input), u) and np.array_equal(s, d) for e, s in met):
         met.append(limit)
-
-
-def _apart(part, before):
-    """The values (walk order) in another part than the value asked before each (``before``:
-    its index, -1 for none): parts that a limit separates."""
-    return np.flatnonzero((before >= 0) & (part != part[np.maximum(before, 0)]))
-
-
-def _enter_by_images(model, walker, targets, u, signs, options):
-    """(index, pose, modes) of the first of ``targets`` (M, 1), past a gap from ``u``, whose
-    image whole periods back (or on: the first just past the sketch, the other way round) the
-    sweep from the sketch reaches, its pose moved those periods on (back). The search past a
-    gap may find only other circuits where the branch's range a period on is re-entered the
-    other way round (a Watt six-bar's second interval: its image a turn back lies past the
-    limit the sketch sits next to). None if the input has no period or none is reached."""
-    images = _images(model, walker, targets, u)
-    if images is None:
-        return None
-    V, n = images
-    for W, res in walker.images:
-        # (a later search past a gap asks for some of an earlier one's images: its sweep holds them)
-        at = {float(w): i for i, w in enumerate(W[:, 0])}
-        rows = [at.get(float(v)) for v in V[:, 0]]
-        if None not in rows:
-            ok, Q = res.ok[rows], res.q[rows]
-            break
-    else:
-        zero = np.zeros_like(V)
-        res = run_sweep(model, V, zero, zero, rates=False, _nested=walker, **options)
-        walker.images.append((V, res))
-        ok, Q = res.ok, res.q
-    for c in V.shape[0] - 1 - np.flatnonzero(ok[::-1])[:4]:
-        # (columns the outputs leave unsolved are not the plan's: any value does)
-        q = np.where(np.isnan(Q[c]), model.q0, Q[c])
-        got = walker._shorten(q, V[c], signs, n)
-        if got is not None:
-            return V.shape[0] - 1 - int(c), got[0], signs
-    return None
-
-
-def _images(model, walker, targets, u):
-    """(V, n): the images of ``targets`` (M, 1) past a gap from ``u`` that
-    :func:`_enter_by_images` sweeps, n whole periods back (reversed: from the sketch
-    outwards, the way the walk there goes); None where the input has no period."""
-    per = walker.period() if targets.shape[1] == 1 else None
-    if per is None:
-        return None
-    P, _ = per
-    k = np.sign(targets[0, 0] - u[0])
-    n = k * max(1.0, np.ceil(k * (targets[0, 0] - model.u0[0]) / P))
-    return targets[::-1] - n * P, n
-
-
-def _steps_out(model, u_limit, V, max_step, bare=None):
-    """(M, 1) walk steps from a limit at ``u_limit`` (1,) (:func:`_past_gap`) out to the last
-    of the first values ``V`` (K, 1) past it that lie each no nearer to it than the one before
-    (within a turn, scaled): those between values (or the limit and the first) more than SPREAD
-    steps apart, where the search of the values is coarser than a sweep with values all the
-    way, half a step or more from both, and not inside ``bare`` (lo, hi); None where none are.
-
-    >>> from planar.mechanisms import four_bar
-    >>> V = np.array([[1.01], [1.05], [1.5], [0.9]])
-    >>> _steps_out(four_bar().compile(), np.array([1.0]), V, 0.1)[:, 0].round(3).tolist()
-    [1.1, 1.2, 1.3, 1.4]
-    """
-    if u_limit.size != 1:
-        return None
-    on = np.diff((V[:, 0] - u_limit[0]) * np.sign(V[0, 0] - u_limit[0])) >= 0
-    r = int(np.argmin(on)) + 1 if not on.all() else len(V)
-    steps = _past_gap(model, u_limit, V[r - 1], max_step)[:, 0]
-    ends = np.sort(np.r_[u_limit[0], V[:r, 0]])
-    k = np.clip(np.searchsorted(ends, steps), 1, ends.size - 1)
-    lo, hi = ends[k - 1], ends[k]
-    scale = float(input_scale(model)[0])
-    keep = ((hi - lo) * scale > SPREAD * max_step) & (np.minimum(steps - lo, hi - steps) * scale >= 0.5 * max_step)
-    if bare is not None:
-        keep &= (steps < bare[0]) | (steps > bare[1])
-    return steps[keep][:, None] if keep.any() else None
-
-
-def _past_gap(model, u_limit, u_next, max_step):
-    """(M, 1) inputs a walk step apart from a limit at ``u_limit`` (1,) towards the next value
-    ``u_next`` (1,), before it, over at most a turn (scaled): where a sweep with values all the
-    way would look for the range past the gap. Empty for another input count or a value within
-    a step."""
-    if u_limit.size != 1:
-        return np.zeros((0, 1))
-    scale = float(input_scale(model)[0])
-    h, d = max_step / scale, float(u_next[0] - u_limit[0])
-    steps = np.arange(1, int(min(abs(d), TURN / scale) / h) + 1) * h
-    steps = steps[steps < abs(d) - 0.5 * h]
-    return (u_limit[0] + np.sign(d) * steps)[:, None]
 
 
 def _period_by_sweep(model, walker, options):
@@ -867,84 +511,6 @@ def _period_by_sweep(model, walker, options):
             walker.keep_period((j + 1) * P, D, lims[0] if lims else None)
             return walker.period()
     return None
-
-
-def _input_order(U, u0, both=True):
-    """(order, b): the order in which to solve the values U (N, 1) of one input (None where it
-    is the order given) and the first position b in it of the values walked from the start
-    again (N for none). Values on both sides of the start's input ``u0`` (with ``both``): each
-    side from the start out (the side whose far end is nearer first, whatever the order asked),
-    the second walked from the start again, not from the first's far end. Values on one side: sorted,
-    ascending or descending from the end nearer the start (stable: repeated values keep their
-    order); values in order from their far end, reversed. So the walk from the start takes the
-    values of the start's own stretch, on both sides of it, before a stretch entered past a gap
-    can (one over the same inputs, reached first from the far end of the values).
-
-    >>> U, V = np.array([[0.0], [2.0], [1.0]]), np.array([[0.0], [1.0], [2.0]])
-    >>> _input_order(U, 0.0)[0].tolist(), _input_order(U, 3.0)[0].tolist()
-    ([0, 2, 1], [1, 2, 0])
-    >>> _input_order(V, 0.0), _input_order(V, 2.0)[0].tolist()
-    ((None, 3), [2, 1, 0])
-    >>> order, b = _input_order(np.array([[0.0], [1.0], [2.0], [3.0]]), 1.2); order.tolist(), b
-    ([1, 0, 2, 3], 2)
-    """
-    N = U.shape[0]
-    if U.shape[1] != 1 or N < 2:
-        return None, N
-    v = U[:, 0]
-    if both and v.min() < u0 < v.max():
-        up = np.flatnonzero(v >= u0)
-        down = np.flatnonzero(v < u0)
-        up, down = up[np.argsort(v[up], kind="stable")], down[np.argsort(-v[down], kind="stable")]
-        sides = (down, up) if u0 - v.min() < v.max() - u0 else (up, down)
-        return np.concatenate(sides), sides[0].size
-    d = np.diff(v)
-    if np.all(d >= 0) or np.all(d <= 0):
-        # (in order: reversed only where its far end is strictly nearer the start)
-        return (np.arange(N)[::-1].copy() if abs(v[-1] - u0) < abs(v[0] - u0) else None), N
-    down = v.max() - u0 < u0 - v.min()
-    return np.argsort(-v if down else v, kind="stable"), N
-
-
-def _further(failed, j, u_j, u):
-    """The walk from value j to ``u`` goes the way a walk from j failed (``failed``: (j, its
-    target)) and at least as far: not tried (values out of order on the near side are)."""
-    if failed[0] != j or failed[1] is None:
-        return False
-    d, f = u - u_j, failed[1] - u_j
-    return bool(np.all(d * f >= 0) and np.max(np.abs(d)) >= np.max(np.abs(f)))
-
-
-def _last_solved(solved, side):
-    """(N,) the index of the last solved value at or before each on its side of the start
-    (``side``: the first value of each one's side), -1 for none."""
-    last = np.maximum.accumulate(np.where(solved, np.arange(solved.size), -1))
-    return np.where(last >= side, last, -1)
-
-
-def _input_before(u0, U, last, idx, side):
-    """(M, f) the input of the last solved value before each of ``idx`` on its side of the
-    start (``last``: :func:`_last_solved`; ``side``: the first value of each one's side), the
-    start's ``u0`` where none."""
-    prev = np.where(idx > side[idx], last[np.maximum(idx - 1, 0)], -1)
-    return np.where((prev >= 0)[:, None], U[np.maximum(prev, 0)], u0)
-
-
-def check_sketch(model, p):
-    """A sketch drawn on a singular position leaves the branch to follow undefined (a
-    parallelogram drawn flat moves on as a parallelogram or as an antiparallelogram): refused,
-    naming the bodies whose loop is singular there."""
-    with np.errstate(all="ignore"):
-        dets = p.factor(p.evaluate(model.q0[None], model.u0[None])[2]).dets[0]
-    bad = np.flatnonzero(~(np.abs(dets) >= SINGULAR))
-    if bad.size:
-        blk = p.blocks[int(bad[0])]
-        bodies = sorted({model.body_names[int(c) // 3 + 1] for c in blk.cols}, key=model.body_names.index)
-        raise AssemblyError(
-            f"the sketch of {model.name!r} sits on a singular position (bodies {', '.join(bodies)}: normalised det "
-            f"{abs(dets[bad[0]]):.1e}), where more than one branch passes and none is the one drawn; sketch it "
-            f"off the singular position (for a catalogue mechanism, another start value) and sweep through it: "
-            f"the sweep locates the singular position and follows the smooth branch (or branch='other')")
 
 
 @functools.cache
