@@ -23,6 +23,7 @@ from planar.mechanisms import (four_bar, gear_train, geared_five_bar, inverted_s
 from planar.results import POSED, VALID, Status
 from planar.solver import rounding
 from planar.units import Units
+from planar.sweep import reentry
 from planar.sweep import walk as walk_module
 from planar.sweep.branch import Branch
 from tests import oracles
@@ -68,8 +69,8 @@ class Evaluations:
     evaluations of the sweeps (each one batch of values), the walk's work whatever the engine's
     timing; ``Evaluations(Tracer, "step")`` the arclength tracer's steps (each several
     evaluations of its own), ``Evaluations(Tracer, "correct")`` its corrector solves (one a
-    step, or one per halving where it is not accepted); ``Evaluations(walk_module, name)``
-    ``planar.sweep.walk``'s searches' least squares (each a batch of values, up to 200
+    step, or one per halving where it is not accepted); ``Evaluations(reentry, name)``
+    ``planar.sweep.reentry``'s searches' least squares (each a batch of values, up to 200
     iterations) or its tracings round a circuit (each ~100 tracer steps)."""
 
     def __init__(self, owner=Plan, name="evaluate"):
@@ -343,7 +344,7 @@ def test_far_values_of_a_geared_linkage_cost_a_few_searches_not_a_walk_through_e
     # values too far to walk to are entered directly, not by tracing round a circuit from
     # other modes (1.5 s each, and one of many stretches a direct entry may land on: which
     # ones enter moves with the rounding of the machine's linear algebra)
-    with Evaluations(walk_module, "around") as tracings:
+    with Evaluations(reentry, "around") as tracings:
         res = m.sweep([3.2, 859864.9, 831082.0, 359799.7])
     assert tracings.calls == 0
     assert res.status[0] == Status.SOLVED
@@ -833,7 +834,7 @@ def test_a_gap_searched_from_its_limit_is_not_searched_again_for_the_values_in_i
     start = 1.0536061807635093 + 2.6004822959174714 - 2 * np.pi
     m = four_bar(*r, crossed=True, start=start)
     U = start + np.random.default_rng(2).uniform(-4, 4, 181)
-    with Evaluations(walk_module, "least_squares_gap") as count:
+    with Evaluations(reentry, "least_squares_gap") as count:
         res = m.sweep(U)
     assert count.calls <= 10, count.calls
     o = oracles.four_bar(*r, res.inputs[:, 0], sigma=-1)
@@ -1011,7 +1012,7 @@ def test_a_linkage_past_a_gap_where_least_squares_finds_other_modes_is_not_trace
                          start=1.724989098190794)
     rng = np.random.default_rng(0)
     U = rng.permutation(np.repeat(1.724989098190794 + rng.uniform(-3, 3, 60), 3))
-    with Evaluations(walk_module, "around") as count:
+    with Evaluations(reentry, "around") as count:
         res = m.sweep(U)
     assert count.calls == 0, count.calls
     dense = m.sweep(np.sort(U))
@@ -1030,7 +1031,7 @@ def test_a_linkage_landing_in_other_modes_on_both_sides_of_a_circuit_is_not_trac
                            link_6=6.387628948101717, pivot_6=(1.0131519037765613, 14.31175729630554),
                            frame_angle=0.5691483568788915, crossed=True, start=-0.46618861794995015)
     U = np.linspace(-0.2, 3.5, 40)  # (none in the branch's narrow interval [1.1413, 1.1964] past the gap)
-    with Evaluations(walk_module, "around") as count:
+    with Evaluations(reentry, "around") as count:
         res = m.sweep(U)
     assert count.calls == 0, count.calls
     assert (res.status == Status.NOT_ASSEMBLABLE).all()

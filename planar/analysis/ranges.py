@@ -21,7 +21,8 @@ from planar.blocks import plan as block_plan
 from planar.errors import InputError
 from planar.results import POSED, Status, as_sweep
 from planar.sweep import Branch, Walker, input_scale
-from planar.sweep.walk import WALK_STEPS, whole_turns
+from planar.sweep.periods import whole_turns
+from planar.sweep.walk import WALK_STEPS
 
 TURN = 2 * np.pi
 # sweep values per turn or per travel: far more than any range needs (its ends are located

@@ -28,7 +28,8 @@ Only the blocks the asked-for ``outputs`` need are solved; the other coordinates
 
 The rooms: :mod:`~planar.sweep.branch` (solves on one plan, the final step; the acceptance test
 itself is :mod:`planar.acceptance`, shared with the compiled engine), :mod:`~planar.sweep.walk`
-(the sequential walk, events, re-entry, periods), :mod:`~planar.sweep.anchors` (anchors, waves,
+(the sequential walk and its events), :mod:`~planar.sweep.reentry` (re-entry past a gap),
+:mod:`~planar.sweep.periods` (the input's period, whole turns), :mod:`~planar.sweep.anchors` (anchors, waves,
 the bulk from them), :mod:`~planar.sweep.located` (values against located events),
 :mod:`~planar.sweep.finish` (the results), :mod:`~planar.sweep.run` (the entry point and its
 passes), :mod:`~planar.sweep.entries` (entering the branch where the walk cannot go),

@@ -14,7 +14,7 @@ from planar.solver import ALONG_TANGENT, GAP, REENTRY, least_squares_gap, newton
 from planar.sweep.anchors import CHUNK
 from planar.sweep.branch import final_step, input_scale
 from planar.sweep.located import EVENT_TOL
-from planar.sweep.walk import add_periods
+from planar.sweep.periods import add_periods
 
 BRANCH_H = 4e-2  # scaled input radius around a bifurcation where values come from the branch
 

@@ -4,7 +4,7 @@ and the images of values past a gap whole periods back."""
 import numpy as np
 
 from planar.sweep.branch import input_scale
-from planar.sweep.walk import SPREAD
+from planar.sweep.reentry import SPREAD
 
 # a turn of the scaled input: the reach of a search past a gap, of the walk home to the origin's
 # stretch and of the walk back for a limit behind a jump

@@ -19,7 +19,8 @@ from planar.sweep.finish import Out, finish
 from planar.sweep.gaps import TURN
 from planar.sweep.located import at_events, event_index, on_event, past_limit, same_event
 from planar.sweep.order import apart, further, input_before, input_order, last_solved
-from planar.sweep.walk import MODE_PERIODS, WALK_STEPS, Walker, less_periods, whole_turns
+from planar.sweep.periods import MODE_PERIODS, less_periods, whole_turns
+from planar.sweep.walk import WALK_STEPS, Walker
 
 FINER = 4  # finer anchors per walk anchor interval: Hermite error down ~4^6
 HEAP_KEEP = (32 << 20) - (8 << 10)  # bytes: see _keep_freed_memory
