@@ -97,8 +97,16 @@ class Sweep:
     gap: np.ndarray
     events: tuple = ()
 
-    def __post_init__(self):
-        for v in vars(self).values():
+    def __init__(self, model, inputs, input_rates, input_accelerations, q, qd, qdd, status, residual, iterations,
+                 singularity, branch, gap, events=()):
+        # (the fields set at once: the frozen dataclass's own __init__ sets each through
+        # object.__setattr__, a sixth of a tracker's move)
+        self.__dict__.update(model=model, inputs=inputs, input_rates=input_rates,
+                             input_accelerations=input_accelerations, q=q, qd=qd, qdd=qdd, status=status,
+                             residual=residual, iterations=iterations, singularity=singularity, branch=branch, gap=gap,
+                             events=events)
+        for v in (inputs, input_rates, input_accelerations, q, qd, qdd, status, residual, iterations, singularity,
+                  branch, gap):
             if isinstance(v, np.ndarray) and v.flags.writeable:
                 v.setflags(write=False)
 

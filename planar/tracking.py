@@ -199,6 +199,8 @@ class Poses:
     def bare_at(self, u, max_step):
         """The sweep that found a stretch past a limit where nothing assembles holding input u
         (past the limit), or None."""
+        if not self.bare:  # (none known, as on most models: every move asks)
+            return None
         return next((res for (L, step, _), (lo, hi, res) in self.bare.items()
                      if step == max_step and lo <= u <= hi and u != L), None)
 
@@ -271,7 +273,7 @@ class Direct:
     to a rounding-level guess, and the pose, its status and its rates from one factorisation)
     with the sweep's acceptance test (converged, certified, the branch's assembly modes, close
     to the predictor): :func:`planar.sweep.final_step` and :meth:`planar.sweep.Branch.accept`
-    in the numpy engine, :func:`planar.compiled.direct` (one call) in the compiled one. Where a
+    in the numpy engine, :meth:`planar.compiled.Compiled.direct` (one call) in the compiled one. Where a
     value is not certified, or its status is not SOLVED or NEAR_SINGULAR, all are left to the
     sweep (None)."""
 
@@ -291,7 +293,7 @@ class Direct:
         self.max_step = options.get("max_step", 0.05)
         self.far, self.reach = FAR / scale, SPARSE * self.max_step / scale
         self.rates = options.get("rates", True)
-        self._br = None
+        self._br = self._plan = None
 
     def branch(self):
         """The solves of the model's plan (:class:`planar.sweep.Branch`)."""
@@ -300,6 +302,8 @@ class Direct:
             from planar.sweep import Branch
 
             self._br = Branch(self.model, plan(self.model), self.key[1], engine=self.engine)
+            if self._br.compiled is not None:  # (the plan as the compiled loop takes it)
+                self._plan = self._br.compiled.plan_of(self.model, self._br.p)
         return self._br
 
     def __call__(self, U, Ud, Udd):
@@ -369,8 +373,7 @@ class Direct:
 
     def _compiled(self, br, poses, U):
         """As :meth:`_numpy`, in one call of the compiled engine."""
-        return br.compiled.direct(self.model, br.p, poses.u, poses.rows, poses.signs, U, self.key[1], self.reach,
-                                  NEWTON)
+        return self._plan.direct(poses.u, poses.rows, poses.signs, U, self.key[1], self.reach, NEWTON)
 
 
 def _clean_end(res):

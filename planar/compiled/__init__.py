@@ -18,8 +18,9 @@ The blocks' Schur complements are factored by :mod:`planar.lu`'s LU, lane by lan
 Four entries: :func:`final` (one Newton step from given poses, with modes and rates: the
 anchors' Newton iterations and kinematic coefficients), :func:`fill` (the bulk of a sweep:
 each value's Hermite guess, up to STEPS Newton steps, the acceptance test, status and rates,
-written in place into the sweep's arrays), :func:`direct` (poses on demand: each value from
-the pose known nearest it, the whole direct path of :mod:`planar.tracking`) and :func:`walk`
+written in place into the sweep's arrays), :meth:`Compiled.direct` (poses on
+demand: each value from the pose known nearest it, the whole direct path of
+:mod:`planar.tracking`) and :func:`walk`
 (designs of one structure swept together: each design's whole walk, a design a lane). All
 call the one loop (chunks of values on numba's number of threads, Python's: the loop releases
 the GIL; a chunk or less on the calling thread), each thread with work buffers kept for the
@@ -159,35 +160,6 @@ def fill(model, plan, rows, adj, G, P, SA, tol, rates, sweep):
     return ok
 
 
-def direct(model, plan, KU, HQ, signs, U, tol, reach, steps):
-    """Values U (M, 1) of a one-input model, each from the Taylor predictor of the pose known
-    at the input in KU (K,) nearest it (HQ (K, 3, n): each known pose q, dq/du, d2q/du2;
-    ``signs`` (1, blocks): the branch's modes), by Newton to ``tol`` (up to ``steps`` steps) and
-    the final step of :func:`final`, accepted by the sweep's test (:mod:`planar.acceptance`; the
-    branch's modes; status SOLVED or NEAR_SINGULAR), in one call of the loop. A tuple of
-    read-only arrays (rows (3, M, n): q, dq/du and d2q/du2; status, residual, iterations,
-    singularity, branch), or None where a value is further than ``reach`` from every known
-    input or not accepted (``planar.tracking.Direct`` then leaves them all to the sweep)."""
-    C, engine = _compiled(model, plan)
-    M = U.shape[0]
-    rows, fl, ok = np.empty((3, M, C.T.dims[D_N])), np.empty((3, M)), np.empty(M, bool)
-    status, iters = np.empty(M, np.int8), np.empty(M, np.int64)
-    no_i, no_b, no_f = C.none
-    args = (engine.KNOWN, int(steps), no_b, no_i, HQ, KU, signs, float(tol), ROUND, float(reach), rows[0],
-            np.require(U, float, ("C", "W")), C.one, C.zero, True,
-            rows[1], rows[2], fl[0], np.empty((M, C.T.blk.shape[0]), np.int8), fl[1], fl[2], no_f, no_f, no_f, ok,
-            status, iters, no_b, no_b)
-    if M <= MIN_CHUNK:  # (a few poses: the loop's machine code called as it was compiled, on this thread)
-        C.known(args)(0, M, C.rows, *args, C.T, C.work(min(engine.LANES, M)))
-    else:
-        engine.loop(C, engine.chunk(M), np.arange(M), *args)
-    if not ok.all():
-        return None
-    for a in (rows, fl, status, iters):  # (results: their views read only too)
-        a.setflags(write=False)
-    return rows, status, fl[0], iters, fl[1], fl[2]
-
-
 def walk(model, plan, U, q0, tol, steps):
     """The walks of designs of one structure through their stations U (D, S, 2: each
     station's input, and the design's index in the plan's tables), each from its sketch q0[d]
@@ -241,10 +213,40 @@ class Compiled:
         self.none = (np.zeros(0, np.int64), np.zeros(0, bool), np.zeros(0))
         self.rows = np.arange(MIN_CHUNK)  # (the rows of a call on the calling thread)
 
+    def direct(self, KU, HQ, signs, U, tol, reach, steps):
+        """Values U (M, 1) of a one-input model, each from the Taylor predictor of the pose
+        known at the input in KU (K,) nearest it (HQ (K, 3, n): each known pose q, dq/du,
+        d2q/du2; ``signs`` (1, blocks): the branch's modes), by Newton to ``tol`` (up to
+        ``steps`` steps) and the final step of :func:`final`, accepted by the sweep's test
+        (:mod:`planar.acceptance`; the branch's modes; status SOLVED or NEAR_SINGULAR), in one
+        call of the loop. A tuple of read-only arrays (rows (3, M, n): q, dq/du and d2q/du2;
+        status, residual, iterations, singularity, branch), or None where a value is further
+        than ``reach`` from every known input or not accepted (``planar.tracking.Direct`` then
+        leaves them all to the sweep). Made for a tracker's moves: one value costs the loop's
+        call and little more (U is taken as it is where it is a writable C-ordered float array)."""
+        engine, M = self.engine, U.shape[0]
+        rows, fl, ok = np.empty((3, M, self.T.dims[D_N])), np.empty((3, M)), np.empty(M, bool)
+        status, iters = np.empty(M, np.int8), np.empty(M, np.int64)
+        no_i, no_b, no_f = self.none
+        if not (U.dtype == float and U.flags.c_contiguous and U.flags.writeable):
+            U = np.require(U, float, ("C", "W"))
+        args = (engine.KNOWN, int(steps), no_b, no_i, HQ, KU, signs, float(tol), ROUND, float(reach), rows[0], U,
+                self.one, self.zero, True, rows[1], rows[2], fl[0], np.empty((M, self.T.blk.shape[0]), np.int8), fl[1],
+                fl[2], no_f, no_f, no_f, ok, status, iters, no_b, no_b)
+        if M <= MIN_CHUNK:  # (a few poses: the loop's machine code called as it was compiled, on this thread)
+            self.known(args)(0, M, self.rows, *args, self.T, self.work(min(engine.LANES, M)))
+        else:
+            engine.loop(self, engine.chunk(M), np.arange(M), *args)
+        if not (ok[0] if M == 1 else ok.all()):
+            return None
+        for a in (rows, fl, status, iters):  # (results: their views read only too)
+            a.setflags(write=False)
+        return rows, status, fl[0], iters, fl[1], fl[2]
+
     def known(self, args):
-        """The loop's machine code for :func:`direct`'s arguments ``args`` (those after rows, up
+        """The loop's machine code for :meth:`direct`'s arguments ``args`` (those after rows, up
         to the tables), called without numba's dispatcher, which works out the types of every
-        argument at every call; :func:`direct` gives them the same types at every call (HQ and
+        argument at every call; :meth:`direct` gives them the same types at every call (HQ and
         KU: ``planar.tracking.Poses``' arrays)."""
         if self._known is None:
             engine = self.engine
@@ -260,6 +262,12 @@ class Compiled:
                 self._work.clear()
             self._work[key] = self.engine._buffers(self.T, L)
         return self._work[key]
+
+
+def plan_of(model, plan):
+    """The plan as the loop takes it (:class:`Compiled`: :meth:`Compiled.direct` is the direct
+    path's entry), its loop ready."""
+    return _compiled(model, plan)[0]
 
 
 def _compiled(model, plan):
@@ -389,4 +397,4 @@ def tables(model, plan):
                   jb, model.u0.size if any(g.per_design for g in sysm.groups) else -1]))
 
 
-__all__ = ["check", "direct", "final", "fill", "tables", "Tables", "walk"]
+__all__ = ["check", "final", "fill", "plan_of", "tables", "Tables", "walk"]

@@ -38,7 +38,7 @@ ST_BRANCH_EVENT = int(Status.BRANCH_EVENT)  # the last status with rates
 ST_NEAR_SINGULAR = int(Status.NEAR_SINGULAR)  # the last status of a value reached on its branch with no event
 # where the loop's values start from (its ``mode``): poses given (Newton to its tolerances:
 # planar.compiled.final), a sweep's quintic Hermite guesses between anchors (planar.compiled.fill),
-# the Taylor predictor from the nearest pose known on the branch (planar.compiled.direct), or a
+# the Taylor predictor from the nearest pose known on the branch (planar.compiled.Compiled.direct), or a
 # design's walk, each lane a design stepping through its stations (planar.compiled.walk)
 FINAL, BULK, KNOWN, WALK = 0, 1, 2, 3
 LANES = 32  # values the loop takes together (fewer in a smaller chunk)
