@@ -657,6 +657,26 @@ def test_an_interval_narrower_than_the_searchs_spacing_past_a_gap_is_found(step)
     assert np.sum(in_range(res.inputs[:, 0], ranges[1:], 1e-6)[0]) >= 1  # (the other interval is asked)
 
 
+def test_an_interval_past_a_gap_where_the_gap_shows_no_minimum_at_the_values_tried_is_found():
+    # (found by benchmarks/fuzz_campaign.py, seed 3374 a) past the limit at -0.6392 the range
+    # goes on in [-0.9913, -0.9388]; the search tried values 0.2 rad apart, -0.849 and -1.042
+    # around it, the gap level at 5e-4 from the limit to -0.849 and rising from -1.042: no
+    # minimum at a value tried, and the interval's values were NOT_ASSEMBLABLE (those 181
+    # values alone, more sparsely spaced, tried -0.909 next to it and found it)
+    m = two_loop_six_bar([6.62686856355119, 2.644548668480121, 2.893991371850322, 3.3509793517260977,
+                          12.178490696894237, 1.958182958837209, 12.685355836236571, 2.433291144438236],
+                         frame_angle=0.23277891704536602, frame_angle_2=-2.989690550500027, phase=-0.12996694026334898,
+                         crossed_2=True, start=-0.5086944179728401)
+    U = -0.5086944179728401 - np.linspace(0, 3, 181)
+    values = np.unique(np.r_[U, np.arange(U.min(), U.max() + 0.02, 0.02)])
+    res = m.sweep(values)
+    inside = (values > -0.99133) & (values < -0.93881)
+    assert inside.sum() >= 4 and POSED[res.status[inside]].all(), res.status[inside]
+    limits = sorted(float(e.input) for e in res.events if e.kind == "limit")
+    assert np.allclose(limits, [-0.99133370, -0.93880234, -0.63923071], atol=1e-6), limits
+    assert not POSED[res.status[(values < -0.99134) | ((values > -0.93880) & (values < -0.63924))]].any()
+
+
 def test_a_watt_six_bar_comes_back_to_the_sketchs_interval_from_its_other_one():
     m = watt_six_bar(1.6202934626207093, 3.067590914397823, 4.785201881160209, 2.1956945791555653,
                      coupler_point=(-0.5890885839370759, 2.737501047719217),

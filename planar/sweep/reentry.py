@@ -307,7 +307,10 @@ def _dips(model, g, targets, pick, ql, gap, edge):
     one before it, searched from ``g`` too and merged in order. An interval of the range
     narrower than the picks' spacing lies next to such a minimum: the gap falls towards it from
     both sides (a slider-crank whose short coupler reaches two intervals a turn, each 0.04-0.2
-    rad wide: values tried every fourth walk step miss them); or just before the first value
+    rad wide: values tried every fourth walk step miss them); or between two picks where the
+gap falls towards it as steeply as it rises just outside them (a two-loop six-bar's interval
+[-0.9913, -0.9388] between picks at -0.849 and -1.042, the gap level at 5e-4 from the limit
+at -0.639 to -0.849: no minimum at a pick); or just before the first value
     that assembles, where that assembles only in other modes (a Stephenson six-bar's interval
     [2.6174, 2.7456] in ours, the first pick that assembles at 2.803 in others). Not ``edge``
     for a linkage that is not :meth:`Walker.periodic`: a geared one closes at many poses in
@@ -332,6 +335,16 @@ def _dips(model, g, targets, pick, ql, gap, edge):
     dips = np.flatnonzero((gap <= left) & (gap <= right))
     dips = dips[dips < end]
     lo, hi = pick[np.maximum(dips - 1, 0)], pick[np.minimum(dips + 1, pick.size - 1)]
+    # and between two neighbouring picks where the gap may fall to zero between them as a V
+    # whose sides are as steep as the steeper of its slopes just outside them: the sum of
+    # their gaps within that slope times their distance (a dip that shows no minimum at the
+    # picks, the gap level on one side of it and rising on the other)
+    d = scaled_norm(model, np.diff(targets[pick], axis=0))
+    slope = np.divide(np.abs(np.diff(gap)), d, out=np.zeros_like(d), where=d > 0)
+    steep = np.maximum(np.r_[0.0, slope[:-1]], np.r_[slope[1:], 0.0])
+    vee = np.flatnonzero(gap[:-1] + gap[1:] <= steep * d)
+    vee = vee[vee + 1 < end]
+    lo, hi = np.r_[lo, pick[vee]], np.r_[hi, pick[vee + 1]]
     if edge and end < pick.size:  # (and those before the first that assembles: the range may begin there in ours)
         lo, hi = np.r_[lo, pick[end - 1]], np.r_[hi, pick[end]]
     more = np.setdiff1d(np.concatenate([np.arange(a + 1, b) for a, b in zip(lo, hi)] + [np.zeros(0, int)]), pick)
