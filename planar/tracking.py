@@ -19,9 +19,11 @@ known pose on the branch. Values each within the sweep's direct reach of a known
 of a dragged input; a sweep over a stretch the model has swept) are solved in one batch, each
 as one walk step from the known pose nearest it (:func:`direct`, the direct path: none of the
 sweep's machinery), with the sweep's acceptance test; what it cannot certify goes to the sweep.
-A value past the branch's first limit, inside a stretch where a sweep from the sketch found
-nothing that assembles (:meth:`Poses.learn_bare`; not on a geared linkage), gets that sweep's
-result with its own gap. Models with more inputs sweep from the sketch.
+A value past a limit the walk from the sketch meets, inside a stretch where a sweep from the
+sketch found nothing that assembles (:meth:`Poses.learn_bare`; not on a geared linkage), gets
+that sweep's result with its own gap (past a second limit, equal to rounding: the walk there
+locates it from an entry searched at inputs that depend on the value asked). Models with more
+inputs sweep from the sketch.
 
 >>> import numpy as np
 >>> from planar.mechanisms import four_bar
@@ -79,11 +81,14 @@ class Poses:
     the branch."""
 
     def __init__(self, model):
+        from planar.sweep import input_scale
+
         self.u0 = self.newest = float(model.u0[0])
         nan = np.full_like(model.q0[None], np.nan)
         self._keep(np.array([self.u0]), np.stack((model.q0[None], nan, nan), axis=1))
         self.signs, self.broken = None, False
         self.bare = {}  # (limit input, max_step, upwards) -> (lo, hi, sweep): see learn_bare
+        self.scale = float(input_scale(model)[0])  # (limits within 1e-8 of the input's scale are one)
 
     def _keep(self, u, rows):
         """Hold the known poses u (K,) and their rows (K, 3, n), with room for CAP more after them."""
@@ -170,30 +175,37 @@ class Poses:
 
     def learn_bare(self, res, bare, max_step):
         """Remember, from the sweep ``res`` of one value from the sketch, out of reach past the
-        limit its walk met (its one event), the stretch from that limit where its search found
-        nothing that assembles, in any modes (``bare``, as :func:`planar.sweep.run_sweep` gives
-        it): the sweep of any value in that stretch walks to the same limit and searches the
-        part of it up to the value, at the walk's steps from the limit as this one did."""
-        if len(res.events) != 1 or res.events[0].kind != "limit" or res.status[0] != Status.NOT_ASSEMBLABLE:
+        last of the limits its walk met (its events, all limits), the stretch from that limit
+        where its search found nothing that assembles, in any modes (``bare``, as
+        :func:`planar.sweep.run_sweep` gives it): the sweep of any value in that stretch walks
+        the same way to the same limit (located to rounding: past a gap before it, the entry
+        into the next interval is searched at inputs spread out to the value asked) and
+        searches the part of it up to the value, at the walk's steps from the limit as this one
+        did. A limit known already (the same to 1e-8, scaled) keeps its widest stretch."""
+        if res.status[0] != Status.NOT_ASSEMBLABLE or not res.events or any(e.kind != "limit" for e in res.events):
             return
-        L = float(res.events[0].input)
+        L = float(np.ravel(res.events[-1].input)[0])
         for ev, (lo, hi) in bare:
-            key = (L, max_step, lo == L)  # (one stretch each way from each limit: the widest)
+            if float(np.ravel(ev.input)[0]) != L or not lo <= res.inputs[0, 0] <= hi:
+                continue
+            key = next((k for k in self.bare if k[1:] == (max_step, lo == L) and abs(k[0] - L) * self.scale <= 1e-8),
+                       (L, max_step, lo == L))  # (one stretch each way from each limit: the widest)
             known = self.bare.get(key)
-            if float(np.ravel(ev.input)[0]) == L and lo <= res.inputs[0, 0] <= hi and \
-                    (known is None or hi - lo > known[1] - known[0]):
-                self.bare[key] = (lo, hi, res)
+            if known is None or hi - lo > known[1] - known[0]:
+                self.bare.pop(key, None)
+                self.bare[(L, max_step, lo == L)] = (lo, hi, res)
 
     def past_limit(self, model, U, Ud, Udd, max_step):
         """The sweep of one value U (1, 1) in a stretch past a limit where nothing assembles
         (:meth:`learn_bare`), or None: the sweep that found it with this value, its rates and
-        its gap (least squares from the limit's pose), as the sweep from the sketch gives it."""
+        its gap (least squares from the limit's pose), as the sweep from the sketch gives it (to
+        rounding past a limit after the first)."""
         from planar.solver import least_squares_gap
 
         res = self.bare_at(U[0, 0], max_step)
         if res is None:
             return None
-        gap = least_squares_gap(model, res.events[0].q[None], U)[1]
+        gap = least_squares_gap(model, res.events[-1].q[None], U)[1]
         return replace(res, inputs=U, input_rates=Ud, input_accelerations=Udd, gap=gap)
 
     def bare_at(self, u, max_step):

@@ -20,6 +20,10 @@ MECHANISMS = {
     "triple rocker": lambda: four_bar(4, 3, 3, 2.5),  # limit at 1.7913
     "rocking slider-crank": lambda: slider_crank(3, 2.5, offset=0.2, start=0.3),  # -0.8736..1.1198
     "parallelogram": lambda: four_bar(4, 2, 4, 2, start=0.5, crossed=True),  # change points at 0 and pi
+    # (a fuzz of tracker moves) two intervals a turn, [-2.0256, -0.0608] and [1.3047, 3.2695]
+    "two intervals a turn": lambda: four_bar(3.3945447384494383, 5.750519882703604, 5.925034614526665,
+                                             2.7283713165286407, frame_angle=-2.519667741128898, crossed=True,
+                                             start=-1.333203408382447),
 }
 
 
@@ -107,12 +111,15 @@ def test_beyond_a_limit_stays_unassemblable_and_moving_back_works():
 @pytest.mark.parametrize("name, out, back, beyond", [
     ("triple rocker", (1.85, 2.2, 3.0), [2.5, 1.8, 3.0, 2.0], 3.2),
     ("rocking slider-crank", (1.2, 2.0), [1.5, 1.8, 1.13], 2.01),  # (a slider: not geared)
+    # past the second limit a walk from the sketch meets (3.2695, after the gap from -0.0608)
+    ("two intervals a turn", (3.6, 4.2), [3.5, 3.9, 3.3, 4.1], 4.25),
 ])
 def test_moves_back_into_a_stretch_past_a_limit_that_holds_nothing_run_no_sweep(monkeypatch, name, out, back, beyond):
     # a rocker dragged past its limit (the triple rocker's at 1.7913): each move out is a sweep
     # from the sketch, whose search past the limit finds nothing up to the value, in any modes;
     # a move back into that stretch is that sweep's result with its own gap (least squares from
-    # the limit's pose), not a sweep again (~100 ms each)
+    # the limit's pose), not a sweep again (~100 ms each; past a second limit ~300 ms, and the
+    # limits equal to rounding)
     import functools
 
     import planar.sweep
