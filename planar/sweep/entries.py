@@ -10,6 +10,7 @@ from planar.sweep.anchors import WAVE
 from planar.sweep.branch import input_scale, scaled_norm
 from planar.sweep.gaps import TURN, images, past_gap, steps_out
 from planar.sweep.located import on_event, past_limit
+from planar.sweep.reentry import SPREAD
 
 MAX_ENTRIES = 64  # ranges a sweep enters at a gap's far end; further gaps are entered at the values asked
 # ranges entered at a gap's far end on the way to one value: past more gaps (a geared linkage's
@@ -72,6 +73,8 @@ class Entries:
             found, homed = (self.anchor_at(seg[nearer[0]]) - k, nearer[1], chosen), False
         if found is None and assembles and not self.nested:
             found = enter_by_images(model, walker, U[self.anchors[k:self.end]], self.at[1], chosen, self.options)
+        if found is None and got[0] == "limit" and far_end and U.shape[1] == 1:
+            found = self.enter_beyond(got[1])
         if found is None:
             return False
         c, qe, se = found
@@ -116,6 +119,37 @@ class Entries:
         u_e = grid[nearer[0]]
         self.at, self.coef = (walker.near_turns(nearer[1], u_e, chosen, at[0]), u_e, chosen), None
         return True, None
+
+    def enter_beyond(self, limit):
+        """(0, pose, modes) of anchor k's value, within SPREAD walk steps past the limit the
+        walk met, reached by the walk back to it from the range entered at the walk's steps
+        from the limit out to SPREAD steps, past the value: as a sweep with values on past it
+        enters there and walks back. Where the range past the limit starts before it (a fold
+        and the stretch back from it, narrower than a step: a geared five-bar's limits 1.82971
+        and 1.83134), least squares at a value just past the limit lands on the fold's side,
+        and only further on on the stretch beyond. None where nothing is entered there or the
+        walk back meets a limit (``limit``, the event; once a sweep each way past it)."""
+        model, U, at, chosen = self.model, self.U, self.at, self.chosen
+        a = self.anchors[self.k]
+        d = float(U[a, 0] - at[1][0])
+        h = self.max_step / float(input_scale(model)[0])
+        if abs(d) > SPREAD * h or not self.first_search(np.atleast_1d(limit.input), U[a], "beyond"):
+            return None
+        grid = past_gap(model, at[1], at[1] + np.sign(d) * (SPREAD + 1) * h, self.max_step)
+        grid = grid[np.sign(d) * (grid[:, 0] - U[a, 0]) > 0]
+        for ev, (lo, hi) in self.bare:  # (not where the search past the limit found nothing, from the same guesses)
+            if scaled_norm(model, np.atleast_1d(ev.input) - np.atleast_1d(limit.input)) <= 1e-9:
+                grid = grid[(grid[:, 0] < lo) | (grid[:, 0] > hi)]
+        nearer, _ = (self.walker.enter_any([at[0], model.q0], chosen, grid, poses=self.solved_poses())
+                     if grid.size else (None, False))
+        if nearer is None:
+            return None
+        n = len(self.walker.events)
+        got = self.walker.walk(nearer[1], grid[nearer[0]], chosen, U[a], a)
+        if got[0] != "ok":
+            del self.walker.events[n:]  # (what the tracer met on a way not taken)
+            return None
+        return 0, got[1], got[2]
 
     def enter_ahead(self, seg, u_e, qe, upto):
         """The range between the limit and the values ``seg`` entered at the walk's step u_e
@@ -230,14 +264,16 @@ class Entries:
             self.direct.append(i)
         return got
 
-    def first_search(self, u_limit, u):
+    def first_search(self, u_limit, u, what="gap"):
         """Whether the gap past the limit at ``u_limit`` towards u is searched for the first
         time (it then counts as searched): each limit's gap each way once a sweep, the main
-        walk's search past it having found what there is to enter."""
+        walk's search past it having found what there is to enter (``what``: the search, the
+        gap's or :meth:`enter_beyond`'s)."""
         way = float(np.sign(u[0] - u_limit[0]))
-        if any(w == way and abs(v - u_limit[0]) <= 1e-9 / input_scale(self.model)[0] for v, w in self.searched):
+        if any(w == way and k == what and abs(v - u_limit[0]) <= 1e-9 / input_scale(self.model)[0]
+               for v, w, k in self.searched):
             return False
-        self.searched.append((float(u_limit[0]), way))
+        self.searched.append((float(u_limit[0]), way, what))
         return True
 
     def solved_poses(self):

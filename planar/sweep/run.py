@@ -127,7 +127,7 @@ class _Run(Entries):
         self.limits = []  # (limit event, direction of the input that hit it)
         self.round_limits = []  # the same, met only by the walk the other way round a period on
         self.entries = 0  # ranges entered at a gap's far end
-        self.searched = []  # (input, direction) of the limits the gaps past which were searched
+        self.searched = []  # (input, direction, what) of the limits the gaps past which were searched
         self.bare = []  # (limit event, (lo, hi)): stretches from a limit where nothing assembles
         self.stops = []  # indices of the limits the walk stopped at, moving with the sweep
         self.direct = []  # values entered directly: too far to walk, or where the walk lost the branch
